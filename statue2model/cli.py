@@ -1,0 +1,125 @@
+"""Command line: argument parsing only; each subcommand calls one stage.
+
+    statue2model props [MESH] [--units m|mm|cm|in|auto] [--up x|y|z|auto]
+                       [--height H] [--density RHO | --mass M] [--direction DEG]
+                       [--base-tol M] [--json OUT]
+
+Errors in the input are printed as one line (``statue2model: error: ...``) with
+exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from . import __version__
+from .errors import InputError
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not value > 0 or value != value or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
+    return value
+
+
+def _finite_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if value != value or abs(value) == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="statue2model",
+        description="From a 3D scan of a statue to its rocking model, prototype and isolator.",
+    )
+    parser.add_argument("--version", action="version", version=f"statue2model {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    p = sub.add_parser(
+        "props",
+        help="scan -> mass properties and rocking parameters",
+        description="Load, repair and orient a scan; print its mass properties and rocking "
+        "parameters; write them as JSON with a plot (footprint and vulnerability rose) beside it.",
+    )
+    p.add_argument("mesh", nargs="?", help="mesh (STL, OBJ, PLY, OFF, GLB) or point cloud (PLY, PCD, XYZ); "
+                   "default: the bundled meshes/dancing_girl.ply")
+    p.add_argument("--units", default="auto", choices=["auto", "m", "mm", "cm", "in"],
+                   help="length unit of the file (default: detected from the size)")
+    p.add_argument("--up", default="auto", choices=["auto", "x", "y", "z", "-x", "-y", "-z"],
+                   help="file axis pointing up (default: detected from the flat base)")
+    p.add_argument("--height", type=_positive_float, metavar="H",
+                   help="rescale the scan to this real height in metres (for normalised scans)")
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--density", type=_positive_float, metavar="RHO",
+                       help="density in kg/m^3 (default: marble, 2650)")
+    group.add_argument("--mass", type=_positive_float, metavar="M", help="measured mass in kg (sets the density)")
+    p.add_argument("--direction", type=_finite_float, metavar="DEG",
+                   help="excitation direction in plan, degrees from +x toward +y (default: the weakest)")
+    p.add_argument("--base-tol", type=float, metavar="M",
+                   help="contact tolerance in metres: vertices this close to the base touch it "
+                   "(default: 0.1%% of the height)")
+    p.add_argument("--json", metavar="OUT", help="JSON output (default: outputs/<scan name>/props.json); "
+                   "the plot is written beside it with the suffix .png")
+    p.set_defaults(func=_cmd_props)
+    return parser
+
+
+def _cmd_props(args) -> int:
+    from .geometry.body import load_body
+    from .paths import default_scan
+    from .props import props_dict
+    from .files import prepare_dir, write_json
+    from .report.plots import plot_footprint_and_rose
+    from .report.tables import props_table
+
+    mesh = Path(args.mesh) if args.mesh else default_scan()
+    out = Path(args.json) if args.json else Path("outputs") / mesh.stem / "props.json"
+    if out.exists() and out.is_dir():
+        raise InputError(f"--json {out} is a folder; give a file name")
+    prepare_dir(out.parent)
+    body = load_body(
+        mesh, units=args.units, up=args.up, height=args.height, density=args.density,
+        mass=args.mass, base_tol=args.base_tol,
+    )
+    params = body.rocking(args.direction)
+    rose = body.rose()
+    print(props_table(body, params, rose))
+    write_json(out, props_dict(body, params, rose))
+    png = plot_footprint_and_rose(body, params, rose, out.with_suffix(".png"))
+    print(f"\nwrote {out} and {png}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as exc:
+        print(f"statue2model: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("statue2model: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug: still one line unless debugging
+        if os.environ.get("STATUE2MODEL_DEBUG"):
+            raise
+        print(f"statue2model: internal error: {type(exc).__name__}: {exc} "
+              "(set STATUE2MODEL_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

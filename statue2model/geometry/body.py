@@ -1,0 +1,192 @@
+"""From a scan file to a Body: a closed solid in metres, standing on z = 0.
+
+The pipeline (each step's record ends up in ``Body.log``):
+
+    read (scan.py) -> repair (repair.py) -> units (units.py) -> up axis
+    (orient.py) -> optional rescale to a known height -> level the base ->
+    base on z = 0, footprint hull centred on the z axis -> mass properties
+    (massprops.py) -> footprint (footprint.py) -> stability check
+
+Mass properties are integrated once, in file units, and carried through the
+similarity transform exactly (volume x s^3, inertia x s^5, rotations R I R^T).
+
+Example
+-------
+>>> from statue2model.geometry.body import load_body
+>>> from statue2model.paths import default_scan
+>>> body = load_body(default_scan())
+>>> body.up, body.units, round(body.height, 3)
+('+y', 'm', 1.8)
+>>> p = body.rocking()              # weakest direction by default
+>>> p.a_R <= p.a_L
+True
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .footprint import Footprint, footprint
+from .massprops import MARBLE_DENSITY, MassProperties, volume_integrals
+from .orient import UP_ROTATIONS, choose_up, level_base
+from .repair import repair_mesh
+from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose
+from .scan import read_scan
+from .units import resolve_units
+
+BASE_TOL = 1e-3
+"""Default contact tolerance as a fraction of the height: vertices this close to
+the base plane touch it (1.8 mm on a 1.8 m statue)."""
+
+
+@dataclass(frozen=True)
+class Body:
+    """A scanned object ready for analysis (SI units, base on z = 0, +z up).
+
+    vertices, faces : the closed, outward-wound mesh, (n, 3) m and (f, 3)
+    mass            : mass properties in this frame
+    footprint       : contact region and its convex hull
+    units, up       : what the file was taken to be in ('m', '+y', ...)
+    scale           : metres per file unit actually applied
+    rotation        : (3, 3) file axes -> body axes (after scaling)
+    log, warnings   : what was done, and what the user should check
+    """
+
+    source: str
+    kind: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    mass: MassProperties
+    footprint: Footprint
+    units: str
+    up: str
+    scale: float
+    rotation: np.ndarray
+    log: tuple[str, ...]
+    warnings: tuple[str, ...]
+
+    @property
+    def height(self) -> float:
+        return float(self.vertices[:, 2].max())
+
+    def rose(self, step_deg: float = 1.0, g: float = G) -> Rose:
+        return vulnerability_rose(self.mass, self.footprint.hull, step_deg, g)
+
+    def rocking(self, direction_deg: float | None = None, g: float = G) -> RockingParams:
+        """Rocking parameters along ``direction_deg`` (default: the weakest direction)."""
+        if direction_deg is None:
+            direction_deg = self.rose(g=g).weakest_deg
+        if not np.isfinite(direction_deg):
+            raise InputError(f"direction must be a finite angle in degrees, got {direction_deg}")
+        return rocking_params(self.mass, self.footprint.hull, direction_deg, g)
+
+
+def body_from_mesh(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    *,
+    units: str = "auto",
+    up: str = "auto",
+    height: float | None = None,
+    density: float | None = None,
+    mass: float | None = None,
+    base_tol: float | None = None,
+    source: str = "<mesh>",
+    kind: str = "mesh",
+    log: tuple[str, ...] = (),
+) -> Body:
+    """Run the pipeline of the module docstring on raw arrays (file units and axes)."""
+    if height is not None and not (np.isfinite(height) and height > 0):
+        raise InputError(f"height must be a positive number of metres, got {height}")
+    if base_tol is not None and not (np.isfinite(base_tol) and base_tol >= 0):
+        raise InputError(f"base tolerance must be a non-negative number of metres, got {base_tol}")
+    if density is not None and mass is not None:
+        raise InputError("give either --density or --mass, not both")
+    if density is not None and not (np.isfinite(density) and density > 0):
+        raise InputError(f"density must be a positive number of kg/m^3, got {density}")
+    if mass is not None and not (np.isfinite(mass) and mass > 0):
+        raise InputError(f"mass must be a positive number of kg, got {mass}")
+    steps = list(log)
+    warnings: list[str] = []
+
+    rep = repair_mesh(vertices, faces)
+    steps.extend(rep.log)
+    v, f = rep.vertices, rep.faces
+    vol0, com0, inertia0 = volume_integrals(v, f)
+
+    extent = float(np.ptp(v, axis=0).max())
+    if height is not None:
+        choice = resolve_units("auto", extent)
+        s = choice.scale
+    else:
+        choice = resolve_units(units, extent)
+        s = choice.scale
+        (steps if choice.sure else warnings).append(choice.note)
+
+    v1 = v * s
+    com1 = com0 * s
+    cand, up_note = choose_up(v1, f, com1, up)
+    steps.append(up_note)
+    R = UP_ROTATIONS[cand.up]
+    v2 = v1 @ R.T
+    if height is not None:
+        k = height / cand.height
+        s *= k
+        v2 = v2 * k
+        steps.append(f"rescaled to a height of {height:g} m (x {s:.6g} m per file unit)")
+
+    H = float(np.ptp(v2[:, 2]))
+    R_level, tilt = level_base(v2, f, H)
+    if tilt > 0:
+        v2 = v2 @ R_level.T
+        R = R_level @ R
+        steps.append(f"levelled the base (tilt {np.degrees(tilt):.3f} deg)")
+
+    shift = np.array([0.0, 0.0, -v2[:, 2].min()])
+    v2 = v2 + shift
+    tol = BASE_TOL * H if base_tol is None else base_tol
+    fp0 = footprint(v2, f, tol)
+    hull_centre = _polygon_centroid(fp0.hull)
+    v2[:, :2] -= hull_centre
+    shift[:2] -= hull_centre
+    fp = footprint(v2, f, tol)
+
+    volume = vol0 * s**3
+    rho = mass / volume if mass is not None else (density if density is not None else MARBLE_DENSITY)
+    com = R @ (com0 * s) + shift
+    inertia = rho * s**5 * (R @ inertia0 @ R.T)
+    mp = MassProperties(volume=volume, mass=rho * volume, density=rho, com=com, inertia=inertia)
+
+    margin = fp.contains(com[:2])
+    if margin <= 0:
+        raise InputError(
+            f"the body would not stand on its base: its centre of mass lies {-margin * 1000:.1f} mm "
+            "outside the footprint (check --up, or the scan's base)"
+        )
+    if fp.area < 0.02 * fp.hull_area:
+        warnings.append(
+            f"the base touches the floor over only {fp.area * 1e4:.2f} cm^2 "
+            f"of a {fp.hull_area * 1e4:.1f} cm^2 hull; check the contact tolerance ({tol * 1000:.2f} mm)"
+        )
+    return Body(
+        source=source, kind=kind, vertices=v2, faces=f, mass=mp, footprint=fp,
+        units=("scaled to height" if height is not None else choice.units), up=cand.up, scale=s,
+        rotation=R, log=tuple(steps), warnings=tuple(warnings),
+    )
+
+
+def _polygon_centroid(ring: np.ndarray) -> np.ndarray:
+    x, y = ring[:, 0], ring[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    a = cross.sum() / 2
+    return np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * a)
+
+
+def load_body(path: str | Path, **options) -> Body:
+    """Read the scan at ``path`` and run the pipeline (options as :func:`body_from_mesh`)."""
+    raw = read_scan(path)
+    return body_from_mesh(raw.vertices, raw.faces, source=str(path), kind=raw.kind, log=raw.log, **options)

@@ -1,0 +1,198 @@
+"""Rocking parameters of a body on its base, for any excitation direction.
+
+Symbols (MODEL.md section 1; SI units). The excitation acts along the horizontal
+unit vector x at angle ``direction_deg`` (psi) in plan, measured from the body's
++x axis toward +y. Rocking pivots are the extreme points of the footprint's
+convex hull along x.
+
+=========  ============================================================
+m          mass, kg
+h          height of the centre of mass G above the base, m
+b_R, b_L   horizontal distance along x from G's projection to the right
+           (+x) and left (-x) pivot, m
+I_G        moment of inertia about the horizontal axis through G
+           perpendicular to x, kg m^2
+d_i        sqrt(b_i^2 + h^2), pivot i to G, m            (i = L, R)
+delta_i    atan(b_i / h), critical (overturning) angle, rad
+I_i        I_G + m d_i^2, inertia about pivot i, kg m^2
+p_i        sqrt(m g d_i / I_i), frequency parameter, rad/s
+a_i        g b_i / h, uplift acceleration (West), m/s^2: a ground acceleration
+           of -a_R (toward -x) lifts the body onto its right pivot
+           (theta > 0), one of +a_L onto its left pivot (theta < 0)
+e_L, e_R   theoretical restitution, [I_G + m (h^2 - b_L b_R)] / I_i: e_L for
+           landing on the left edge (after rocking on the right pivot)
+=========  ============================================================
+
+Example
+-------
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> A1 = RockingParams(m=1.286, h=0.2, b_L=0.0384, b_R=0.0384, I_G=1.286 * (0.0384**2 + 0.2**2) / 3)
+>>> round(A1.delta_R, 4), round(A1.p_R, 3), round(A1.e_L, 3)
+(0.1897, 6.011, 0.947)
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+
+import numpy as np
+
+from ..errors import InputError
+from .massprops import MassProperties
+
+G = 9.81
+"""Gravity, m/s^2 (MODEL.md)."""
+
+PARAM_KEYS = (
+    "m", "h", "b_L", "b_R", "I_G", "d_L", "d_R", "delta_L", "delta_R", "I_L", "I_R",
+    "p_L", "p_R", "a_L", "a_R", "e_L", "e_R",
+)
+
+
+@dataclass(frozen=True)
+class RockingParams:
+    """The base quantities of the rocking model; everything else is derived (see module doc)."""
+
+    m: float
+    h: float
+    b_L: float
+    b_R: float
+    I_G: float
+    direction_deg: float = 0.0
+    g: float = G
+
+    def __post_init__(self):
+        for name in ("m", "h", "b_L", "b_R", "I_G", "g"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"rocking parameter {name} must be a positive finite number, got {value!r}")
+
+    @property
+    def d_L(self) -> float:
+        return math.hypot(self.b_L, self.h)
+
+    @property
+    def d_R(self) -> float:
+        return math.hypot(self.b_R, self.h)
+
+    @property
+    def delta_L(self) -> float:
+        return math.atan2(self.b_L, self.h)
+
+    @property
+    def delta_R(self) -> float:
+        return math.atan2(self.b_R, self.h)
+
+    @property
+    def I_L(self) -> float:
+        return self.I_G + self.m * self.d_L**2
+
+    @property
+    def I_R(self) -> float:
+        return self.I_G + self.m * self.d_R**2
+
+    @property
+    def p_L(self) -> float:
+        return math.sqrt(self.m * self.g * self.d_L / self.I_L)
+
+    @property
+    def p_R(self) -> float:
+        return math.sqrt(self.m * self.g * self.d_R / self.I_R)
+
+    @property
+    def a_L(self) -> float:
+        return self.g * self.b_L / self.h
+
+    @property
+    def a_R(self) -> float:
+        return self.g * self.b_R / self.h
+
+    @property
+    def e_L(self) -> float:
+        return (self.I_G + self.m * (self.h**2 - self.b_L * self.b_R)) / self.I_L
+
+    @property
+    def e_R(self) -> float:
+        return (self.I_G + self.m * (self.h**2 - self.b_L * self.b_R)) / self.I_R
+
+    def to_dict(self) -> dict:
+        """All base and derived quantities under the names of the module table."""
+        out = {k: getattr(self, k) for k in PARAM_KEYS}
+        out["direction_deg"] = self.direction_deg
+        out["g"] = self.g
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "RockingParams":
+        """Build from a ``props`` JSON (or any dict holding m, h, b_L, b_R, I_G)."""
+        names = {f.name for f in fields(cls)}
+        missing = [k for k in ("m", "h", "b_L", "b_R", "I_G") if k not in data]
+        if missing:
+            raise InputError(f"rocking parameters are missing {', '.join(missing)}")
+        return cls(**{k: float(v) for k, v in data.items() if k in names})
+
+
+def unit_vectors(direction_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """Excitation direction x and rocking axis y = z cross x, both horizontal (3,)."""
+    psi = math.radians(direction_deg)
+    return np.array([math.cos(psi), math.sin(psi), 0.0]), np.array([-math.sin(psi), math.cos(psi), 0.0])
+
+
+def rocking_params(mass: MassProperties, hull: np.ndarray, direction_deg: float, g: float = G) -> RockingParams:
+    """Rocking parameters along ``direction_deg`` for a body with mass properties ``mass``
+    (base on z = 0) whose footprint has convex hull ``hull`` ((k, 2), m)."""
+    x, y = unit_vectors(direction_deg)
+    proj = (np.asarray(hull) - mass.com[:2]) @ x[:2]
+    b_R, b_L = float(proj.max()), float(-proj.min())
+    if b_R <= 0 or b_L <= 0:
+        raise InputError(
+            f"along {direction_deg:g} deg the centre of mass is outside the base: the body would not stand"
+        )
+    return RockingParams(
+        m=mass.mass, h=float(mass.com[2]), b_L=b_L, b_R=b_R,
+        I_G=mass.inertia_about_axis(y), direction_deg=float(direction_deg) % 360.0, g=g,
+    )
+
+
+@dataclass(frozen=True)
+class Rose:
+    """Vulnerability rose: the uplift acceleration that tips the body toward each direction.
+
+    direction_deg : (n,) plan directions psi, degrees
+    a_tip         : (n,) g b(psi) / h, m/s^2, b(psi) = distance from G's projection to
+                    the hull's supporting line facing psi; the ground must accelerate
+                    toward psi + 180 deg by this much to lift the body toward psi
+    weakest_deg   : exact direction of the minimum (the normal of the nearest hull edge)
+    a_min         : the minimum, m/s^2
+    """
+
+    direction_deg: np.ndarray
+    a_tip: np.ndarray
+    weakest_deg: float
+    a_min: float
+
+    def to_dict(self) -> dict:
+        return {
+            "weakest_direction_deg": self.weakest_deg,
+            "a_min": self.a_min,
+            "direction_deg": self.direction_deg.tolist(),
+            "a_tip": self.a_tip.tolist(),
+        }
+
+
+def vulnerability_rose(mass: MassProperties, hull: np.ndarray, step_deg: float = 1.0, g: float = G) -> Rose:
+    """The rose at ``step_deg`` steps plus the exact weakest direction."""
+    c = mass.com[:2]
+    h = float(mass.com[2])
+    rel = np.asarray(hull) - c
+    psi = np.arange(0.0, 360.0, step_deg)
+    u = np.column_stack([np.cos(np.radians(psi)), np.sin(np.radians(psi))])
+    a_tip = g * (rel @ u.T).max(axis=0) / h
+    # min over psi of the support distance is the distance to the nearest hull edge
+    edges = np.roll(rel, -1, axis=0) - rel
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    dist = np.einsum("ij,ij->i", rel, normals)
+    near = dist <= dist.min() * (1 + 1e-9)
+    angles = np.round(np.degrees(np.arctan2(normals[near, 1], normals[near, 0])) % 360.0, 9) % 360.0
+    return Rose(direction_deg=psi, a_tip=a_tip, weakest_deg=float(angles.min()), a_min=g * float(dist.min()) / h)

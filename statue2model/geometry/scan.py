@@ -1,0 +1,103 @@
+"""Reading scans: triangle meshes through trimesh, point clouds through open3d.
+
+Supported: meshes .stl .obj .ply .off .glb .gltf; point clouds .ply (vertices
+only) .pcd .xyz .xyzn .pts. A point cloud is turned into a closed surface by
+Poisson reconstruction (:mod:`statue2model.geometry.pointcloud`), which imports
+open3d only on that path.
+
+Example
+-------
+>>> from statue2model.geometry.scan import read_scan
+>>> from statue2model.paths import default_scan
+>>> raw = read_scan(default_scan())
+>>> raw.kind, raw.faces.shape
+('mesh', (19294, 3))
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+MESH_SUFFIXES = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
+CLOUD_SUFFIXES = {".pcd", ".xyz", ".xyzn", ".pts"}
+
+
+@dataclass(frozen=True)
+class RawScan:
+    """What a file holds, in the file's own units and axes.
+
+    vertices : (n, 3) float
+    faces    : (f, 3) int (a point cloud's reconstructed surface for kind 'point cloud')
+    kind     : 'mesh' or 'point cloud'
+    log      : what was done while reading
+    """
+
+    path: Path
+    vertices: np.ndarray
+    faces: np.ndarray
+    kind: str
+    log: tuple[str, ...]
+
+
+def _check_file(path: Path) -> None:
+    if not path.exists():
+        raise InputError(f"file not found: {path}")
+    if not path.is_file():
+        raise InputError(f"not a file: {path}")
+    if path.stat().st_size == 0:
+        raise InputError(f"file is empty: {path}")
+    suffix = path.suffix.lower()
+    if suffix not in MESH_SUFFIXES | CLOUD_SUFFIXES:
+        known = ", ".join(sorted(MESH_SUFFIXES | CLOUD_SUFFIXES))
+        raise InputError(f"unsupported file type '{suffix or path.name}': use one of {known}")
+
+
+def _load_trimesh(path: Path):
+    import trimesh
+
+    try:
+        loaded = trimesh.load(str(path), process=False)
+    except Exception as exc:  # trimesh raises many kinds on corrupt files
+        raise InputError(f"cannot read {path.name}: {exc}".splitlines()[0]) from None
+    if isinstance(loaded, trimesh.Scene):
+        meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
+        if not meshes:
+            clouds = [g for g in loaded.dump() if isinstance(g, trimesh.PointCloud)]
+            if clouds:
+                return np.vstack([c.vertices for c in clouds]), None
+            raise InputError(f"{path.name} holds no triangle mesh")
+        loaded = trimesh.util.concatenate(meshes)
+    if isinstance(loaded, trimesh.PointCloud):
+        return np.asarray(loaded.vertices, dtype=float), None
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise InputError(f"{path.name} holds no triangle mesh")
+    faces = np.asarray(loaded.faces)
+    vertices = np.asarray(loaded.vertices, dtype=float)
+    if len(faces) == 0:
+        return vertices, None
+    return vertices, faces
+
+
+def read_scan(path: str | Path, *, poisson_depth: int = 8) -> RawScan:
+    """Read a mesh or a point cloud file (see the module docstring for formats)."""
+    path = Path(path)
+    _check_file(path)
+    suffix = path.suffix.lower()
+    if suffix in CLOUD_SUFFIXES:
+        points = None
+    else:
+        points, faces = _load_trimesh(path)
+        if faces is not None:
+            if len(points) == 0:
+                raise InputError(f"{path.name} has no vertices")
+            return RawScan(path, points, faces, "mesh", ())
+    from .pointcloud import read_points, reconstruct_surface
+
+    if points is None:
+        points = read_points(path)
+    vertices, faces, note = reconstruct_surface(points, depth=poisson_depth)
+    return RawScan(path, vertices, faces, "point cloud", (note,))

@@ -1,0 +1,39 @@
+"""The ``props`` record: everything the scan stage hands to later stages, as JSON.
+
+Top-level keys: the rocking parameters under their MODEL.md names (m, h, b_L,
+b_R, I_G, d_L, d_R, delta_L, delta_R, I_L, I_R, p_L, p_R, a_L, a_R, e_L, e_R,
+direction_deg, g), volume, mass, density, com, inertia, footprint, rose, and the
+provenance (source, kind, units, up, scale, height, log, warnings). SI units.
+
+Example
+-------
+>>> from statue2model.geometry.body import load_body
+>>> from statue2model.paths import default_scan
+>>> body = load_body(default_scan())
+>>> d = props_dict(body, body.rocking(), body.rose())
+>>> sorted(k for k in ("b_L", "b_R", "h", "I_G", "e_L", "footprint", "com") if k in d)
+['I_G', 'b_L', 'b_R', 'com', 'e_L', 'footprint', 'h']
+"""
+from __future__ import annotations
+
+from . import __version__
+
+
+def props_dict(body, params, rose) -> dict:
+    out = {
+        "schema": "statue2model.props/1",
+        "version": __version__,
+        "source": body.source,
+        "kind": body.kind,
+        "units": body.units,
+        "up": body.up,
+        "scale": body.scale,
+        "height": body.height,
+    }
+    out.update(body.mass.to_dict())
+    out.update(params.to_dict())
+    out["footprint"] = body.footprint.to_dict()
+    out["rose"] = rose.to_dict()
+    out["log"] = list(body.log)
+    out["warnings"] = list(body.warnings)
+    return out
