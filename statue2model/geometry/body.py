@@ -31,15 +31,17 @@ import numpy as np
 from ..errors import InputError
 from .footprint import Footprint, footprint
 from .massprops import MARBLE_DENSITY, MassProperties, volume_integrals
-from .orient import UP_ROTATIONS, choose_up, level_base
+from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, level_base
 from .repair import repair_mesh
 from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose
 from .scan import read_scan
 from .units import resolve_units
 
 BASE_TOL = 1e-3
-"""Default contact tolerance as a fraction of the height: vertices this close to
-the base plane touch it (1.8 mm on a 1.8 m statue)."""
+"""Least contact tolerance as a fraction of the height: vertices this close to the
+base plane touch it (1.8 mm on a 1.8 m statue). A rough base (a reconstructed
+point cloud, a hand-held scan) widens it to three standard deviations of the
+base's heights, up to orient.BASE_BAND of the height."""
 
 
 @dataclass(frozen=True)
@@ -147,7 +149,13 @@ def body_from_mesh(
 
     shift = np.array([0.0, 0.0, -v2[:, 2].min()])
     v2 = v2 + shift
-    tol = BASE_TOL * H if base_tol is None else base_tol
+    if base_tol is None:
+        rough = base_roughness(v2, f, H)
+        tol = min(max(BASE_TOL * H, 3.0 * rough), BASE_BAND * H)
+        if tol > BASE_TOL * H:
+            steps.append(f"rough base ({rough * 1000:.2f} mm rms): contact tolerance widened to {tol * 1000:.2f} mm")
+    else:
+        tol = base_tol
     fp0 = footprint(v2, f, tol)
     hull_centre = _polygon_centroid(fp0.hull)
     v2[:, :2] -= hull_centre

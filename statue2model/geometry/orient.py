@@ -147,20 +147,32 @@ def choose_up(
     return chosen, note
 
 
+def base_faces(vertices: np.ndarray, faces: np.ndarray, height: float) -> np.ndarray:
+    """(f,) mask of the down-facing faces within BASE_BAND of the lowest point (z-up body)."""
+    z = vertices[:, 2]
+    low = z - z.min() <= BASE_BAND * height
+    av = _face_area_vectors(vertices, faces)
+    return low[faces].all(axis=1) & (-av[:, 2] > 0.94 * np.linalg.norm(av, axis=1))
+
+
+def base_roughness(vertices: np.ndarray, faces: np.ndarray, height: float) -> float:
+    """Standard deviation of the heights of the base's vertices (z-up, levelled body), length unit."""
+    sel = base_faces(vertices, faces, height)
+    if not sel.any():
+        return 0.0
+    return float(np.std(vertices[np.unique(faces[sel]), 2]))
+
+
 def level_base(vertices: np.ndarray, faces: np.ndarray, height: float) -> tuple[np.ndarray, float]:
     """Rotation that makes the base (z-up body) exactly horizontal, and its tilt (rad).
 
     The base normal is the area-weighted mean normal of the down-facing faces within
     BASE_BAND of the lowest point. Tilts above 10 degrees are left alone (returns identity).
     """
-    z = vertices[:, 2]
-    low = z - z.min() <= BASE_BAND * height
-    av = _face_area_vectors(vertices, faces)
-    down = -av[:, 2] > 0.94 * np.linalg.norm(av, axis=1)
-    sel = low[faces].all(axis=1) & down
+    sel = base_faces(vertices, faces, height)
     if not sel.any():
         return np.eye(3), 0.0
-    n = av[sel].sum(axis=0)
+    n = _face_area_vectors(vertices, faces[sel]).sum(axis=0)
     n /= np.linalg.norm(n)
     tilt = float(np.arccos(np.clip(-n[2], -1.0, 1.0)))
     if tilt == 0.0 or tilt > MAX_LEVEL_TILT:

@@ -141,7 +141,8 @@ def _cap_planar(points: np.ndarray, loop: np.ndarray, flat_tol: float) -> np.nda
             idx = [lookup[tuple(p)] for p in xy.tolist()]
         except KeyError:
             return None
-        area2 = np.cross(xy[1] - xy[0], xy[2] - xy[0])
+        e1, e2 = xy[1] - xy[0], xy[2] - xy[0]
+        area2 = e1[0] * e2[1] - e1[1] * e2[0]
         # the cap runs against the loop: opposite turning sense in the plane
         if (area2 > 0) == loop_ccw:
             idx = idx[::-1]
