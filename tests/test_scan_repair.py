@@ -94,6 +94,14 @@ def test_fixes_inverted_and_inconsistent_winding():
     assert _volume(res) == pytest.approx(0.054, rel=1e-12)
 
 
+def test_drops_degenerate_and_repeated_faces():
+    box = trimesh.creation.box(extents=(0.2, 0.3, 0.9))
+    f = np.vstack([box.faces, box.faces[[2]][:, [1, 2, 0]], [[0, 0, 1]]])
+    res = repair_mesh(box.vertices, f)
+    assert res.log == ("dropped 1 degenerate faces", "dropped 1 duplicate faces")
+    assert _volume(res) == pytest.approx(0.054, rel=1e-12)
+
+
 def test_refuses_non_manifold_edges():
     a = trimesh.creation.box(extents=(1, 1, 1))
     b = a.copy()

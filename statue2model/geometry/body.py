@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import InputError
 from .footprint import Footprint, footprint
 from .massprops import MARBLE_DENSITY, MassProperties, volume_integrals
-from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, level_base
+from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, face_area_vectors, level_base
 from .repair import repair_mesh
 from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose
 from .scan import read_scan
@@ -53,7 +53,7 @@ class Body:
     footprint       : contact region and its convex hull
     units, up       : what the file was taken to be in ('m', '+y', ...)
     scale           : metres per file unit actually applied
-    rotation        : (3, 3) file axes -> body axes (after scaling)
+    rotation        : (3, 3) and translation (3,): x_body = rotation @ (scale * x_file) + translation
     log, warnings   : what was done, and what the user should check
     """
 
@@ -67,6 +67,7 @@ class Body:
     up: str
     scale: float
     rotation: np.ndarray
+    translation: np.ndarray
     log: tuple[str, ...]
     warnings: tuple[str, ...]
 
@@ -130,27 +131,31 @@ def body_from_mesh(
 
     v1 = v * s
     com1 = com0 * s
-    cand, up_note = choose_up(v1, f, com1, up)
+    av = face_area_vectors(v1, f)  # turned and scaled with the body below
+    cand, up_note = choose_up(v1, f, av, com1, up)
     steps.append(up_note)
     R = UP_ROTATIONS[cand.up]
     v2 = v1 @ R.T
+    av = av @ R.T
     if height is not None:
         k = height / cand.height
         s *= k
         v2 = v2 * k
+        av = av * k**2
         steps.append(f"rescaled to a height of {height:g} m (x {s:.6g} m per file unit)")
 
     H = float(np.ptp(v2[:, 2]))
-    R_level, tilt = level_base(v2, f, H)
+    R_level, tilt = level_base(v2, f, av, H)
     if tilt > 0:
         v2 = v2 @ R_level.T
+        av = av @ R_level.T
         R = R_level @ R
         steps.append(f"levelled the base (tilt {np.degrees(tilt):.3f} deg)")
 
     shift = np.array([0.0, 0.0, -v2[:, 2].min()])
     v2 = v2 + shift
     if base_tol is None:
-        rough = base_roughness(v2, f, H)
+        rough = base_roughness(v2, f, av, H)
         tol = min(max(BASE_TOL * H, 3.0 * rough), BASE_BAND * H)
         if tol > BASE_TOL * H:
             steps.append(f"rough base ({rough * 1000:.2f} mm rms): contact tolerance widened to {tol * 1000:.2f} mm")
@@ -182,7 +187,7 @@ def body_from_mesh(
     return Body(
         source=source, kind=kind, vertices=v2, faces=f, mass=mp, footprint=fp,
         units=("scaled to height" if height is not None else choice.units), up=cand.up, scale=s,
-        rotation=R, log=tuple(steps), warnings=tuple(warnings),
+        rotation=R, translation=shift, log=tuple(steps), warnings=tuple(warnings),
     )
 
 

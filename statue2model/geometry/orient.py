@@ -81,10 +81,17 @@ def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.eye(3) + s * K + (1 - c) * (K @ K)
 
 
-def _face_area_vectors(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(f, 3) face normals scaled by face area."""
+def face_area_vectors(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(f, 3) face normals scaled by face area (turn with the body: av' = av @ R.T)."""
     a, b, c = (vertices[faces[:, j]] for j in range(3))
     return 0.5 * np.cross(b - a, c - a)
+
+
+def _down_facing(area_vectors: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of faces facing down (within 20 deg) w.r.t. ``up``, and their projected areas."""
+    down = -(area_vectors @ up)
+    idx = np.flatnonzero(down > 0.94 * np.sqrt(np.einsum("ij,ij->i", area_vectors, area_vectors)))
+    return idx, down[idx]
 
 
 def evaluate_base(
@@ -96,12 +103,12 @@ def evaluate_base(
     zmin = z.min()
     height = float(z.max() - zmin)
     low = z - zmin <= BASE_BAND * height
-    down = -(area_vectors @ R[2])  # projected area of faces facing down (positive)
-    in_band = low[faces].all(axis=1) & (down > 0.94 * np.linalg.norm(area_vectors, axis=1))
+    idx, down = _down_facing(area_vectors, R[2])
+    in_band = low[faces[idx]].all(axis=1)
     flat_area = float(down[in_band].sum())
-    xy = vertices @ R[:2].T
-    plan_area = float(np.prod(np.ptp(xy, axis=0)))
-    hull = convex_hull_2d(xy[low])
+    extent = np.ptp(vertices, axis=0)
+    plan_area = float(np.prod(np.abs(R[:2]) @ extent))
+    hull = convex_hull_2d(vertices[low] @ R[:2].T)
     stable, margin = False, -np.inf
     if len(hull) >= 3 and polygon_area(hull) > 0:
         c = R[:2] @ com
@@ -114,10 +121,9 @@ def evaluate_base(
 
 
 def choose_up(
-    vertices: np.ndarray, faces: np.ndarray, com: np.ndarray, up: str = "auto"
+    vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, com: np.ndarray, up: str = "auto"
 ) -> tuple[BaseCandidate, str]:
     """Pick the up direction (see the module docstring); ``up`` forces one ('+z', 'y', ...)."""
-    area_vectors = _face_area_vectors(vertices, faces)
     if up != "auto":
         key = up if up[0] in "+-" else "+" + up
         if key not in UP_ROTATIONS:
@@ -147,32 +153,34 @@ def choose_up(
     return chosen, note
 
 
-def base_faces(vertices: np.ndarray, faces: np.ndarray, height: float) -> np.ndarray:
-    """(f,) mask of the down-facing faces within BASE_BAND of the lowest point (z-up body)."""
+def base_faces(vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float) -> np.ndarray:
+    """Indices of the down-facing faces within BASE_BAND of the lowest point (z-up body)."""
     z = vertices[:, 2]
     low = z - z.min() <= BASE_BAND * height
-    av = _face_area_vectors(vertices, faces)
-    return low[faces].all(axis=1) & (-av[:, 2] > 0.94 * np.linalg.norm(av, axis=1))
+    idx, _ = _down_facing(area_vectors, np.array([0.0, 0.0, 1.0]))
+    return idx[low[faces[idx]].all(axis=1)]
 
 
-def base_roughness(vertices: np.ndarray, faces: np.ndarray, height: float) -> float:
+def base_roughness(vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float) -> float:
     """Standard deviation of the heights of the base's vertices (z-up, levelled body), length unit."""
-    sel = base_faces(vertices, faces, height)
-    if not sel.any():
+    sel = base_faces(vertices, faces, area_vectors, height)
+    if not len(sel):
         return 0.0
     return float(np.std(vertices[np.unique(faces[sel]), 2]))
 
 
-def level_base(vertices: np.ndarray, faces: np.ndarray, height: float) -> tuple[np.ndarray, float]:
+def level_base(
+    vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float
+) -> tuple[np.ndarray, float]:
     """Rotation that makes the base (z-up body) exactly horizontal, and its tilt (rad).
 
     The base normal is the area-weighted mean normal of the down-facing faces within
     BASE_BAND of the lowest point. Tilts above 10 degrees are left alone (returns identity).
     """
-    sel = base_faces(vertices, faces, height)
-    if not sel.any():
+    sel = base_faces(vertices, faces, area_vectors, height)
+    if not len(sel):
         return np.eye(3), 0.0
-    n = _face_area_vectors(vertices, faces[sel]).sum(axis=0)
+    n = area_vectors[sel].sum(axis=0)
     n /= np.linalg.norm(n)
     tilt = float(np.arccos(np.clip(-n[2], -1.0, 1.0)))
     if tilt == 0.0 or tilt > MAX_LEVEL_TILT:

@@ -3,7 +3,8 @@
 Steps, in order (each one runs only when the mesh needs it):
 
 1. weld    : merge vertices that coincide (within 1e-9 of the bounding-box diagonal)
-2. degenerate : drop faces that use a vertex twice, and duplicate faces
+2. degenerate : drop faces that use a vertex twice, and repeated faces (found as
+                edges on more than two faces)
 3. fragments  : drop loose components that are tiny next to the largest one
                 (volume below ``min_fragment`` of it and area below 1 %)
 4. winding    : make neighbouring faces agree, then every component face outward
@@ -65,34 +66,48 @@ def check_arrays(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, n
     return v, f
 
 
+def _group_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first index of each distinct key, group id of every element), one stable radix sort."""
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    new_group = np.empty(len(key), dtype=bool)
+    new_group[0] = True
+    np.not_equal(sorted_key[1:], sorted_key[:-1], out=new_group[1:])
+    group = np.empty(len(key), dtype=np.int64)
+    group[order] = np.cumsum(new_group) - 1
+    return order[new_group], group
+
+
 def weld(vertices: np.ndarray, faces: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, int]:
     """Merge vertices whose coordinates agree after rounding to ``tol``; keep first coordinates."""
     q = np.round((vertices - vertices.min(axis=0)) / tol).astype(np.int64)
     span = q.max(axis=0) + 1
     if np.prod(span.astype(float)) < 2**62:
-        key = (q[:, 0] * span[1] + q[:, 1]) * span[2] + q[:, 2]
-        _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+        first, inverse = _group_keys((q[:, 0] * span[1] + q[:, 1]) * span[2] + q[:, 2])
     else:  # pragma: no cover - only for absurd coordinate ranges
         _, first, inverse = np.unique(q, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.reshape(-1)
+        inverse = inverse.reshape(-1)
     merged = len(vertices) - len(first)
+    if merged == 0:
+        return vertices, faces, 0
     return vertices[first], inverse[faces], merged
 
 
-def drop_degenerate(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, int, int]:
-    """Remove faces using a vertex twice, then duplicate faces (any vertex order)."""
+def drop_degenerate(faces: np.ndarray) -> tuple[np.ndarray, int]:
+    """Remove faces that use a vertex twice."""
     ok = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 2] != faces[:, 0])
-    n_degenerate = int((~ok).sum())
-    faces = faces[ok]
+    return faces[ok], int((~ok).sum())
+
+
+def drop_duplicates(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, int]:
+    """Remove repeated faces (the same three vertices in any order)."""
     s = np.sort(faces, axis=1)
     n = np.int64(n_vertices)
     if float(n_vertices) ** 3 < 2**62:
-        key = (s[:, 0] * n + s[:, 1]) * n + s[:, 2]
-        _, keep = np.unique(key, return_index=True)
+        keep, _ = _group_keys((s[:, 0] * n + s[:, 1]) * n + s[:, 2])
     else:  # pragma: no cover
         _, keep = np.unique(s, axis=0, return_index=True)
-    n_duplicate = len(faces) - len(keep)
-    return faces[np.sort(keep)], n_degenerate, n_duplicate
+    return faces[np.sort(keep)], len(faces) - len(keep)
 
 
 def _face_measures(vertices: np.ndarray, faces: np.ndarray, area: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
@@ -206,13 +221,18 @@ def repair_mesh(
     v, f, merged = weld(v, f, 1e-9 * diag)
     if merged:
         log.append(f"welded {merged} duplicate vertices")
-    f, n_deg, n_dup = drop_degenerate(f, len(v))
-    if n_deg or n_dup:
-        log.append(f"dropped {n_deg} degenerate and {n_dup} duplicate faces")
+    f, n_deg = drop_degenerate(f)
+    if n_deg:
+        log.append(f"dropped {n_deg} degenerate faces")
     if len(f) == 0:
         raise InputError("the mesh has no faces with three distinct vertices")
 
     topo = edge_topology(f, len(v))
+    if topo.n_nonmanifold:  # repeated faces show up as edges on more than two faces
+        f, n_dup = drop_duplicates(f, len(v))
+        if n_dup:
+            log.append(f"dropped {n_dup} duplicate faces")
+            topo = edge_topology(f, len(v))
     if topo.n_components > 1:
         vol, area = _face_measures(v, f)
         comp_vol = np.abs(np.bincount(topo.face_component, weights=vol, minlength=topo.n_components))
@@ -255,7 +275,8 @@ def repair_mesh(
         topo = edge_topology(f, len(v))
     if not topo.is_closed:
         raise InputError(
-            f"the mesh is not a closed volume: {len(topo.boundary_edges)} open edges remain after repair"
+            f"the mesh is not a closed volume: {len(topo.boundary_edges)} open and "
+            f"{topo.n_nonmanifold} non-manifold edges remain after repair"
         )
 
     vol, _ = _face_measures(v, f, area=False)

@@ -1,0 +1,137 @@
+"""The ``props`` command: output files, and one clear line for every kind of bad input."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from statue2model.cli import main
+from statue2model.geometry.rocking_params import PARAM_KEYS
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_props_default_scan_writes_json_and_plot(tmp_path, capsys):
+    out = tmp_path / "res" / "props.json"
+    code, stdout, err = run(["props", "--json", str(out)], capsys)
+    assert code == 0, err
+    assert "Rocking parameters" in stdout and "Weakest direction" in stdout
+    data = json.loads(out.read_text())
+    for key in PARAM_KEYS + ("volume", "mass", "com", "direction_deg", "footprint", "inertia", "rose"):
+        assert key in data, key
+    assert data["units"] == "m" and data["up"] == "+y"
+    assert data["a_R"] <= data["a_L"]  # weakest direction puts the weak side on the right
+    assert data["direction_deg"] == pytest.approx(data["rose"]["weakest_direction_deg"])
+    assert len(data["rose"]["a_tip"]) == 360
+    assert data["mass"] == pytest.approx(2650.0 * data["volume"])
+    png = out.with_suffix(".png")
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not list(tmp_path.rglob("*.part"))
+
+
+def test_props_options(tmp_path, capsys):
+    box = trimesh.creation.box(extents=(0.3, 0.2, 1.0))
+    path = tmp_path / "box_mm.stl"
+    box.apply_scale(1000.0)
+    box.export(path)
+    out = tmp_path / "p.json"
+    code, _, err = run(["props", str(path), "--units", "mm", "--up", "z", "--mass", "150",
+                        "--direction", "30", "--json", str(out)], capsys)
+    assert code == 0, err
+    d = json.loads(out.read_text())
+    assert d["mass"] == pytest.approx(150.0) and d["direction_deg"] == pytest.approx(30.0)
+    assert d["h"] == pytest.approx(0.5, rel=1e-6)
+    code, _, err = run(["props", str(path), "--height", "2.0", "--up", "z", "--json", str(out)], capsys)
+    assert code == 0, err
+    assert json.loads(out.read_text())["h"] == pytest.approx(1.0, rel=1e-6)
+
+
+def _write(tmp_path, name, content):
+    p = tmp_path / name
+    p.write_bytes(content) if isinstance(content, bytes) else p.write_text(content)
+    return p
+
+
+def _export(mesh, path):
+    mesh.export(path)
+    return path
+
+
+def _open_sphere(tmp_path):
+    s = trimesh.creation.icosphere(3, radius=0.3)
+    keep = np.linalg.norm(s.triangles_center - [0.3, 0, 0], axis=1) > 0.25
+    p = tmp_path / "open.ply"
+    trimesh.Trimesh(s.vertices, s.faces[keep]).export(p)
+    return p
+
+
+def _leaning(tmp_path):
+    import manifold3d
+
+    plinth = manifold3d.Manifold.cube((0.1, 0.1, 0.1))
+    arm = manifold3d.Manifold.cube((1.0, 0.1, 0.1)).translate((0.0, 0.0, 0.1))  # long arm over one side
+    mesh = (plinth + arm).to_mesh64()
+    p = tmp_path / "leaning.obj"
+    trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts)).export(p)
+    return p
+
+
+BAD = {
+    "missing": (lambda t: t / "nope.ply", [], "file not found"),
+    "empty": (lambda t: _write(t, "empty.stl", b""), [], "file is empty"),
+    "unreadable": (lambda t: _write(t, "junk.ply", b"this is not a ply file\n" * 5), [], "cannot read"),
+    "unsupported": (lambda t: _write(t, "model.txt", "1 2 3\n"), [], "unsupported file type"),
+    "nan": (lambda t: _write(t, "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n"),
+            [], "NaN"),
+    "zero_volume": (lambda t: _write(t, "flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"),
+                    [], "encloses no volume"),
+    "open": (_open_sphere, [], "not a closed volume"),
+    "would_not_stand": (_leaning, ["--up", "z"], "would not stand"),
+    "no_base_found": (lambda t: _export(trimesh.creation.icosphere(3, radius=0.3), t / "ball.stl"), [], "no flat base"),
+    "wrong_units": (lambda t: t, ["--units", "mm"], "not plausible"),
+    "bad_direction": (lambda t: t, ["--direction", "nan"], "finite"),
+    "negative_density": (lambda t: t, ["--density", "-3"], "positive"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_input_one_line_nonzero_exit(tmp_path, capsys, case):
+    make, extra, message = BAD[case]
+    target = make(tmp_path)
+    argv = ["props"] + ([] if target == tmp_path else [str(target)]) + extra + ["--json", str(tmp_path / "o.json")]
+    if case in ("bad_direction", "negative_density"):  # argparse refuses these with status 2
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2
+        err = capsys.readouterr().err
+        assert "Traceback" not in err and err.strip().splitlines()[-1].count("error") == 1
+        assert message in err
+        return
+    code, out, err = run(argv, capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("statue2model: error: "), err
+    import re
+
+    assert re.search(message, lines[0]), lines[0]
+    assert not (tmp_path / "o.json").exists()
+
+
+def test_unwritable_output_folder(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    code, _, err = run(["props", "--json", str(blocker / "sub" / "p.json")], capsys)
+    assert code == 2 and "cannot create output folder" in err
+
+
+def test_console_entry_point_exit_code(tmp_path):
+    r = subprocess.run([sys.executable, "-m", "statue2model", "props", str(tmp_path / "x.stl")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2
+    assert r.stderr.strip() == f"statue2model: error: file not found: {tmp_path / 'x.stl'}"
