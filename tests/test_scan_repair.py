@@ -118,7 +118,7 @@ def test_refuses_non_manifold_edges():
 def test_point_cloud_is_reconstructed(tmp_path):
     """A cylinder sampled as bare points (XYZ and face-less PLY) becomes a closed body."""
     rng = np.random.default_rng(1)
-    r, h, n = 0.1, 0.3, 30000
+    r, h, n = 0.1, 0.3, 12000
     side = int(n * (2 * np.pi * r * h) / (2 * np.pi * r * h + 2 * np.pi * r * r))
     t = rng.uniform(0, 2 * np.pi, side)
     pts = [np.column_stack([r * np.cos(t), r * np.sin(t), rng.uniform(0, h, side)])]
