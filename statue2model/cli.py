@@ -71,7 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="contact tolerance in metres: vertices this close to the base touch it "
                    "(default: 0.1%% of the height)")
     p.add_argument("--json", metavar="OUT", help="JSON output (default: outputs/<scan name>/props.json); "
-                   "the plot is written beside it with the suffix .png")
+                   "the plot (OUT.png) and the rose table (OUT_rose.csv) are written beside it")
     p.set_defaults(func=_cmd_props)
     return parser
 
@@ -80,7 +80,7 @@ def _cmd_props(args) -> int:
     from .geometry.body import load_body
     from .paths import default_scan
     from .props import props_dict
-    from .files import prepare_dir, write_json
+    from .files import atomic_write, prepare_dir, write_json
     from .report.plots import plot_footprint_and_rose
     from .report.tables import props_table
 
@@ -97,8 +97,9 @@ def _cmd_props(args) -> int:
     rose = body.rose()
     print(props_table(body, params, rose))
     write_json(out, props_dict(body, params, rose))
+    csv = atomic_write(out.with_name(out.stem + "_rose.csv"), lambda p: p.write_text(rose.to_csv()))
     png = plot_footprint_and_rose(body, params, rose, out.with_suffix(".png"))
-    print(f"\nwrote {out} and {png}")
+    print(f"\nwrote {out}, {csv.name} and {png.name}")
     return 0
 
 

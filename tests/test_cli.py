@@ -28,7 +28,14 @@ def test_props_default_scan_writes_json_and_plot(tmp_path, capsys):
     assert data["units"] == "m" and data["up"] == "+y"
     assert data["a_R"] <= data["a_L"]  # weakest direction puts the weak side on the right
     assert data["direction_deg"] == pytest.approx(data["rose"]["weakest_direction_deg"])
-    assert len(data["rose"]["a_tip"]) == 360
+    rose = data["rose"]
+    assert len(rose["a_tip"]) == 360 and len(rose["b_L"]) == 360 and len(rose["I_G"]) == 360
+    i = int(round(data["direction_deg"])) % 360  # the sampled direction next to the weakest one
+    assert rose["direction_deg"][i] == i and rose["h"][i] == pytest.approx(data["h"])
+    assert rose["a_R"][i] == pytest.approx(data["a_R"], rel=1e-3) and rose["a_R"][i] >= data["a_R"]
+    assert rose["a_L"][i] == pytest.approx(rose["a_R"][(i + 180) % 360], rel=1e-12)
+    csv_lines = (out.parent / "props_rose.csv").read_text().splitlines()
+    assert len(csv_lines) == 361 and csv_lines[0].startswith("direction_deg,m,h,b_L,b_R,I_G")
     assert data["mass"] == pytest.approx(2650.0 * data["volume"])
     png = out.with_suffix(".png")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

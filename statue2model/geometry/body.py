@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import InputError
 from .footprint import Footprint, footprint
-from .massprops import MARBLE_DENSITY, MassProperties, volume_integrals
+from .massprops import MassProperties, check_density_mass, resolve_density, volume_integrals
 from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, face_area_vectors, level_base
 from .repair import repair_mesh
 from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose
@@ -106,12 +106,7 @@ def body_from_mesh(
         raise InputError(f"height must be a positive number of metres, got {height}")
     if base_tol is not None and not (np.isfinite(base_tol) and base_tol >= 0):
         raise InputError(f"base tolerance must be a non-negative number of metres, got {base_tol}")
-    if density is not None and mass is not None:
-        raise InputError("give either --density or --mass, not both")
-    if density is not None and not (np.isfinite(density) and density > 0):
-        raise InputError(f"density must be a positive number of kg/m^3, got {density}")
-    if mass is not None and not (np.isfinite(mass) and mass > 0):
-        raise InputError(f"mass must be a positive number of kg, got {mass}")
+    check_density_mass(density, mass)  # before the expensive steps
     steps = list(log)
     warnings: list[str] = []
 
@@ -124,6 +119,8 @@ def body_from_mesh(
     if height is not None:
         choice = resolve_units("auto", extent)
         s = choice.scale
+        if units != "auto":
+            steps.append(f"--units {units} not used: --height sets the scale")
     else:
         choice = resolve_units(units, extent)
         s = choice.scale
@@ -168,7 +165,7 @@ def body_from_mesh(
     fp = footprint(v2, f, tol)
 
     volume = vol0 * s**3
-    rho = mass / volume if mass is not None else (density if density is not None else MARBLE_DENSITY)
+    rho = resolve_density(volume, density, mass)
     com = R @ (com0 * s) + shift
     inertia = rho * s**5 * (R @ inertia0 @ R.T)
     mp = MassProperties(volume=volume, mass=rho * volume, density=rho, com=com, inertia=inertia)

@@ -58,10 +58,16 @@ class Footprint:
 
     def contains(self, point: np.ndarray) -> float:
         """Signed distance from ``point`` (2,) to the hull boundary, positive inside (m)."""
-        edges = np.roll(self.hull, -1, axis=0) - self.hull
-        normals = np.column_stack([edges[:, 1], -edges[:, 0]])  # outward for CCW
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-        return float(np.min(np.einsum("ij,ij->i", self.hull - point, normals)))
+        return float(hull_edge_distances(self.hull, point)[1].min())
+
+
+def hull_edge_distances(hull: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals (k, 2) of the edges of a CCW hull (k, 2) and the signed
+    distances (k,) from ``point`` to each edge's line, positive inside."""
+    edges = np.roll(hull, -1, axis=0) - hull
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals, np.einsum("ij,ij->i", hull - point, normals)
 
 
 def convex_hull_2d(points: np.ndarray) -> np.ndarray:

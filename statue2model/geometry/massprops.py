@@ -121,6 +121,24 @@ def volume_integrals(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np
     return vol, c + ref, inertia
 
 
+def check_density_mass(density: float | None, mass: float | None) -> None:
+    """Refuse both at once, or a value that is not a positive finite number."""
+    if density is not None and mass is not None:
+        raise InputError("give either a density or a mass, not both")
+    if density is not None and not (np.isfinite(density) and density > 0):
+        raise InputError(f"density must be a positive number of kg/m^3, got {density}")
+    if mass is not None and not (np.isfinite(mass) and mass > 0):
+        raise InputError(f"mass must be a positive number of kg, got {mass}")
+
+
+def resolve_density(volume: float, density: float | None = None, mass: float | None = None) -> float:
+    """Density (kg/m^3) from a measured mass, a given density, or marble by default."""
+    check_density_mass(density, mass)
+    if mass is not None:
+        return mass / volume
+    return MARBLE_DENSITY if density is None else density
+
+
 def mass_properties(
     vertices: np.ndarray,
     faces: np.ndarray,
@@ -132,16 +150,10 @@ def mass_properties(
     Give ``density`` (kg/m^3, default marble 2650) or a measured ``mass`` (kg),
     which overrides it (the density is then mass / volume).
     """
-    if density is not None and mass is not None:
-        raise InputError("give either a density or a mass, not both")
-    if density is not None and not (np.isfinite(density) and density > 0):
-        raise InputError(f"density must be a positive number of kg/m^3, got {density}")
-    if mass is not None and not (np.isfinite(mass) and mass > 0):
-        raise InputError(f"mass must be a positive number of kg, got {mass}")
     vol, com, unit_inertia = volume_integrals(vertices, faces)
     if not np.isfinite(vol) or vol <= 0:
         raise InputError(f"the mesh encloses no volume (volume = {vol:.3g} m^3)")
-    rho = mass / vol if mass is not None else (density if density is not None else MARBLE_DENSITY)
+    rho = resolve_density(vol, density, mass)
     return MassProperties(
         volume=vol,
         mass=rho * vol,

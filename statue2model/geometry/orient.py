@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .footprint import convex_hull_2d, polygon_area
+from .footprint import convex_hull_2d, hull_edge_distances, polygon_area
 
 UP_ROTATIONS = {
     "+z": np.eye(3),
@@ -111,11 +111,7 @@ def evaluate_base(
     hull = convex_hull_2d(vertices[low] @ R[:2].T)
     stable, margin = False, -np.inf
     if len(hull) >= 3 and polygon_area(hull) > 0:
-        c = R[:2] @ com
-        edges = np.roll(hull, -1, axis=0) - hull
-        normals = np.column_stack([edges[:, 1], -edges[:, 0]])
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-        margin = float(np.min(np.einsum("ij,ij->i", hull - c, normals)))
+        margin = float(hull_edge_distances(hull, R[:2] @ com)[1].min())
         stable = margin > 0
     return BaseCandidate(up, height, flat_area, plan_area, stable, margin)
 

@@ -38,6 +38,7 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from ..errors import InputError
+from .footprint import hull_edge_distances
 from .massprops import MassProperties
 
 G = 9.81
@@ -156,43 +157,54 @@ def rocking_params(mass: MassProperties, hull: np.ndarray, direction_deg: float,
 
 @dataclass(frozen=True)
 class Rose:
-    """Vulnerability rose: the uplift acceleration that tips the body toward each direction.
+    """Vulnerability rose: the rocking parameters for every plan direction.
 
-    direction_deg : (n,) plan directions psi, degrees
-    a_tip         : (n,) g b(psi) / h, m/s^2, b(psi) = distance from G's projection to
-                    the hull's supporting line facing psi; the ground must accelerate
-                    toward psi + 180 deg by this much to lift the body toward psi
-    weakest_deg   : exact direction of the minimum (the normal of the nearest hull edge)
-    a_min         : the minimum, m/s^2
+    params        : one RockingParams per sampled direction psi (``step_deg`` apart)
+    weakest_deg   : exact direction of the weakest uplift (the outward normal of the
+                    footprint hull's edge nearest to G's projection)
+    a_min         : the uplift acceleration there, m/s^2
+
+    a_tip = a_R(psi) = g b_R(psi) / h is the ground acceleration (toward psi + 180 deg)
+    that lifts the body toward psi; a_L(psi) = a_R(psi + 180 deg).
     """
 
-    direction_deg: np.ndarray
-    a_tip: np.ndarray
+    params: tuple[RockingParams, ...]
     weakest_deg: float
     a_min: float
 
+    @property
+    def direction_deg(self) -> np.ndarray:
+        return np.array([p.direction_deg for p in self.params])
+
+    @property
+    def a_tip(self) -> np.ndarray:
+        return np.array([p.a_R for p in self.params])
+
     def to_dict(self) -> dict:
-        return {
-            "weakest_direction_deg": self.weakest_deg,
-            "a_min": self.a_min,
-            "direction_deg": self.direction_deg.tolist(),
-            "a_tip": self.a_tip.tolist(),
-        }
+        """Weakest direction and, per key of the rocking parameters, a list over directions."""
+        rows = [p.to_dict() for p in self.params]
+        out = {"weakest_direction_deg": self.weakest_deg, "a_min": self.a_min, "a_tip": self.a_tip.tolist()}
+        out.update({k: [r[k] for r in rows] for k in ("direction_deg",) + PARAM_KEYS})
+        return out
+
+    def to_csv(self) -> str:
+        """One line per direction: direction_deg and every rocking parameter."""
+        keys = ("direction_deg",) + PARAM_KEYS
+        lines = [",".join(keys)]
+        for p in self.params:
+            d = p.to_dict()
+            lines.append(",".join(f"{d[k]:.10g}" for k in keys))
+        return "\n".join(lines) + "\n"
 
 
 def vulnerability_rose(mass: MassProperties, hull: np.ndarray, step_deg: float = 1.0, g: float = G) -> Rose:
     """The rose at ``step_deg`` steps plus the exact weakest direction."""
-    c = mass.com[:2]
-    h = float(mass.com[2])
-    rel = np.asarray(hull) - c
+    if not (np.isfinite(step_deg) and 0 < step_deg <= 90):
+        raise InputError(f"rose step must be between 0 and 90 degrees, got {step_deg}")
     psi = np.arange(0.0, 360.0, step_deg)
-    u = np.column_stack([np.cos(np.radians(psi)), np.sin(np.radians(psi))])
-    a_tip = g * (rel @ u.T).max(axis=0) / h
+    params = tuple(rocking_params(mass, hull, float(a), g) for a in psi)
     # min over psi of the support distance is the distance to the nearest hull edge
-    edges = np.roll(rel, -1, axis=0) - rel
-    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
-    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    dist = np.einsum("ij,ij->i", rel, normals)
+    normals, dist = hull_edge_distances(np.asarray(hull), mass.com[:2])
     near = dist <= dist.min() * (1 + 1e-9)
     angles = np.round(np.degrees(np.arctan2(normals[near, 1], normals[near, 0])) % 360.0, 9) % 360.0
-    return Rose(direction_deg=psi, a_tip=a_tip, weakest_deg=float(angles.min()), a_min=g * float(dist.min()) / h)
+    return Rose(params=params, weakest_deg=float(angles.min()), a_min=g * float(dist.min()) / float(mass.com[2]))
