@@ -142,3 +142,17 @@ def test_weakest_direction_of_an_eccentric_body_points_to_its_near_edge():
     p = body.rocking()
     assert body.rose().weakest_deg == pytest.approx(0.0, abs=1e-9)
     assert p.b_R < p.b_L and p.a_R < p.a_L
+
+
+def test_footprint_of_a_tube_has_a_hole():
+    """A hollow column stands on a ring: contact area excludes the hole, the hull does not."""
+    n, R, r = 48, 0.3, 0.2
+    outer = manifold3d.Manifold.cylinder(1.0, R, R, n)
+    inner = manifold3d.Manifold.cylinder(1.2, r, r, n).translate((0.0, 0.0, -0.1))
+    v, f = _manifold(outer - inner)
+    body = body_from_mesh(v, f, units="m", up="z")
+    ngon = 0.5 * n * math.sin(2 * math.pi / n)
+    assert body.footprint.area == pytest.approx(ngon * (R * R - r * r), rel=1e-9)
+    assert body.footprint.hull_area == pytest.approx(ngon * R * R, rel=1e-9)
+    (exterior, holes), = body.footprint.polygons
+    assert len(holes) == 1 and len(exterior) == n and len(holes[0]) == n
