@@ -158,11 +158,11 @@ def body_from_mesh(
             steps.append(f"rough base ({rough * 1000:.2f} mm rms): contact tolerance widened to {tol * 1000:.2f} mm")
     else:
         tol = base_tol
-    fp0 = footprint(v2, f, tol)
-    hull_centre = _polygon_centroid(fp0.hull)
+    fp = footprint(v2, f, tol)
+    hull_centre = _polygon_centroid(fp.hull)
     v2[:, :2] -= hull_centre
     shift[:2] -= hull_centre
-    fp = footprint(v2, f, tol)
+    fp = fp.shifted(-hull_centre)
 
     volume = vol0 * s**3
     rho = resolve_density(volume, density, mass)

@@ -56,6 +56,13 @@ class Footprint:
             ],
         }
 
+    def shifted(self, dxy: np.ndarray) -> "Footprint":
+        """The same footprint moved by ``dxy`` (2,) in plan."""
+        return Footprint(
+            polygons=tuple((e + dxy, tuple(h + dxy for h in holes)) for e, holes in self.polygons),
+            hull=self.hull + dxy, area=self.area, hull_area=self.hull_area, tol=self.tol,
+        )
+
     def contains(self, point: np.ndarray) -> float:
         """Signed distance from ``point`` (2,) to the hull boundary, positive inside (m)."""
         return float(hull_edge_distances(self.hull, point)[1].min())
