@@ -1,5 +1,6 @@
 """The ``props`` command: output files, and one clear line for every kind of bad input."""
 import json
+import re
 import subprocess
 import sys
 
@@ -124,8 +125,6 @@ def test_bad_input_one_line_nonzero_exit(tmp_path, capsys, case):
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("statue2model: error: "), err
-    import re
-
     assert re.search(message, lines[0]), lines[0]
     assert not (tmp_path / "o.json").exists()
 

@@ -33,7 +33,7 @@ from .footprint import Footprint, footprint
 from .massprops import MassProperties, check_density_mass, resolve_density, volume_integrals
 from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, face_area_vectors, level_base
 from .repair import repair_mesh
-from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose
+from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose, weakest_direction
 from .scan import read_scan
 from .units import resolve_units
 
@@ -81,7 +81,7 @@ class Body:
     def rocking(self, direction_deg: float | None = None, g: float = G) -> RockingParams:
         """Rocking parameters along ``direction_deg`` (default: the weakest direction)."""
         if direction_deg is None:
-            direction_deg = self.rose(g=g).weakest_deg
+            direction_deg, _ = weakest_direction(self.mass, self.footprint.hull, g)
         if not np.isfinite(direction_deg):
             raise InputError(f"direction must be a finite angle in degrees, got {direction_deg}")
         return rocking_params(self.mass, self.footprint.hull, direction_deg, g)

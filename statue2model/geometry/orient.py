@@ -95,9 +95,11 @@ def _down_facing(area_vectors: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, 
 
 
 def evaluate_base(
-    vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, com: np.ndarray, up: str
+    vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, com: np.ndarray, up: str,
+    extent: np.ndarray,
 ) -> BaseCandidate:
-    """Score the pose in which file direction ``up`` points up."""
+    """Score the pose in which file direction ``up`` points up (``extent``: the (3,)
+    bounding-box sizes of ``vertices``)."""
     R = UP_ROTATIONS[up]
     z = vertices @ R[2]
     zmin = z.min()
@@ -106,7 +108,6 @@ def evaluate_base(
     idx, down = _down_facing(area_vectors, R[2])
     in_band = low[faces[idx]].all(axis=1)
     flat_area = float(down[in_band].sum())
-    extent = np.ptp(vertices, axis=0)
     plan_area = float(np.prod(np.abs(R[:2]) @ extent))
     hull = convex_hull_2d(vertices[low] @ R[:2].T)
     stable, margin = False, -np.inf
@@ -120,18 +121,19 @@ def choose_up(
     vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, com: np.ndarray, up: str = "auto"
 ) -> tuple[BaseCandidate, str]:
     """Pick the up direction (see the module docstring); ``up`` forces one ('+z', 'y', ...)."""
+    extent = np.ptp(vertices, axis=0)
     if up != "auto":
         key = up if up[0] in "+-" else "+" + up
         if key not in UP_ROTATIONS:
             raise InputError(f"unknown up axis '{up}': use auto, x, y, z, -x, -y or -z")
-        cand = evaluate_base(vertices, faces, area_vectors, com, key)
+        cand = evaluate_base(vertices, faces, area_vectors, com, key, extent)
         if not cand.stable:
             raise InputError(
                 f"with {key} up the body would not stand: its centre of mass lies "
                 f"{-cand.margin:.4g} file units outside its base"
             )
         return cand, f"up axis {key} as given"
-    cands = [evaluate_base(vertices, faces, area_vectors, com, k) for k in UP_ROTATIONS]
+    cands = [evaluate_base(vertices, faces, area_vectors, com, k, extent) for k in UP_ROTATIONS]
     stable = [c for c in cands if c.stable and c.flat_area > 0]
     if not stable:
         raise InputError(

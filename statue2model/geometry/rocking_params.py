@@ -197,14 +197,24 @@ class Rose:
         return "\n".join(lines) + "\n"
 
 
+def weakest_direction(mass: MassProperties, hull: np.ndarray, g: float = G) -> tuple[float, float]:
+    """Exact weakest direction (deg) and its uplift acceleration (m/s^2).
+
+    The minimum over psi of the distance from G's projection to the hull's supporting
+    line is the distance to the nearest hull edge, reached along that edge's outward
+    normal; ties go to the smallest angle.
+    """
+    normals, dist = hull_edge_distances(np.asarray(hull), mass.com[:2])
+    near = dist <= dist.min() * (1 + 1e-9)
+    angles = np.round(np.degrees(np.arctan2(normals[near, 1], normals[near, 0])) % 360.0, 9) % 360.0
+    return float(angles.min()), g * float(dist.min()) / float(mass.com[2])
+
+
 def vulnerability_rose(mass: MassProperties, hull: np.ndarray, step_deg: float = 1.0, g: float = G) -> Rose:
     """The rose at ``step_deg`` steps plus the exact weakest direction."""
     if not (np.isfinite(step_deg) and 0 < step_deg <= 90):
         raise InputError(f"rose step must be between 0 and 90 degrees, got {step_deg}")
     psi = np.arange(0.0, 360.0, step_deg)
     params = tuple(rocking_params(mass, hull, float(a), g) for a in psi)
-    # min over psi of the support distance is the distance to the nearest hull edge
-    normals, dist = hull_edge_distances(np.asarray(hull), mass.com[:2])
-    near = dist <= dist.min() * (1 + 1e-9)
-    angles = np.round(np.degrees(np.arctan2(normals[near, 1], normals[near, 0])) % 360.0, 9) % 360.0
-    return Rose(params=params, weakest_deg=float(angles.min()), a_min=g * float(dist.min()) / float(mass.com[2]))
+    weakest_deg, a_min = weakest_direction(mass, hull, g)
+    return Rose(params=params, weakest_deg=weakest_deg, a_min=a_min)
