@@ -124,6 +124,16 @@ class RockingParams:
         return out
 
     @classmethod
+    def rectangular_block(cls, b: float, h: float, m: float, g: float = G) -> "RockingParams":
+        """Homogeneous rectangular block of half-width b and half-height h (m), mass m (kg):
+        I_G = m (b^2 + h^2) / 3.
+
+        >>> RockingParams.rectangular_block(0.0384, 0.2, 1.286).p_R  # Table 14, block A1
+        6.0106...
+        """
+        return cls(m=m, h=h, b_L=b, b_R=b, I_G=m * (b * b + h * h) / 3.0, g=g)
+
+    @classmethod
     def from_dict(cls, data: dict) -> "RockingParams":
         """Build from a ``props`` JSON (or any dict holding m, h, b_L, b_R, I_G)."""
         names = {f.name for f in fields(cls)}

@@ -1,0 +1,694 @@
+"""Compiled integrator of the 2D rocking model (numba, no Python objects).
+
+This module is the hot loop behind :func:`statue2model.dynamics.engine.simulate`;
+use that function, not these arrays, unless you are writing a new sweep.
+
+Method
+------
+* Dormand-Prince 8(5,3) (the DOP853 tableau of scipy, read from scipy so the
+  coefficients are not re-typed) with its own step-size control, on the state
+  ``(theta, theta')``.
+* The right-hand side is smooth inside a *segment*: one side (pivot), one
+  region of the rolling transition (|theta| below or above theta_L / theta_R)
+  and one smooth piece of the ground motion (pulse on/off, one sample interval
+  of a record). Steps never cross a segment boundary: motion breakpoints are
+  step limits, theta-boundaries are events located inside the step.
+* Events (impact at theta = 0, region change at |theta| = theta_side,
+  overturning at |theta| = delta_side, and extrema of |theta|) are located by a
+  safeguarded Newton iteration on the step length, re-taking the DOP853 step
+  from the start of the step: the located state is as accurate as a step.
+* Output samples are re-taken steps from the last accepted point, so the
+  output grid never changes the solution (results are independent of it).
+* Stick (full contact) is not integrated: the next uplift is found in closed
+  form on each motion segment (linear or harmonic).
+* Zeno: after an impact whose next excursion would peak below
+  ``rest_tol * delta`` the remaining geometric series of impacts is summed in
+  closed form and the body returns to stick.
+
+Sign convention: theta > 0 is rotation about the right (+x) pivot, side s = +1;
+theta < 0 about the left pivot, s = -1. ``q = s * theta >= 0`` is the rotation
+magnitude on the current side.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from scipy.integrate._ivp import dop853_coefficients as _dop
+
+_NS = _dop.N_STAGES
+_A = np.ascontiguousarray(_dop.A[:_NS, :_NS], dtype=np.float64)
+_B = np.ascontiguousarray(_dop.B, dtype=np.float64)
+_C = np.ascontiguousarray(_dop.C[:_NS], dtype=np.float64)
+_E3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
+_E5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
+
+# --- model vector P --------------------------------------------------------
+P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL = range(13)
+N_P = 13
+
+# --- motion: kind and parameter vector M -----------------------------------
+M_NONE, M_HARMONIC, M_RECT, M_RECORD = 0, 1, 2, 3
+# M = [amp (or gain of a record), omega, phase, t_start, t_stop, dt]
+MA, MW, MPH, MT0, MT1, MDT = range(6)
+N_M = 6
+
+# --- statistics vector S ----------------------------------------------------
+(S_QMAX_R, S_QMAX_L, S_T_UPLIFT, S_N_IMP, S_OVERTURNED, S_T_OVERTURN, S_IMP_BEFORE_OT,
+ S_T_REST, S_N_STEPS, S_N_REJECT, S_N_RHS, S_STATUS, S_FULL_UPLIFT, S_N_PEAKS, S_T_FINAL,
+ S_OT_SIDE, S_N_OUT, S_N_UPLIFTS, S_MOVED) = range(19)
+N_S = 19
+STATUS_OK, STATUS_MAX_STEPS = 0, 1
+
+_EPS = 2.220446049250313e-16
+
+
+# --- ground motion ------------------------------------------------------------
+@njit(cache=True)
+def segment(t, kind, M, samples, seg):
+    """Fill ``seg`` = [c0, c1, t0, A, w, ts, phi] for the smooth piece of the
+    motion that holds t (right-continuous); u(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi).
+    Return the end of that piece (inf if none)."""
+    for i in range(7):
+        seg[i] = 0.0
+    if kind == M_NONE:
+        return np.inf
+    ts = M[MT0]
+    te = M[MT1]
+    if t < ts:
+        return ts
+    if t >= te:
+        return np.inf
+    if kind == M_HARMONIC:
+        seg[3] = M[MA]
+        seg[4] = M[MW]
+        seg[5] = ts
+        seg[6] = M[MPH]
+        return te
+    if kind == M_RECT:
+        seg[0] = M[MA]
+        return te
+    # record: samples at ts + k dt, linear in between
+    dt = M[MDT]
+    n = samples.shape[0]
+    k = int(math.floor((t - ts) / dt))
+    if k < 0:
+        k = 0
+    if k > n - 2:
+        k = n - 2
+    if t < ts + k * dt and k > 0:
+        k -= 1
+    if t >= ts + (k + 1) * dt and k < n - 2:
+        k += 1
+    tk = ts + k * dt
+    seg[0] = M[MA] * samples[k]
+    seg[1] = M[MA] * (samples[k + 1] - samples[k]) / dt
+    seg[2] = tk
+    if k == n - 2:
+        return te
+    return ts + (k + 1) * dt
+
+
+@njit(cache=True, inline="always")
+def _acc(t, seg):
+    u = seg[0] + seg[1] * (t - seg[2])
+    if seg[3] != 0.0:
+        u += seg[3] * math.sin(seg[4] * (t - seg[5]) + seg[6])
+    return u
+
+
+@njit(cache=True)
+def ground_acc(t, kind, M, samples):
+    """Ground acceleration u_g''(t) in m/s^2 (right-continuous at breakpoints)."""
+    seg = np.empty(7)
+    segment(t, kind, M, samples, seg)
+    return _acc(t, seg)
+
+
+@njit(cache=True)
+def _cross_above(x, r):
+    # smallest X >= x where sin crosses r upward
+    a = math.asin(r)
+    k = math.ceil((x - a) / (2.0 * math.pi))
+    return a + 2.0 * math.pi * k
+
+
+@njit(cache=True)
+def _cross_below(x, r):
+    a = math.pi - math.asin(r)
+    k = math.ceil((x - a) / (2.0 * math.pi))
+    return a + 2.0 * math.pi * k
+
+
+@njit(cache=True)
+def _first_exceedance(ta, tb, seg, up, dn):
+    """First t in [ta, tb) with u > up (returns (t, -1): tips to the left pivot)
+    or u < -dn (returns (t, +1)); (inf, 0) if none."""
+    ua = _acc(ta, seg)
+    if ua > up:
+        return ta, -1
+    if ua < -dn:
+        return ta, 1
+    A = seg[3]
+    if A == 0.0:
+        c1 = seg[1]
+        if c1 > 0.0:
+            t = seg[2] + (up - seg[0]) / c1
+            if t < ta:
+                t = ta
+            if t < tb:
+                return t, -1
+        elif c1 < 0.0:
+            t = seg[2] + (-dn - seg[0]) / c1
+            if t < ta:
+                t = ta
+            if t < tb:
+                return t, 1
+        return np.inf, 0
+    w = seg[4]
+    xa = w * (ta - seg[5]) + seg[6]
+    best = np.inf
+    side = 0
+    # u > up
+    r = up / A
+    if A > 0.0:
+        x = _cross_above(xa, r) if r < 1.0 else np.inf
+    else:
+        x = _cross_below(xa, r) if r > -1.0 else np.inf
+    if x < np.inf:
+        t = seg[5] + (x - seg[6]) / w
+        if t < best:
+            best = t
+            side = -1
+    # u < -dn
+    r = -dn / A
+    if A > 0.0:
+        x = _cross_below(xa, r) if r > -1.0 else np.inf
+    else:
+        x = _cross_above(xa, r) if r < 1.0 else np.inf
+    if x < np.inf:
+        t = seg[5] + (x - seg[6]) / w
+        if t < best:
+            best = t
+            side = 1
+    if best < ta:
+        best = ta
+    if best < tb:
+        return best, side
+    return np.inf, 0
+
+
+# --- mechanics ---------------------------------------------------------------
+@njit(cache=True, inline="always")
+def _rhs(t, th, s, reg, P, seg):
+    """theta'' on side s, region reg (0: rolling transition, 1: full contact at a pivot)."""
+    u = _acc(t, seg) / P[GRAV]
+    if s > 0:
+        x = P[DR] - th
+        al = P[AR] + (1.0 - P[AR]) * th / P[TR] if reg == 0 else 1.0
+        if P[LIN] > 0.0:
+            return -P[P2R] * (al * x + u)
+        return -P[P2R] * (al * math.sin(x) + u * math.cos(x))
+    x = P[DL] + th
+    al = P[AL] - (1.0 - P[AL]) * th / P[TL] if reg == 0 else 1.0
+    if P[LIN] > 0.0:
+        return P[P2L] * (al * x - u)
+    return P[P2L] * (al * math.sin(x) - u * math.cos(x))
+
+
+@njit(cache=True)
+def _step(t, th, om, f0, h, s, reg, P, seg, Kt, Ko):
+    """One DOP853 step of length h; returns (theta, theta') at t + h."""
+    Kt[0] = om
+    Ko[0] = f0
+    for i in range(1, _NS):
+        dth = 0.0
+        dom = 0.0
+        for j in range(i):
+            a = _A[i, j]
+            if a != 0.0:
+                dth += a * Kt[j]
+                dom += a * Ko[j]
+        thi = th + h * dth
+        Kt[i] = om + h * dom
+        Ko[i] = _rhs(t + _C[i] * h, thi, s, reg, P, seg)
+    bth = 0.0
+    bom = 0.0
+    for j in range(_NS):
+        bth += _B[j] * Kt[j]
+        bom += _B[j] * Ko[j]
+    return th + h * bth, om + h * bom
+
+
+@njit(cache=True)
+def _error_norm(h, th, om, thn, omn, Kt, Ko, atol_t, atol_o, rtol):
+    e5t = 0.0
+    e5o = 0.0
+    e3t = 0.0
+    e3o = 0.0
+    for j in range(_NS + 1):
+        e5t += _E5[j] * Kt[j]
+        e5o += _E5[j] * Ko[j]
+        e3t += _E3[j] * Kt[j]
+        e3o += _E3[j] * Ko[j]
+    st = atol_t + rtol * max(abs(th), abs(thn))
+    so = atol_o + rtol * max(abs(om), abs(omn))
+    e5 = (e5t / st) ** 2 + (e5o / so) ** 2
+    e3 = (e3t / st) ** 2 + (e3o / so) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * 2.0)
+
+
+@njit(cache=True)
+def _locate(what, target, t, th, om, f0, a, Fa, b, Fb, s, reg, P, seg, Kt, Ko, out):
+    """Root x in [a, b] of F(x) = s*theta(t+x) - target (what=0) or s*theta'(t+x)
+    (what=1), F(a), F(b) of opposite signs. Safeguarded Newton on re-taken steps.
+    Writes (theta, theta') at the root into out; returns x and the number of
+    right-hand-side evaluations used."""
+    nrhs = 0
+    x = a - Fa * (b - a) / (Fb - Fa)
+    if not (a < x < b):
+        x = 0.5 * (a + b)
+    thx = th
+    omx = om
+    tol = 4.0 * _EPS * (abs(t) + abs(b))
+    for _ in range(80):
+        thx, omx = _step(t, th, om, f0, x, s, reg, P, seg, Kt, Ko)
+        nrhs += _NS - 1
+        if what == 0:
+            Fx = s * thx - target
+            dF = s * omx
+        else:
+            Fx = s * omx
+            dF = s * _rhs(t + x, thx, s, reg, P, seg)
+            nrhs += 1
+        if Fx == 0.0:
+            break
+        if (Fx > 0.0) == (Fa > 0.0):
+            a = x
+            Fa = Fx
+        else:
+            b = x
+            Fb = Fx
+        if b - a <= tol:
+            break
+        xn = x - Fx / dF if dF != 0.0 else 0.5 * (a + b)
+        if not (a < xn < b):
+            xn = 0.5 * (a + b)
+        if abs(xn - x) <= tol:
+            x = xn
+            thx, omx = _step(t, th, om, f0, x, s, reg, P, seg, Kt, Ko)
+            nrhs += _NS - 1
+            break
+        x = xn
+    out[0] = thx
+    out[1] = omx
+    return x, nrhs
+
+
+@njit(cache=True, inline="always")
+def _interp_e(w, tw, te):
+    n = tw.shape[0]
+    if n == 1 or w <= tw[0]:
+        return te[0]
+    if w >= tw[n - 1]:
+        return te[n - 1]
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if tw[mid] <= w:
+            lo = mid
+        else:
+            hi = mid
+    f = (w - tw[lo]) / (tw[hi] - tw[lo])
+    return te[lo] + f * (te[hi] - te[lo])
+
+
+@njit(cache=True, inline="always")
+def _bounds(s, reg, P):
+    """(lo, hi) of q = s*theta in region reg of side s."""
+    tr = P[TR] if s > 0 else P[TL]
+    d = P[DR] if s > 0 else P[DL]
+    if tr > 0.0:
+        if reg == 0:
+            return 0.0, min(tr, d)
+        return min(tr, d), d
+    return 0.0, d
+
+
+@njit(cache=True, inline="always")
+def _start_region(s, P):
+    tr = P[TR] if s > 0 else P[TL]
+    return 0 if tr > 0.0 else 1
+
+
+@njit(cache=True)
+def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0, t_end,
+                    rtol, max_steps, out_t, out_y, imp, peaks, S):
+    """Integrate one run. Arrays written: out_y (len(out_t), 3) = theta, theta',
+    phase (0 stick, 1 rolling transition, 2 rocking, 3 overturned); imp (cap, 3) =
+    time, |theta'| before impact, landing side (-1 left edge, +1 right edge);
+    peaks (cap, 3) = time, |theta| peak, side; S: statistics (indices S_*)."""
+    for i in range(N_S):
+        S[i] = 0.0
+    S[S_T_UPLIFT] = np.nan
+    S[S_T_OVERTURN] = np.nan
+    S[S_T_REST] = np.nan
+    S[S_OT_SIDE] = 0.0
+    Kt = np.empty(_NS + 1)
+    Ko = np.empty(_NS + 1)
+    seg = np.empty(7)
+    loc = np.empty(2)
+    n_out = out_t.shape[0]
+    cap_imp = imp.shape[0]
+    cap_pk = peaks.shape[0]
+    io = 0
+    while io < n_out and out_t[io] < t0:
+        io += 1
+    dmin = min(P[DL], P[DR])
+    atol_t = rtol * dmin
+    atol_o = rtol * dmin * math.sqrt(max(P[P2L], P[P2R]))
+    h = 0.05 / math.sqrt(max(P[P2L], P[P2R]))
+    t = t0
+    th = theta0
+    om = omega0
+    moving = (theta0 != 0.0) or (omega0 != 0.0)
+    s = 1
+    if theta0 < 0.0 or (theta0 == 0.0 and omega0 < 0.0):
+        s = -1
+    reg = 1
+    if moving:
+        lo0, hi0 = _bounds(s, 0, P)
+        reg = 0 if (P[TR] if s > 0 else P[TL]) > 0.0 and s * th < hi0 else 1
+        S[S_T_UPLIFT] = t0
+        S[S_MOVED] = 1.0
+        if reg == 1 and (P[TR] if s > 0 else P[TL]) > 0.0:
+            S[S_FULL_UPLIFT] = 1.0
+        S[S_N_UPLIFTS] = 1.0
+        if omega0 == 0.0 and cap_pk > 0:
+            peaks[0, 0] = t0
+            peaks[0, 1] = abs(theta0)
+            peaks[0, 2] = s
+        if omega0 == 0.0:
+            S[S_N_PEAKS] = 1.0
+    qmax_r = theta0 if theta0 > 0.0 else 0.0
+    qmax_l = -theta0 if theta0 < 0.0 else 0.0
+    n_imp = 0
+    n_pk = int(S[S_N_PEAKS])
+    nsteps = 0
+    nrej = 0
+    nrhs = 0
+    status = STATUS_OK
+    seg_end = segment(t, kind, M, samples, seg)
+    f0 = _rhs(t, th, s, reg, P, seg)
+    nrhs += 1
+    overturned = False
+    while t < t_end:
+        if nsteps + nrej >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        if not moving:
+            # stick: find the next uplift without integrating
+            t_up = np.inf
+            side = 0
+            tc = t
+            while tc < t_end:
+                tb = segment(tc, kind, M, samples, seg)
+                t_up, side = _first_exceedance(tc, min(tb, t_end), seg, P[LIM_UP], P[LIM_DN])
+                if side != 0 or tb == np.inf:
+                    break
+                tc = tb
+            if side == 0 or t_up >= t_end:
+                while io < n_out and out_t[io] <= t_end:
+                    out_y[io, 0] = 0.0
+                    out_y[io, 1] = 0.0
+                    out_y[io, 2] = 0.0
+                    io += 1
+                t = t_end
+                break
+            while io < n_out and out_t[io] <= t_up:
+                out_y[io, 0] = 0.0
+                out_y[io, 1] = 0.0
+                out_y[io, 2] = 0.0
+                io += 1
+            t = t_up
+            th = 0.0
+            om = 0.0
+            s = side
+            reg = _start_region(s, P)
+            moving = True
+            if S[S_MOVED] == 0.0:
+                S[S_T_UPLIFT] = t
+                S[S_MOVED] = 1.0
+            S[S_N_UPLIFTS] += 1.0
+            seg_end = segment(t, kind, M, samples, seg)
+            f0 = _rhs(t, th, s, reg, P, seg)
+            nrhs += 1
+            continue
+        # --- one adaptive step inside the current segment
+        t_lim = min(seg_end, t_end)
+        if t_lim - t <= 0.0:
+            if t >= t_end:
+                break
+            seg_end = segment(t, kind, M, samples, seg)
+            f0 = _rhs(t, th, s, reg, P, seg)
+            nrhs += 1
+            continue
+        h_try = h
+        if h > t_lim - t:
+            h = t_lim - t
+        hits = True if h == t_lim - t else False
+        thn, omn = _step(t, th, om, f0, h, s, reg, P, seg, Kt, Ko)
+        tn = t_lim if hits else t + h
+        fn = _rhs(tn, thn, s, reg, P, seg)
+        Kt[_NS] = omn
+        Ko[_NS] = fn
+        nrhs += _NS
+        err = _error_norm(h, th, om, thn, omn, Kt, Ko, atol_t, atol_o, rtol)
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** (-1.0 / 8.0))
+            nrej += 1
+            if h < 1e-14 * max(1.0, abs(t)):
+                h = 1e-14 * max(1.0, abs(t))
+            continue
+        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
+        h_next = h * fac
+        if hits and h_next < h_try:
+            h_next = h_try
+        nsteps += 1
+        q0 = s * th
+        qn = s * thn
+        lo, hi = _bounds(s, reg, P)
+        d0 = s * om
+        if d0 == 0.0:
+            d0 = s * f0
+        dn_ = s * omn
+        # a run that started at rest and whose end point fell below the base: shrink
+        if q0 == lo and om == 0.0 and qn < lo:
+            h *= 0.25
+            nrej += 1
+            if h < 1e-13 * max(1.0, abs(t)):
+                # never lifted: back to stick just after t
+                moving = False
+                t = t + 1e-12 * max(1.0, abs(t))
+            continue
+        # extremum of q inside the step
+        x_e = -1.0
+        q_e = 0.0
+        is_peak = False
+        if (d0 > 0.0 and dn_ <= 0.0) or (d0 < 0.0 and dn_ >= 0.0):
+            is_peak = d0 > 0.0
+            if dn_ == 0.0:
+                x_e = h
+                q_e = qn
+            else:
+                x_e, nr = _locate(1, 0.0, t, th, om, f0, 0.0, d0, h, dn_, s, reg, P, seg, Kt, Ko, loc)
+                nrhs += nr
+                q_e = s * loc[0]
+        # which boundary event comes first
+        ev = 0  # 0 none, -1 leaves through lo, +1 through hi
+        xa = 0.0
+        xb = h
+        if x_e >= 0.0 and is_peak and q_e > hi:
+            ev = 1
+            xb = x_e
+        elif x_e >= 0.0 and (not is_peak) and q_e < lo:
+            ev = -1
+            xb = x_e
+        else:
+            if x_e >= 0.0:
+                xa = x_e
+            if qn < lo:
+                ev = -1
+            elif qn > hi:
+                ev = 1
+        if x_e >= 0.0 and is_peak and q_e <= hi and not (ev == -1 and xb == x_e):
+            if n_pk < cap_pk:
+                peaks[n_pk, 0] = t + x_e
+                peaks[n_pk, 1] = q_e
+                peaks[n_pk, 2] = s
+            n_pk += 1
+            if s > 0 and q_e > qmax_r:
+                qmax_r = q_e
+            if s < 0 and q_e > qmax_l:
+                qmax_l = q_e
+        x_ev = h
+        th_ev = thn
+        om_ev = omn
+        if ev != 0:
+            target = lo if ev < 0 else hi
+            if xa == 0.0:
+                Fa = q0 - target
+            else:
+                Fa = q_e - target
+            if xb == h:
+                Fb = qn - target
+            else:
+                Fb = q_e - target
+            if Fa == 0.0:
+                # starts on the boundary it leaves through: root at the start
+                x_ev = xa
+                th_ev = th if xa == 0.0 else s * q_e
+                om_ev = om
+            elif Fb == 0.0:
+                x_ev = xb
+                th_ev = thn
+                om_ev = omn
+            else:
+                x_ev, nr = _locate(0, target, t, th, om, f0, xa, Fa, xb, Fb, s, reg, P, seg, Kt, Ko, loc)
+                nrhs += nr
+                th_ev = loc[0]
+                om_ev = loc[1]
+        t_ev = t + x_ev if x_ev < h else tn
+        # output samples in (t, t_ev]
+        while io < n_out and out_t[io] <= t_ev:
+            xo = out_t[io] - t
+            if xo == x_ev:
+                tho, omo = th_ev, om_ev
+            elif xo == h:
+                tho, omo = thn, omn
+            else:
+                tho, omo = _step(t, th, om, f0, xo, s, reg, P, seg, Kt, Ko)
+                nrhs += _NS - 1
+            out_y[io, 0] = tho
+            out_y[io, 1] = omo
+            out_y[io, 2] = 1.0 if reg == 0 else 2.0
+            io += 1
+        if ev == 0:
+            t = tn
+            th = thn
+            om = omn
+            f0 = fn
+            if qn > 0.0:
+                if s > 0 and qn > qmax_r:
+                    qmax_r = qn
+                if s < 0 and qn > qmax_l:
+                    qmax_l = qn
+            h = h_next
+            if hits and t < t_end:
+                seg_end = segment(t, kind, M, samples, seg)
+                f0 = _rhs(t, th, s, reg, P, seg)
+                nrhs += 1
+            continue
+        # apply the event
+        t = t_ev
+        h = max(h_next, 1e-3 * h)
+        if ev > 0:
+            if reg == 0 and hi < (P[DR] if s > 0 else P[DL]):
+                reg = 1
+                S[S_FULL_UPLIFT] = 1.0
+                th = s * hi
+                om = om_ev
+            else:
+                # overturning: |theta| reaches delta
+                th = s * hi
+                om = om_ev
+                if s > 0:
+                    qmax_r = hi
+                else:
+                    qmax_l = hi
+                overturned = True
+                S[S_OVERTURNED] = 1.0
+                S[S_T_OVERTURN] = t
+                S[S_IMP_BEFORE_OT] = n_imp
+                S[S_OT_SIDE] = s
+                break
+        else:
+            if lo > 0.0:
+                reg = 0
+                th = s * lo
+                om = om_ev
+            else:
+                # impact at theta = 0: lands on the other edge
+                w = abs(om_ev)
+                if s > 0:
+                    e = _interp_e(w, eLw, eLe)
+                    land = -1
+                else:
+                    e = _interp_e(w, eRw, eRe)
+                    land = 1
+                if n_imp < cap_imp:
+                    imp[n_imp, 0] = t
+                    imp[n_imp, 1] = w
+                    imp[n_imp, 2] = land
+                n_imp += 1
+                s = -s
+                reg = _start_region(s, P)
+                th = 0.0
+                om = e * om_ev
+                seg_end = segment(t, kind, M, samples, seg)
+                # Zeno: sum the remaining impacts in closed form once they are negligible
+                c = -s * _rhs(t, 0.0, s, reg, P, seg)
+                nrhs += 1
+                wp = abs(om)
+                dside = P[DR] if s > 0 else P[DL]
+                if c > 0.0 and (wp == 0.0 or (e < 1.0 and wp * wp / (2.0 * c) < P[REST_TOL] * dside)):
+                    t_rest = t + (2.0 * wp / c) / (1.0 - e) if wp > 0.0 else t
+                    while io < n_out and out_t[io] <= t_rest:
+                        out_y[io, 0] = 0.0
+                        out_y[io, 1] = 0.0
+                        out_y[io, 2] = 0.0
+                        io += 1
+                    t = t_rest
+                    th = 0.0
+                    om = 0.0
+                    moving = False
+                    S[S_T_REST] = t
+                    continue
+        S[S_T_REST] = np.nan
+        seg_end = segment(t, kind, M, samples, seg)
+        f0 = _rhs(t, th, s, reg, P, seg)
+        nrhs += 1
+    if overturned:
+        S[S_T_REST] = np.nan
+    elif moving:
+        S[S_T_REST] = np.nan
+    S[S_QMAX_R] = qmax_r
+    S[S_QMAX_L] = qmax_l
+    S[S_N_IMP] = n_imp
+    S[S_N_STEPS] = nsteps
+    S[S_N_REJECT] = nrej
+    S[S_N_RHS] = nrhs
+    S[S_STATUS] = status
+    S[S_N_PEAKS] = n_pk
+    S[S_T_FINAL] = t
+    S[S_N_OUT] = io
+    return io
+
+
+@njit(cache=True, parallel=True)
+def simulate_batch(Pm, eLw, eLe, eRw, eRe, kinds, Mm, samples, theta0, omega0, t_end, rtol,
+                   max_steps, Sm):
+    """Run len(Pm) simulations in parallel (statistics only): row i uses model
+    Pm[i], motion (kinds[i], Mm[i], samples) and end time t_end[i]."""
+    n = Pm.shape[0]
+    out_t = np.empty(0)
+    for i in prange(n):
+        out_y = np.empty((0, 3))
+        imp = np.empty((0, 3))
+        peaks = np.empty((0, 3))
+        simulate_kernel(Pm[i], eLw, eLe, eRw, eRe, kinds[i], Mm[i], samples, theta0, omega0,
+                        0.0, t_end[i], rtol, max_steps, out_t, out_y, imp, peaks, Sm[i])

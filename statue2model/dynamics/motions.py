@@ -1,0 +1,480 @@
+"""Ground motions u_g''(t) (MODEL.md section 5): pulses, sine trains, records.
+
+All accelerations are in m/s^2 and positive toward +x (a positive pulse tips the
+body onto its left pivot, theta < 0). Times in s.
+
+* :func:`cosine_pulse`, :func:`sine_pulse` - one cycle of a cos / a sin (w t),
+  0 <= t <= 1/f (eq. 44); :func:`sine_train` - N cycles; :func:`rect_pulse`.
+* :func:`read_record` - two-column time/acc CSV, one-column CSV with dt, or a
+  PEER NGA ``.AT2`` file (in g); uniform sampling is required.
+* :func:`synthetic_record` - a seeded Kanai-Tajimi accelerogram with an envelope.
+* :meth:`GroundMotion.scaled_to_pga`, :meth:`GroundMotion.froude` - scaling.
+* :func:`table_displacement` - baseline-corrected double integration to the
+  displacement a shake table is driven with.
+* :func:`parse_spec` - the command-line SPEC strings.
+
+Example
+-------
+>>> m = parse_spec("cosine:amp=0.3g,freq=2")[0]
+>>> round(m.amp, 4), m.end, m.extremes()[0] == m.amp
+(2.943, 0.5, True)
+>>> m.froude(2.0).end                     # a 1:2 prototype: times / sqrt(2)
+0.35355339059327373
+"""
+from __future__ import annotations
+
+import csv
+import math
+import re
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from . import kernel as K
+
+G_STD = 9.80665  # the g of accelerogram files (PEER NGA)
+
+
+@dataclass(frozen=True, eq=False)
+class GroundMotion:
+    """One ground-acceleration history (immutable).
+
+    kind: "none", "harmonic" (amp sin(2 pi freq (t - start) + phase) on
+    [start, start + duration)), "rect" (amp on [start, start + duration)) or
+    "record" (samples every dt from start, linear in between, zero outside).
+    """
+
+    kind: str = "none"
+    amp: float = 0.0
+    freq: float = 0.0
+    phase: float = 0.0
+    start: float = 0.0
+    duration: float = 0.0
+    dt: float = 0.0
+    samples: np.ndarray | None = None
+    label: str = "free"
+
+    @property
+    def end(self) -> float:
+        """Time (s) after which the ground is at rest."""
+        return self.start + self.duration if self.kind != "none" else 0.0
+
+    def extremes(self) -> tuple[float, float]:
+        """(largest, smallest) u_g'' in m/s^2 (0 included: the ground is at rest outside)."""
+        if self.kind == "none":
+            return 0.0, 0.0
+        if self.kind == "rect":
+            return max(self.amp, 0.0), min(self.amp, 0.0)
+        if self.kind == "harmonic":
+            # at least one full cycle or a fraction of it: sample exactly at the turning points
+            w = 2 * math.pi * self.freq
+            x0, x1 = self.phase, self.phase + w * self.duration
+            vals = [math.sin(x0), math.sin(x1)]
+            k0 = math.ceil((x0 - math.pi / 2) / math.pi)
+            for k in range(k0, k0 + 3):
+                xk = math.pi / 2 + k * math.pi
+                if x0 <= xk <= x1:
+                    vals.append(math.sin(xk))
+            vals = [self.amp * v for v in vals] + [0.0]
+            return max(vals), min(vals)
+        s = self.samples
+        return max(float(s.max()), 0.0), min(float(s.min()), 0.0)
+
+    @property
+    def pga(self) -> float:
+        hi, lo = self.extremes()
+        return max(hi, -lo)
+
+    def acc(self, t) -> np.ndarray:
+        """u_g''(t) in m/s^2 for an array of times (right-continuous at breakpoints)."""
+        t = np.asarray(t, dtype=float)
+        kind, M, samples = self.kernel_args()
+        return np.vectorize(lambda x: K.ground_acc(x, kind, M, samples), otypes=[float])(t)
+
+    def kernel_args(self) -> tuple[int, np.ndarray, np.ndarray]:
+        M = np.zeros(K.N_M)
+        M[K.MT0] = self.start
+        M[K.MT1] = self.start + self.duration
+        if self.kind == "none":
+            return K.M_NONE, M, np.zeros(2)
+        M[K.MA] = self.amp
+        if self.kind == "harmonic":
+            M[K.MW] = 2 * math.pi * self.freq
+            M[K.MPH] = self.phase
+            return K.M_HARMONIC, M, np.zeros(2)
+        if self.kind == "rect":
+            return K.M_RECT, M, np.zeros(2)
+        M[K.MA] = 1.0
+        M[K.MDT] = self.dt
+        return K.M_RECORD, M, np.ascontiguousarray(self.samples, dtype=float)
+
+    def scaled(self, factor: float) -> "GroundMotion":
+        """Accelerations times ``factor``."""
+        if self.kind == "record":
+            return replace(self, samples=self.samples * factor)
+        return replace(self, amp=self.amp * factor)
+
+    def scaled_to_pga(self, pga: float) -> "GroundMotion":
+        """Scale so that max |u_g''| = pga (m/s^2)."""
+        if not (math.isfinite(pga) and pga > 0):
+            raise InputError(f"target PGA must be a positive finite acceleration, got {pga}")
+        if self.pga == 0:
+            raise InputError(f"motion {self.label!r} is zero everywhere: it cannot be scaled to a PGA")
+        return self.scaled(pga / self.pga)
+
+    def froude(self, lam: float) -> "GroundMotion":
+        """The motion for a 1:lam prototype: same accelerations, times / sqrt(lam)."""
+        if not (math.isfinite(lam) and lam > 0):
+            raise InputError(f"scale factor lambda must be positive, got {lam}")
+        r = math.sqrt(lam)
+        return replace(self, start=self.start / r, duration=self.duration / r, dt=self.dt / r,
+                       freq=self.freq * r, label=f"{self.label} (1:{lam:g})")
+
+    def sampled(self, dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(t, u_g'') on a uniform grid from 0 to the end (default dt: the record's, or 1 ms)."""
+        if self.kind == "record" and dt is None:
+            t = self.start + self.dt * np.arange(len(self.samples))
+            if self.start > 0:
+                t = np.concatenate([[0.0], t])
+                return t, np.concatenate([[0.0], self.samples])
+            return t, self.samples.copy()
+        dt = dt or 1e-3
+        n = max(int(math.ceil(self.end / dt)), 1)
+        t = np.arange(n + 1) * dt
+        u = self.acc(t)
+        if self.kind in ("harmonic", "rect"):
+            u[-1] = 0.0 if t[-1] >= self.end else u[-1]
+        return t, u
+
+    def to_dict(self) -> dict:
+        d = {"kind": self.kind, "label": self.label, "start_s": self.start, "end_s": self.end,
+             "pga_m_s2": self.pga}
+        if self.kind in ("harmonic", "rect"):
+            d["amp_m_s2"] = self.amp
+        if self.kind == "harmonic":
+            d.update(freq_hz=self.freq, phase_rad=self.phase)
+        if self.kind == "record":
+            d.update(dt_s=self.dt, n_samples=int(len(self.samples)))
+        return d
+
+
+# --- constructors --------------------------------------------------------------
+def _check_amp_freq(amp, freq):
+    if not math.isfinite(amp):
+        raise InputError(f"pulse amplitude must be finite, got {amp}")
+    if not (math.isfinite(freq) and freq > 0):
+        raise InputError(f"pulse frequency must be a positive number of Hz, got {freq}")
+
+
+def free() -> GroundMotion:
+    """No ground motion (free rocking from initial conditions)."""
+    return GroundMotion()
+
+
+def cosine_pulse(amp: float, freq: float, start: float = 0.0) -> GroundMotion:
+    """u_g'' = amp cos(2 pi freq (t - start)) for one period 1/freq (eq. 44)."""
+    _check_amp_freq(amp, freq)
+    return GroundMotion("harmonic", amp, freq, math.pi / 2, start, 1.0 / freq, label=f"one-cosine {freq:g} Hz")
+
+
+def sine_pulse(amp: float, freq: float, start: float = 0.0) -> GroundMotion:
+    """u_g'' = amp sin(2 pi freq (t - start)) for one period 1/freq."""
+    _check_amp_freq(amp, freq)
+    return GroundMotion("harmonic", amp, freq, 0.0, start, 1.0 / freq, label=f"one-sine {freq:g} Hz")
+
+
+def sine_train(amp: float, freq: float, cycles: float, start: float = 0.0) -> GroundMotion:
+    """``cycles`` periods of amp sin(2 pi freq (t - start))."""
+    _check_amp_freq(amp, freq)
+    if not (math.isfinite(cycles) and cycles > 0):
+        raise InputError(f"number of cycles must be positive, got {cycles}")
+    return GroundMotion("harmonic", amp, freq, 0.0, start, cycles / freq, label=f"{cycles:g} sines {freq:g} Hz")
+
+
+def rect_pulse(amp: float, dur: float, start: float = 0.0) -> GroundMotion:
+    """u_g'' = amp for ``dur`` seconds."""
+    if not math.isfinite(amp):
+        raise InputError(f"pulse amplitude must be finite, got {amp}")
+    if not (math.isfinite(dur) and dur > 0):
+        raise InputError(f"pulse duration must be positive, got {dur}")
+    return GroundMotion("rect", amp, 0.0, 0.0, start, dur, label=f"rectangular {dur:g} s")
+
+
+def record(acc, dt: float, start: float = 0.0, label: str = "record") -> GroundMotion:
+    """A uniformly sampled accelerogram (m/s^2), linear between samples."""
+    acc = np.asarray(acc, dtype=float).ravel()
+    if acc.size < 2:
+        raise InputError(f"{label}: a record needs at least 2 samples, got {acc.size}")
+    if not np.all(np.isfinite(acc)):
+        i = int(np.flatnonzero(~np.isfinite(acc))[0])
+        raise InputError(f"{label}: sample {i} is not a finite number")
+    if not (math.isfinite(dt) and dt > 0):
+        raise InputError(f"{label}: time step dt must be positive, got {dt}")
+    if not math.isfinite(start) or start < 0:
+        raise InputError(f"{label}: start time must be >= 0, got {start}")
+    acc.setflags(write=False)
+    return GroundMotion("record", 1.0, 0.0, 0.0, float(start), dt * (acc.size - 1), float(dt), acc, label)
+
+
+def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 * 9.81, seed: int = 0,
+                     f_g: float = 2.5, zeta_g: float = 0.6) -> GroundMotion:
+    """A reproducible artificial accelerogram: white noise through a Kanai-Tajimi
+    filter (ground frequency f_g Hz, damping zeta_g), shaped by a rise / strong /
+    decay envelope, linear baseline removed, scaled to ``pga`` (m/s^2)."""
+    from scipy import signal
+
+    n = int(round(duration / dt)) + 1
+    rng = np.random.default_rng(seed)
+    w = rng.standard_normal(n)
+    wg = 2 * math.pi * f_g
+    b, a = signal.bilinear([2 * zeta_g * wg, wg**2], [1.0, 2 * zeta_g * wg, wg**2], fs=1.0 / dt)
+    x = signal.lfilter(b, a, w)
+    t = np.arange(n) * dt
+    t1, t2 = 0.1 * duration, 0.45 * duration
+    env = np.where(t < t1, (t / t1) ** 2, np.where(t < t2, 1.0, np.exp(-3.0 * (t - t2) / (duration - t2))))
+    x = x * env
+    x = x - np.polyval(np.polyfit(t, x, 1), t) * env
+    x[0] = 0.0
+    x *= pga / np.max(np.abs(x))
+    return record(x, dt, label=f"synthetic KT seed {seed}")
+
+
+# --- files -----------------------------------------------------------------------
+_NUM = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
+
+
+def _read_at2(path: Path) -> GroundMotion:
+    lines = path.read_text(errors="replace").splitlines()
+    head = None
+    for i, line in enumerate(lines[:10]):
+        if re.search(r"NPTS", line, re.I) and re.search(r"DT", line, re.I):
+            head = i
+            break
+    if head is None:
+        raise InputError(f"{path}: not a PEER NGA .AT2 file (no 'NPTS= ..., DT= ...' line in its header)")
+    m_n = re.search(r"NPTS\s*=\s*(\d+)", lines[head], re.I)
+    m_dt = re.search(r"DT\s*=\s*(" + _NUM.pattern + ")", lines[head], re.I)
+    if not (m_n and m_dt):
+        raise InputError(f"{path}: cannot read NPTS and DT from header line {head + 1}: {lines[head].strip()!r}")
+    npts, dt = int(m_n.group(1)), float(m_dt.group(1).replace("D", "E").replace("d", "e"))
+    values = []
+    for j, line in enumerate(lines[head + 1:], start=head + 2):
+        for tok in line.split():
+            try:
+                values.append(float(tok.replace("D", "E").replace("d", "e")))
+            except ValueError:
+                raise InputError(f"{path}: line {j}: {tok!r} is not a number") from None
+    if len(values) != npts:
+        raise InputError(f"{path}: header says NPTS={npts} but the file holds {len(values)} values")
+    return record(np.asarray(values) * G_STD, dt, label=path.name)
+
+
+def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
+    rows = []
+    with path.open(newline="", errors="replace") as fh:
+        sample = fh.read(4096)
+        fh.seek(0)
+        try:
+            dialect = csv.Sniffer().sniff(sample, delimiters=",;\t ")
+        except csv.Error:
+            dialect = csv.excel
+        for j, row in enumerate(csv.reader(fh, dialect), start=1):
+            row = [c.strip() for c in row if c.strip() != ""]
+            if not row or row[0].startswith("#"):
+                continue
+            try:
+                rows.append([float(c) for c in row])
+            except ValueError:
+                if rows:
+                    raise InputError(f"{path}: line {j}: not a number: {','.join(row)!r}") from None
+                continue  # a header line before the data
+    if not rows:
+        raise InputError(f"{path}: no numeric data")
+    ncol = {len(r) for r in rows}
+    if len(ncol) != 1:
+        raise InputError(f"{path}: rows have different numbers of columns ({sorted(ncol)})")
+    data = np.asarray(rows)
+    factor = G_STD if units == "g" else 1.0
+    if data.shape[1] == 1:
+        if dt is None:
+            raise InputError(f"{path}: one column of accelerations needs the time step: add dt=S to the spec")
+        return record(data[:, 0] * factor, dt, label=path.name)
+    if data.shape[1] != 2:
+        raise InputError(f"{path}: expected 1 column (acc) or 2 columns (time, acc), found {data.shape[1]}")
+    t, a = data[:, 0], data[:, 1]
+    if not np.all(np.isfinite(t)):
+        raise InputError(f"{path}: the time column holds a non-finite value")
+    steps = np.diff(t)
+    if steps.size == 0:
+        raise InputError(f"{path}: a record needs at least 2 samples")
+    step = float(np.median(steps))
+    if step <= 0 or np.any(steps <= 0):
+        raise InputError(f"{path}: time does not increase (row {int(np.argmax(steps <= 0)) + 2})")
+    bad = np.abs(steps - step) > 1e-3 * step + 1e-9
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise InputError(f"{path}: irregular time step (dt = {steps[i]:g} s at row {i + 2}, elsewhere {step:g} s); "
+                         "resample it to a uniform step")
+    if dt is not None and abs(dt - step) > 1e-3 * step:
+        raise InputError(f"{path}: dt={dt:g} contradicts the time column (step {step:g} s)")
+    if t[0] < 0:
+        raise InputError(f"{path}: the record starts at a negative time ({t[0]:g} s)")
+    step = (t[-1] - t[0]) / (len(t) - 1)
+    return record(a * factor, step, start=float(t[0]), label=path.name)
+
+
+def read_record(path, dt: float | None = None, units: str | None = None) -> GroundMotion:
+    """Read an accelerogram file. ``.AT2`` files are in g; CSV files in m/s^2
+    unless ``units="g"``."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"motion file not found: {path}")
+    if units not in (None, "g", "m/s2"):
+        raise InputError(f"motion units must be g or m/s2, got {units!r}")
+    if path.stat().st_size == 0:
+        raise InputError(f"motion file is empty: {path}")
+    if path.suffix.lower() == ".at2":
+        if dt is not None:
+            raise InputError(f"{path}: an .AT2 file gives its own DT; drop dt= from the spec")
+        return _read_at2(path)
+    return _read_csv(path, dt, units or "m/s2")
+
+
+def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Path:
+    """Write (time, acc) as a two-column CSV readable by :func:`read_record`."""
+    from ..files import atomic_write
+
+    t, u = motion.sampled(dt)
+    text = "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
+    return atomic_write(path, lambda p: p.write_text(text))
+
+
+# --- shake-table input -----------------------------------------------------------------
+def table_displacement(motion: GroundMotion, dt: float | None = None):
+    """Baseline-corrected double integration for a shake table.
+
+    The acceleration is corrected by a linear baseline c0 + c1 t chosen so that
+    the table ends at rest where it started (v(T) = 0 and u(T) = 0), then
+    integrated twice (trapezoidal rule). Returns (t, acc, vel, disp) in s, m/s^2,
+    m/s, m.
+    """
+    t, a = motion.sampled(dt)
+    h = np.diff(t)
+
+    def integrate(x):
+        return np.concatenate([[0.0], np.cumsum(0.5 * h * (x[1:] + x[:-1]))])
+
+    T = t[-1] - t[0]
+    if T <= 0:
+        raise InputError("motion too short to integrate")
+    tt = t - t[0]
+    v, u = integrate(a), None
+    u = integrate(v)
+    # u(T) of the baselines 1 and t (integrated the same way, so the correction is exact)
+    one = np.ones_like(t)
+    v1, v2 = integrate(one), integrate(tt)
+    u1, u2 = integrate(v1), integrate(v2)
+    A = np.array([[v1[-1], v2[-1]], [u1[-1], u2[-1]]])
+    c = np.linalg.solve(A, [v[-1], u[-1]])
+    a_c = a - c[0] - c[1] * tt
+    v_c = v - c[0] * v1 - c[1] * v2
+    u_c = u - c[0] * u1 - c[1] * u2
+    return t, a_c, v_c, u_c
+
+
+# --- SPEC strings ------------------------------------------------------------------
+def parse_accel(text: str, what: str = "acceleration") -> float:
+    """'2.5' (m/s^2) or '0.3g' (times 9.81)."""
+    s = text.strip().lower()
+    factor = 1.0
+    if s.endswith("g"):
+        s, factor = s[:-1], 9.81
+    try:
+        value = float(s) * factor
+    except ValueError:
+        raise InputError(f"{what} must be a number in m/s^2 or with a g suffix (0.3g), got {text!r}") from None
+    if not math.isfinite(value):
+        raise InputError(f"{what} must be finite, got {text!r}")
+    return value
+
+
+def _num(key: str, text: str, positive: bool = False) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"motion spec: {key} must be a number, got {text!r}") from None
+    if not math.isfinite(value) or (positive and value <= 0):
+        raise InputError(f"motion spec: {key} must be a {'positive ' if positive else ''}finite number, got {text!r}")
+    return value
+
+
+_SPEC_KEYS = {
+    "free": ({"theta0"}, set()),
+    "cosine": ({"amp", "freq"}, {"start"}),
+    "sine": ({"amp", "freq"}, {"start"}),
+    "rect": ({"amp", "dur"}, {"start"}),
+    "sines": ({"amp", "freq", "cycles"}, {"start"}),
+    "file": ({"path"}, {"dt", "pga", "scale", "units"}),
+    "synthetic": (set(), {"duration", "dt", "pga", "seed", "fg"}),
+}
+
+
+def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
+    """Parse a SPEC string into (motion, theta0). See the module docstring and
+    ``statue2model rock --help`` for the forms."""
+    if ":" in spec:
+        kind, _, rest = spec.partition(":")
+    else:
+        kind, rest = spec, ""
+    kind = kind.strip().lower()
+    if kind not in _SPEC_KEYS:
+        raise InputError(f"unknown motion kind {kind!r} in {spec!r}; use one of {', '.join(_SPEC_KEYS)}")
+    args: dict[str, str] = {}
+    for part in filter(None, (p.strip() for p in rest.split(","))):
+        key, eq, value = part.partition("=")
+        if not eq:
+            raise InputError(f"motion spec {spec!r}: expected key=value, got {part!r}")
+        args[key.strip().lower()] = value.strip()
+    need, optional = _SPEC_KEYS[kind]
+    missing = need - set(args)
+    if missing:
+        raise InputError(f"motion spec {spec!r}: missing {', '.join(sorted(missing))}")
+    extra = set(args) - need - optional
+    if extra:
+        raise InputError(f"motion spec {spec!r}: unknown key(s) {', '.join(sorted(extra))}")
+    start = _num("start", args["start"]) if "start" in args else 0.0
+    if start < 0:
+        raise InputError(f"motion spec {spec!r}: start must be >= 0")
+    if kind == "free":
+        theta0 = _num("theta0", args["theta0"])
+        return free(), theta0
+    if kind in ("cosine", "sine", "sines"):
+        amp = parse_accel(args["amp"], "pulse amplitude")
+        freq = _num("freq", args["freq"], positive=True)
+        if kind == "cosine":
+            return cosine_pulse(amp, freq, start), 0.0
+        if kind == "sine":
+            return sine_pulse(amp, freq, start), 0.0
+        return sine_train(amp, freq, _num("cycles", args["cycles"], positive=True), start), 0.0
+    if kind == "rect":
+        return rect_pulse(parse_accel(args["amp"], "pulse amplitude"), _num("dur", args["dur"], positive=True),
+                          start), 0.0
+    if kind == "synthetic":
+        motion = synthetic_record(duration=_num("duration", args.get("duration", "20"), True),
+                                  dt=_num("dt", args.get("dt", "0.01"), True),
+                                  pga=parse_accel(args.get("pga", "0.3g"), "pga"),
+                                  seed=int(_num("seed", args.get("seed", "0"))),
+                                  f_g=_num("fg", args.get("fg", "2.5"), True))
+        return motion, 0.0
+    path = Path(args["path"])
+    if base_dir is not None and not path.is_absolute():
+        path = Path(base_dir) / path
+    motion = read_record(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
+                         units=args.get("units"))
+    if "pga" in args:
+        motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga"))
+    if "scale" in args:
+        motion = motion.froude(_num("scale", args["scale"], positive=True))
+    return motion, 0.0
