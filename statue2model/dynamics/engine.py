@@ -199,6 +199,8 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
                           float(rtol), int(max_steps), out_t, out_y, imp, peaks, S)
     if S[K.S_STATUS] == K.STATUS_MAX_STEPS:
         raise RuntimeError(f"rocking solver stopped after {max_steps} steps at t = {S[K.S_T_FINAL]:.6g} s")
+    if S[K.S_STATUS] == K.STATUS_STALLED:
+        raise RuntimeError(f"rocking solver made no progress at t = {S[K.S_T_FINAL]:.6g} s")
     return _result(model, motion, theta0, omega0, float(t_end), S, out_t, out_y, imp, peaks)
 
 

@@ -59,7 +59,7 @@ N_M = 6
  S_T_REST, S_N_STEPS, S_N_REJECT, S_N_RHS, S_STATUS, S_FULL_UPLIFT, S_N_PEAKS, S_T_FINAL,
  S_OT_SIDE, S_N_OUT, S_N_UPLIFTS, S_MOVED) = range(19)
 N_S = 19
-STATUS_OK, STATUS_MAX_STEPS = 0, 1
+STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
 
 _EPS = 2.220446049250313e-16
 
@@ -406,7 +406,17 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     f0 = _rhs(t, th, s, reg, P, seg)
     nrhs += 1
     overturned = False
+    t_last = t
+    stall = 0
     while t < t_end:
+        if t > t_last:
+            t_last = t
+            stall = 0
+        else:
+            stall += 1
+            if stall > 10000:
+                status = STATUS_STALLED
+                break
         if nsteps + nrej >= max_steps:
             status = STATUS_MAX_STEPS
             break
@@ -434,19 +444,30 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 out_y[io, 1] = 0.0
                 out_y[io, 2] = 0.0
                 io += 1
+            # the limit and the equation of motion agree only to rounding: lift once
+            # the equation of motion itself pushes the body off (q'' > 0)
+            s = side
+            reg = _start_region(s, P)
+            seg_end = segment(t_up, kind, M, samples, seg)
+            f0 = _rhs(t_up, 0.0, s, reg, P, seg)
+            nrhs += 1
+            nudge = 4.0 * _EPS * max(1.0, abs(t_up))
+            while s * f0 <= 0.0 and t_up < min(seg_end, t_end):
+                t_up += nudge
+                nudge *= 4.0
+                f0 = _rhs(t_up, 0.0, s, reg, P, seg)
+                nrhs += 1
+            if s * f0 <= 0.0:
+                t = min(seg_end, t_end)
+                continue
             t = t_up
             th = 0.0
             om = 0.0
-            s = side
-            reg = _start_region(s, P)
             moving = True
             if S[S_MOVED] == 0.0:
                 S[S_T_UPLIFT] = t
                 S[S_MOVED] = 1.0
             S[S_N_UPLIFTS] += 1.0
-            seg_end = segment(t, kind, M, samples, seg)
-            f0 = _rhs(t, th, s, reg, P, seg)
-            nrhs += 1
             continue
         # --- one adaptive step inside the current segment
         t_lim = min(seg_end, t_end)

@@ -23,7 +23,6 @@ Example
 """
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass, replace
@@ -133,20 +132,32 @@ class GroundMotion:
                        freq=self.freq * r, label=f"{self.label} (1:{lam:g})")
 
     def sampled(self, dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """(t, u_g'') on a uniform grid from 0 to the end (default dt: the record's, or 1 ms)."""
+        """(t, u_g'') on a uniform grid from 0 to the end (default dt: the record's
+        own samples, from its start; otherwise 1 ms). A sample at the end time holds
+        the last value of the motion (its left limit), so that the samples joined
+        linearly reproduce the motion."""
         if self.kind == "record" and dt is None:
-            t = self.start + self.dt * np.arange(len(self.samples))
-            if self.start > 0:
-                t = np.concatenate([[0.0], t])
-                return t, np.concatenate([[0.0], self.samples])
-            return t, self.samples.copy()
-        dt = dt or 1e-3
-        n = max(int(math.ceil(self.end / dt)), 1)
+            return self.start + self.dt * np.arange(len(self.samples)), self.samples.copy()
+        if dt is None:
+            dt = 1e-3
+        if not (math.isfinite(dt) and dt > 0):
+            raise InputError(f"sampling time step dt must be positive, got {dt}")
+        n = max(int(math.ceil(self.end / dt - 1e-9)), 1)
         t = np.arange(n + 1) * dt
         u = self.acc(t)
-        if self.kind in ("harmonic", "rect"):
-            u[-1] = 0.0 if t[-1] >= self.end else u[-1]
+        if self.kind != "none":
+            u[np.abs(t - self.end) <= 1e-9 * dt] = self._last_value()
         return t, u
+
+    def _last_value(self) -> float:
+        """lim u_g''(t) for t -> end from below."""
+        if self.kind == "harmonic":
+            return self.amp * math.sin(2 * math.pi * self.freq * self.duration + self.phase)
+        if self.kind == "rect":
+            return self.amp
+        if self.kind == "record":
+            return float(self.samples[-1])
+        return 0.0
 
     def to_dict(self) -> dict:
         d = {"kind": self.kind, "label": self.label, "start_s": self.start, "end_s": self.end,
@@ -204,7 +215,7 @@ def rect_pulse(amp: float, dur: float, start: float = 0.0) -> GroundMotion:
 
 def record(acc, dt: float, start: float = 0.0, label: str = "record") -> GroundMotion:
     """A uniformly sampled accelerogram (m/s^2), linear between samples."""
-    acc = np.asarray(acc, dtype=float).ravel()
+    acc = np.array(acc, dtype=float).ravel()  # a copy: the caller's array may change later
     if acc.size < 2:
         raise InputError(f"{label}: a record needs at least 2 samples, got {acc.size}")
     if not np.all(np.isfinite(acc)):
@@ -225,7 +236,14 @@ def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 
     decay envelope, linear baseline removed, scaled to ``pga`` (m/s^2)."""
     from scipy import signal
 
+    for name, value in (("duration", duration), ("dt", dt), ("pga", pga), ("f_g", f_g), ("zeta_g", zeta_g)):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"synthetic record: {name} must be positive, got {value}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"synthetic record: seed must be a non-negative integer, got {seed!r}")
     n = int(round(duration / dt)) + 1
+    if n < 10:
+        raise InputError(f"synthetic record: duration {duration:g} s is shorter than 10 time steps of {dt:g} s")
     rng = np.random.default_rng(seed)
     w = rng.standard_normal(n)
     wg = 2 * math.pi * f_g
@@ -256,9 +274,14 @@ def _read_at2(path: Path) -> GroundMotion:
         raise InputError(f"{path}: not a PEER NGA .AT2 file (no 'NPTS= ..., DT= ...' line in its header)")
     m_n = re.search(r"NPTS\s*=\s*(\d+)", lines[head], re.I)
     m_dt = re.search(r"DT\s*=\s*(" + _NUM.pattern + ")", lines[head], re.I)
-    if not (m_n and m_dt):
+    m_old = re.match(r"\s*(\d+)[\s,]+(" + _NUM.pattern + r")[\s,]+NPTS\s*,\s*DT", lines[head], re.I)
+    if m_n and m_dt:  # NGA-West2: "NPTS=  5000, DT=   .0050 SEC"
+        npts_s, dt_s = m_n.group(1), m_dt.group(1)
+    elif m_old:  # NGA-West1: "  3000    .01000    NPTS, DT"
+        npts_s, dt_s = m_old.group(1), m_old.group(2)
+    else:
         raise InputError(f"{path}: cannot read NPTS and DT from header line {head + 1}: {lines[head].strip()!r}")
-    npts, dt = int(m_n.group(1)), float(m_dt.group(1).replace("D", "E").replace("d", "e"))
+    npts, dt = int(npts_s), float(dt_s.replace("D", "E").replace("d", "e"))
     values = []
     for j, line in enumerate(lines[head + 1:], start=head + 2):
         for tok in line.split():
@@ -271,30 +294,32 @@ def _read_at2(path: Path) -> GroundMotion:
     return record(np.asarray(values) * G_STD, dt, label=path.name)
 
 
+_CELL_SEP = re.compile(r"[,;\s]+")
+
+
 def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
-    rows = []
-    with path.open(newline="", errors="replace") as fh:
-        sample = fh.read(4096)
-        fh.seek(0)
+    rows, line_no = [], []
+    for j, line in enumerate(path.read_text(errors="replace").splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        row = [c for c in (c.strip("\"'") for c in _CELL_SEP.split(line)) if c]
+        if not row:
+            continue
         try:
-            dialect = csv.Sniffer().sniff(sample, delimiters=",;\t ")
-        except csv.Error:
-            dialect = csv.excel
-        for j, row in enumerate(csv.reader(fh, dialect), start=1):
-            row = [c.strip() for c in row if c.strip() != ""]
-            if not row or row[0].startswith("#"):
-                continue
-            try:
-                rows.append([float(c) for c in row])
-            except ValueError:
-                if rows:
-                    raise InputError(f"{path}: line {j}: not a number: {','.join(row)!r}") from None
-                continue  # a header line before the data
+            rows.append([float(c) for c in row])
+        except ValueError:
+            if rows:
+                raise InputError(f"{path}: line {j}: not a number: {line!r}") from None
+            continue  # a header line before the data
+        line_no.append(j)
     if not rows:
         raise InputError(f"{path}: no numeric data")
-    ncol = {len(r) for r in rows}
-    if len(ncol) != 1:
-        raise InputError(f"{path}: rows have different numbers of columns ({sorted(ncol)})")
+    ragged = [i for i, r in enumerate(rows) if len(r) != len(rows[0])]
+    if ragged:
+        i = ragged[0]
+        raise InputError(f"{path}: line {line_no[i]} has {len(rows[i])} columns, line {line_no[0]} has "
+                         f"{len(rows[0])}: rows have different numbers of columns")
     data = np.asarray(rows)
     factor = G_STD if units == "g" else 1.0
     if data.shape[1] == 1:
@@ -311,12 +336,12 @@ def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
         raise InputError(f"{path}: a record needs at least 2 samples")
     step = float(np.median(steps))
     if step <= 0 or np.any(steps <= 0):
-        raise InputError(f"{path}: time does not increase (row {int(np.argmax(steps <= 0)) + 2})")
+        raise InputError(f"{path}: time does not increase (line {line_no[int(np.argmax(steps <= 0)) + 1]})")
     bad = np.abs(steps - step) > 1e-3 * step + 1e-9
     if np.any(bad):
         i = int(np.argmax(bad))
-        raise InputError(f"{path}: irregular time step (dt = {steps[i]:g} s at row {i + 2}, elsewhere {step:g} s); "
-                         "resample it to a uniform step")
+        raise InputError(f"{path}: irregular time step (dt = {steps[i]:g} s at line {line_no[i + 1]}, "
+                         f"elsewhere {step:g} s); resample it to a uniform step")
     if dt is not None and abs(dt - step) > 1e-3 * step:
         raise InputError(f"{path}: dt={dt:g} contradicts the time column (step {step:g} s)")
     if t[0] < 0:
@@ -331,6 +356,8 @@ def read_record(path, dt: float | None = None, units: str | None = None) -> Grou
     path = Path(path)
     if not path.is_file():
         raise InputError(f"motion file not found: {path}")
+    if isinstance(units, str):
+        units = units.strip().lower()
     if units not in (None, "g", "m/s2"):
         raise InputError(f"motion units must be g or m/s2, got {units!r}")
     if path.stat().st_size == 0:
@@ -361,16 +388,18 @@ def table_displacement(motion: GroundMotion, dt: float | None = None):
     m/s, m.
     """
     t, a = motion.sampled(dt)
+    if not np.any(a):  # no motion: the table stays put
+        zero = np.zeros_like(t)
+        return t, zero, zero.copy(), zero.copy()
+    if len(t) < 3:
+        raise InputError(f"motion {motion.label!r} is too short to drive a table: it needs at least 3 samples")
     h = np.diff(t)
 
     def integrate(x):
         return np.concatenate([[0.0], np.cumsum(0.5 * h * (x[1:] + x[:-1]))])
 
-    T = t[-1] - t[0]
-    if T <= 0:
-        raise InputError("motion too short to integrate")
     tt = t - t[0]
-    v, u = integrate(a), None
+    v = integrate(a)
     u = integrate(v)
     # u(T) of the baselines 1 and t (integrated the same way, so the correction is exact)
     one = np.ones_like(t)
@@ -410,6 +439,16 @@ def _num(key: str, text: str, positive: bool = False) -> float:
     return value
 
 
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise InputError(f"motion spec: seed must be a non-negative integer, got {text!r}") from None
+    if value < 0:
+        raise InputError(f"motion spec: seed must be a non-negative integer, got {text!r}")
+    return value
+
+
 _SPEC_KEYS = {
     "free": ({"theta0"}, set()),
     "cosine": ({"amp", "freq"}, {"start"}),
@@ -436,7 +475,10 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
         key, eq, value = part.partition("=")
         if not eq:
             raise InputError(f"motion spec {spec!r}: expected key=value, got {part!r}")
-        args[key.strip().lower()] = value.strip()
+        key = key.strip().lower()
+        if key in args:
+            raise InputError(f"motion spec {spec!r}: {key} given twice")
+        args[key] = value.strip()
     need, optional = _SPEC_KEYS[kind]
     missing = need - set(args)
     if missing:
@@ -465,7 +507,7 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
         motion = synthetic_record(duration=_num("duration", args.get("duration", "20"), True),
                                   dt=_num("dt", args.get("dt", "0.01"), True),
                                   pga=parse_accel(args.get("pga", "0.3g"), "pga"),
-                                  seed=int(_num("seed", args.get("seed", "0"))),
+                                  seed=_seed(args.get("seed", "0")),
                                   f_g=_num("fg", args.get("fg", "2.5"), True))
         return motion, 0.0
     path = Path(args["path"])
