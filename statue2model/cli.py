@@ -3,6 +3,8 @@
     statue2model props [MESH] [--units m|mm|cm|in|auto] [--up x|y|z|auto]
                        [--height H] [--density RHO | --mass M] [--direction DEG]
                        [--base-tol M] [--json OUT]
+    statue2model rock PARAMS.json --motion SPEC [model options] [--t-end S] [--json OUT]
+    statue2model spectrum | variability | sweep | identify | motion ...   (see --help of each)
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
 exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
@@ -73,6 +75,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="OUT", help="JSON output (default: outputs/<scan name>/props.json); "
                    "the plot (OUT.png) and the rose table (OUT_rose.csv) are written beside it")
     p.set_defaults(func=_cmd_props)
+
+    from .cli_dynamics import add_parsers
+
+    add_parsers(sub)
     return parser
 
 

@@ -56,9 +56,22 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path
     return path
 
 
+def _clean(obj: Any) -> Any:
+    """numpy -> Python, and NaN -> null (JSON has no NaN); infinities stay an error."""
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (float, np.floating)):
+        return None if obj != obj else float(obj)
+    return obj
+
+
 def write_json(path: str | os.PathLike, data: Any) -> Path:
-    """Write ``data`` as indented JSON (numpy arrays become lists), atomically."""
-    text = json.dumps(data, indent=2, default=_default, allow_nan=False)
+    """Write ``data`` as indented JSON (numpy arrays become lists, NaN becomes null), atomically."""
+    text = json.dumps(_clean(data), indent=2, default=_default, allow_nan=False)
     return atomic_write(path, lambda p: p.write_text(text + "\n", encoding="utf-8"))
 
 

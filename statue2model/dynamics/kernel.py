@@ -45,8 +45,8 @@ _E3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
 _E5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
 
 # --- model vector P --------------------------------------------------------
-P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL = range(13)
-N_P = 13
+P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL, EARLY = range(14)
+N_P = 14
 
 # --- motion: kind and parameter vector M -----------------------------------
 M_NONE, M_HARMONIC, M_RECT, M_RECORD = 0, 1, 2, 3
@@ -57,8 +57,8 @@ N_M = 6
 # --- statistics vector S ----------------------------------------------------
 (S_QMAX_R, S_QMAX_L, S_T_UPLIFT, S_N_IMP, S_OVERTURNED, S_T_OVERTURN, S_IMP_BEFORE_OT,
  S_T_REST, S_N_STEPS, S_N_REJECT, S_N_RHS, S_STATUS, S_FULL_UPLIFT, S_N_PEAKS, S_T_FINAL,
- S_OT_SIDE, S_N_OUT, S_N_UPLIFTS, S_MOVED) = range(19)
-N_S = 19
+ S_OT_SIDE, S_N_OUT, S_N_UPLIFTS, S_MOVED, S_DECIDED) = range(20)
+N_S = 20
 STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
 
 _EPS = 2.220446049250313e-16
@@ -406,6 +406,10 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     f0 = _rhs(t, th, s, reg, P, seg)
     nrhs += 1
     overturned = False
+    early = P[EARLY] > 0.0
+    t_quiet = M[MT1] if kind != M_NONE else t0
+    seen_r = False
+    seen_l = False
     t_last = t
     stall = 0
     while t < t_end:
@@ -556,6 +560,17 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 qmax_r = q_e
             if s < 0 and q_e > qmax_l:
                 qmax_l = q_e
+            if t + x_e >= t_quiet:
+                if s > 0:
+                    seen_r = True
+                else:
+                    seen_l = True
+                if early and seen_r and seen_l:
+                    # free motion that loses energy at every impact: later peaks are
+                    # smaller on both sides, so the outcome and the maxima are final
+                    S[S_DECIDED] = 1.0
+                    t = t + x_e
+                    break
         x_ev = h
         th_ev = thn
         om_ev = omn
@@ -685,7 +700,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         nrhs += 1
     if overturned:
         S[S_T_REST] = np.nan
-    elif moving:
+    elif moving or S[S_DECIDED] > 0.0:
         S[S_T_REST] = np.nan
     S[S_QMAX_R] = qmax_r
     S[S_QMAX_L] = qmax_l

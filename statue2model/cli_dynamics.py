@@ -1,0 +1,373 @@
+"""Command-line stages of the 2D dynamics: rock, spectrum, variability, sweep, identify, motion.
+
+Each command reads a PARAMS.json written by ``statue2model props`` (or any JSON
+holding m, h, b_L, b_R, I_G), builds one immutable RockingModel, runs one stage
+and writes OUT (JSON), OUT-derived CSV and PNG files beside it.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from .errors import InputError
+
+SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
+             "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=LAMBDA][,units=g] | "
+             "synthetic[:duration=S,dt=S,pga=A,seed=N]; A in m/s^2 or with a g suffix (0.3g); "
+             "amp > 0 accelerates the ground toward +x; add start=S to delay a pulse")
+
+
+def _float(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text}")
+    return v
+
+
+def _positive(text: str) -> float:
+    v = _float(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
+    return v
+
+
+def _model_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("params", metavar="PARAMS.json", help="rocking parameters: the JSON written by `statue2model props`")
+    g = p.add_argument_group("model")
+    g.add_argument("--model", choices=["housner", "imperfect"], default=None,
+                   help="classical (Housner) or imperfect asymmetric model (default: imperfect if any alpha is "
+                        "given, else housner)")
+    g.add_argument("--linearised", action="store_true", help="slender-block linearisation (sin x -> x, cos x -> 1)")
+    g.add_argument("--alpha", type=_float, metavar="A", help="alpha_L = alpha_R = A (imperfect model), in (0, 1]")
+    g.add_argument("--alpha-L", type=_float, metavar="A", help="reduction of the left uplift acceleration, in (0, 1]")
+    g.add_argument("--alpha-R", type=_float, metavar="A", help="reduction of the right uplift acceleration, in (0, 1]")
+    g.add_argument("--theta", type=_float, metavar="RAD", help="theta_L = theta_R (rolling transition, rad)")
+    g.add_argument("--theta-L", type=_float, metavar="RAD", help="left rolling-transition rotation, rad "
+                   "(default 0.07 delta_L)")
+    g.add_argument("--theta-R", type=_float, metavar="RAD", help="right rolling-transition rotation, rad "
+                   "(default 0.07 delta_R)")
+    g.add_argument("--e", metavar="E", help="e_L = e_R = E")
+    g.add_argument("--e-L", metavar="E", help="restitution landing on the left edge: a number in [0, 1] or the JSON "
+                   "of `statue2model identify` (its fitted curve); default: angular momentum, eq. 15")
+    g.add_argument("--e-R", metavar="E", help="restitution landing on the right edge (as --e-L)")
+    g.add_argument("--rtol", type=_positive, default=None, metavar="TOL", help="solver tolerance (default 1e-8 for "
+                   "rock, 1e-7 for sweeps)")
+
+
+def _restitution(text: str | None, side: str):
+    if text is None:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    path = Path(text)
+    if not path.is_file():
+        raise InputError(f"--e-{side}: {text!r} is neither a number nor an existing identify JSON")
+    from .files import read_json
+
+    data = read_json(path)
+    if f"e_{side}" not in data:
+        raise InputError(f"--e-{side}: {path} holds no e_{side} (is it the output of `statue2model identify`?)")
+    return data[f"e_{side}"]
+
+
+def _load_params(path: str):
+    from .files import read_json
+    from .geometry.rocking_params import RockingParams
+
+    p = Path(path)
+    if p.suffix.lower() != ".json":
+        raise InputError(f"{path}: expected the JSON written by `statue2model props` (run props on the scan first)")
+    data = read_json(p)
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: not a JSON object of rocking parameters")
+    return RockingParams.from_dict(data)
+
+
+def build_model(args):
+    from .dynamics.model import RockingModel
+
+    params = _load_params(args.params)
+    aL = args.alpha_L if args.alpha_L is not None else args.alpha
+    aR = args.alpha_R if args.alpha_R is not None else args.alpha
+    tL = args.theta_L if args.theta_L is not None else args.theta
+    tR = args.theta_R if args.theta_R is not None else args.theta
+    eL = _restitution(args.e_L if args.e_L is not None else args.e, "L")
+    eR = _restitution(args.e_R if args.e_R is not None else args.e, "R")
+    kind = args.model or ("imperfect" if (aL is not None or aR is not None) else "housner")
+    if kind == "housner":
+        if any(v is not None for v in (aL, aR, tL, tR)):
+            raise InputError("--alpha/--theta options belong to --model imperfect")
+        return RockingModel.housner(params, eL, eR, args.linearised)
+    if aL is None or aR is None:
+        raise InputError("--model imperfect needs --alpha-L and --alpha-R (or --alpha for both)")
+    for name, v in (("--theta-L", tL), ("--theta-R", tR)):
+        if v is not None and v <= 0:
+            raise InputError(f"{name} must be > 0 rad, got {v}")
+    return RockingModel.imperfect(params, aL, aR, tL, tR, eL, eR, args.linearised)
+
+
+def _out(args, default_name: str) -> Path:
+    from .files import prepare_dir
+
+    out = Path(args.json) if args.json else Path(args.params).resolve().parent / default_name
+    if out.exists() and out.is_dir():
+        raise InputError(f"--json {out} is a folder; give a file name")
+    prepare_dir(out.parent)
+    return out
+
+
+def _motion(spec: str):
+    from .dynamics.motions import parse_spec
+
+    return parse_spec(spec)
+
+
+# --- rock -------------------------------------------------------------------------------
+def cmd_rock(args) -> int:
+    from .dynamics.engine import simulate
+    from .files import atomic_write, write_json
+    from .report.dynamics_plots import plot_time_history
+
+    model = build_model(args)
+    motion, theta0 = _motion(args.motion)
+    out = _out(args, "rock.json")
+    if args.t_end is not None and args.t_end <= 0:
+        raise InputError(f"--t-end must be positive, got {args.t_end}")
+    r = simulate(model, motion, theta0=theta0, t_end=args.t_end, rtol=args.rtol or 1e-8, dt_out=args.dt_out)
+    p = model.params
+    rows = [("model", f"{model.kind}{' (linearised)' if model.linearised else ''}"),
+            ("motion", motion.label),
+            ("uplift limits", f"+{model.uplift_limits[0] / p.g:.4f} g / -{model.uplift_limits[1] / p.g:.4f} g"),
+            ("outcome", r.outcome),
+            ("theta_max_L / delta_L", f"{r.theta_max_over_delta_L:.4f}  ({r.theta_max_L:.5g} rad)"),
+            ("theta_max_R / delta_R", f"{r.theta_max_over_delta_R:.4f}  ({r.theta_max_R:.5g} rad)"),
+            ("uplift time", "-" if r.uplift_time is None else f"{r.uplift_time:.4f} s"),
+            ("impacts", str(r.n_impacts)),
+            ("overturned", "no" if not r.overturned else
+             f"yes, mode {r.overturn_mode}, at {r.overturn_time:.4f} s on the {r.overturn_side} pivot"),
+            ("at rest from", "-" if r.t_rest is None else f"{r.t_rest:.4f} s")]
+    w = max(len(a) for a, _ in rows)
+    print("\n".join(f"{a:<{w}}  {b}" for a, b in rows))
+    if model.energy_gain_possible:
+        print("warning: e_side^2 I_new / I_old > 1 at some impact: impacts add energy with these e values")
+    write_json(out, r.to_dict())
+    written = [out.name]
+    if r.history is not None:
+        csv = atomic_write(out.with_name(out.stem + "_history.csv"), lambda f: f.write_text(r.history_csv()))
+        png = plot_time_history(r, out.with_suffix(".png"))
+        written += [csv.name, png.name]
+    print(f"\nwrote {', '.join(written)} in {out.parent}")
+    return 0
+
+
+# --- spectrum -----------------------------------------------------------------------------
+def _grid(text: str, what: str, accel: bool = False):
+    import numpy as np
+
+    from .dynamics.motions import parse_accel
+
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(f"{what}: expected START:STOP:N, got {text!r}")
+    conv = (lambda s: parse_accel(s, what)) if accel else (lambda s: _num(s, what))
+    a, b = conv(parts[0]), conv(parts[1])
+    try:
+        n = int(parts[2])
+    except ValueError:
+        raise InputError(f"{what}: N must be an integer, got {parts[2]!r}") from None
+    if n < 1 or n > 1_000_000:
+        raise InputError(f"{what}: N must lie in 1..1e6, got {n}")
+    return np.linspace(a, b, n)
+
+
+def _num(text: str, what: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise InputError(f"{what}: not a number: {text!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{what}: must be finite, got {text!r}")
+    return v
+
+
+def cmd_spectrum(args) -> int:
+    import time
+
+    from .dynamics.spectrum import stability_spectrum
+    from .files import atomic_write, write_json
+    from .report.dynamics_plots import plot_spectrum
+
+    model = build_model(args)
+    freqs = _grid(args.freq, "--freq")
+    amps = _grid(args.amp, "--amp", accel=True)
+    out = _out(args, f"spectrum_{args.pulse}.json")
+    t0 = time.perf_counter()
+    sp = stability_spectrum(model, freqs, amps, pulse=args.pulse, rtol=args.rtol or 1e-7, progress=True)
+    wall = time.perf_counter() - t0
+    for name, n in sp.counts().items():
+        print(f"{name:<16} {n:>7}")
+    print(f"{sp.codes.size} runs ({sp.n_integrated} integrated) in {wall:.2f} s")
+    d = sp.to_dict()
+    d["wall_s"] = wall
+    write_json(out, d)
+    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sp.to_csv()))
+    png = plot_spectrum(sp, out.with_suffix(".png"))
+    print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
+    return 0
+
+
+# --- variability / sweep -----------------------------------------------------------------------
+def _write_sweep(sw, out: Path) -> None:
+    from .files import atomic_write, write_json
+    from .report.dynamics_plots import plot_sweep
+
+    s = sw.summary()
+    print(f"{sw.values.size} runs: |theta|max/delta mean {s['mean']:.4f}, std {s['std']:.4f}, p05 {s['p05']:.4f}, "
+          f"p50 {s['p50']:.4f}, p95 {s['p95']:.4f}, max {s['max']:.4f}; {s['n_overturned']} overturned")
+    write_json(out, sw.to_dict())
+    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sw.to_csv()))
+    png = plot_sweep(sw, out.with_suffix(".png"))
+    print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
+
+
+def cmd_variability(args) -> int:
+    from .dynamics.sweeps import variability
+
+    model = build_model(args)
+    motion, theta0 = _motion(args.motion)
+    if theta0 != 0 or motion.kind == "none":
+        raise InputError("variability needs a ground motion (a record or a pulse), not free rocking")
+    pgas = _grid(args.pga, "--pga", accel=True)
+    out = _out(args, "variability.json")
+    _write_sweep(variability(model, motion, pgas, rtol=args.rtol or 1e-7, progress=True), out)
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    from .dynamics.sweeps import linspace_spec, parameter_sweep
+
+    model = build_model(args)
+    motion, theta0 = _motion(args.motion)
+    if theta0 != 0:
+        raise InputError("sweep needs a ground motion, not free rocking")
+    values = linspace_spec(args.values, "--values")
+    if args.over_delta:
+        if not args.param.startswith("theta"):
+            raise InputError("--over-delta applies to theta_L, theta_R or theta")
+        side = args.param[-1] if args.param != "theta" else "R"
+        values = values * (model.params.delta_L if side == "L" else model.params.delta_R)
+    out = _out(args, f"sweep_{args.param}.json")
+    _write_sweep(parameter_sweep(model, motion, args.param, values, rtol=args.rtol or 1e-7, progress=True), out)
+    return 0
+
+
+# --- identify ---------------------------------------------------------------------------------
+def cmd_identify(args) -> int:
+    from .dynamics.identify import identify_restitution, read_rotation_record
+    from .files import atomic_write, write_json
+    from .report.dynamics_plots import plot_identification
+
+    params = _load_params(args.params)
+    t, theta = read_rotation_record(args.record, units=args.units)
+    ident = identify_restitution(t, theta, params)
+    out = _out(args, "identify.json")
+    print(f"{'i':>3} {'t [s]':>8} {'|theta_dot| [rad/s]':>20} {'e':>8} side")
+    for i, (ti, w, e, s) in enumerate(zip(ident.t_impact, ident.speed, ident.e, ident.side)):
+        print(f"{i:>3} {ti:>8.3f} {w:>20.4f} {e:>8.4f} {s}")
+    for side in ("L", "R"):
+        f = ident.fit[side]
+        print(f"e_{side} = {f['c0']:.4f} + {f['c1']:.4f} |theta_dot|  ({f['n']} impacts, rms {f['rms_residual']:.2g})")
+    write_json(out, ident.to_dict())
+    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(ident.to_csv()))
+    png = plot_identification(ident, out.with_suffix(".png"))
+    print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}  (use it as --e-L {out} --e-R {out})")
+    return 0
+
+
+# --- motion -----------------------------------------------------------------------------------
+def cmd_motion(args) -> int:
+    from .dynamics.motions import table_displacement
+    from .files import atomic_write, prepare_dir
+    from .report.dynamics_plots import plot_table_motion
+
+    motion, theta0 = _motion(args.motion)
+    if motion.kind == "none":
+        raise InputError("free rocking has no ground motion to write")
+    out = Path(args.csv) if args.csv else Path("outputs") / "motion" / "table.csv"
+    prepare_dir(out.parent)
+    t, a, v, u = table_displacement(motion, args.dt)
+    text = "t_s,acc_m_s2,vel_m_s,disp_m\n" + "".join(f"{a_:.9g},{b:.9g},{c:.9g},{d:.9g}\n"
+                                                       for a_, b, c, d in zip(t, a, v, u))
+    atomic_write(out, lambda f: f.write_text(text))
+    png = plot_table_motion(t, a, v, u, motion.label, out.with_suffix(".png"))
+    print(f"{motion.label}: {t.size} samples, dt {t[1] - t[0]:.4g} s, PGA {motion.pga:.4g} m/s^2, "
+          f"peak table displacement {abs(u).max() * 1000:.2f} mm, stroke {(u.max() - u.min()) * 1000:.2f} mm")
+    print(f"wrote {out} and {png.name}")
+    return 0
+
+
+def add_parsers(sub) -> None:
+    p = sub.add_parser("rock", help="one time history of the 2D rocking model",
+                       description="Simulate the rocking model under a ground motion; print the response and write "
+                                   "OUT (JSON), OUT_history.csv and OUT.png.")
+    _model_options(p)
+    p.add_argument("--motion", required=True, metavar="SPEC", help=SPEC_HELP)
+    p.add_argument("--t-end", type=_float, metavar="S", help="end time (default: motion end + 20 s; the run stops at "
+                   "overturning or rest)")
+    p.add_argument("--dt-out", type=_positive, default=0.002, metavar="S", help="history sampling step (default 2 ms)")
+    p.add_argument("--json", metavar="OUT", help="output JSON (default: rock.json beside PARAMS.json)")
+    p.set_defaults(func=cmd_rock)
+
+    p = sub.add_parser("spectrum", help="stability spectrum of a pulse over (frequency, amplitude)",
+                       description="Outcome (no motion, rolling, rocking, overturn mode 1/2/3) of a one-cosine or "
+                                   "one-sine pulse over a grid; writes OUT, OUT.csv and OUT.png.")
+    _model_options(p)
+    p.add_argument("--pulse", choices=["cosine", "sine"], default="cosine")
+    p.add_argument("--freq", default="0.5:10:100", metavar="F0:F1:N", help="frequencies in Hz (default 0.5:10:100)")
+    p.add_argument("--amp", default="0.01g:1.5g:100", metavar="A0:A1:N",
+                   help="amplitudes, m/s^2 or with g (default 0.01g:1.5g:100)")
+    p.add_argument("--json", metavar="OUT", help="output JSON (default: spectrum_<pulse>.json beside PARAMS.json)")
+    p.set_defaults(func=cmd_spectrum)
+
+    p = sub.add_parser("variability", help="maximum rotation of a record scaled over a PGA range",
+                       description="|theta|max/delta of one ground motion scaled to each PGA (thesis Fig. 70-75).")
+    _model_options(p)
+    p.add_argument("--motion", required=True, metavar="SPEC", help=SPEC_HELP)
+    p.add_argument("--pga", default="0.02g:1g:50", metavar="P0:P1:N", help="PGA values (default 0.02g:1g:50)")
+    p.add_argument("--json", metavar="OUT", help="output JSON (default: variability.json beside PARAMS.json)")
+    p.set_defaults(func=cmd_variability)
+
+    p = sub.add_parser("sweep", help="uncertainty sweep of one model parameter",
+                       description="Run one motion for many values of a parameter and report the distribution of "
+                                   "the peak response (e.g. 49 values of theta_R, thesis Table 24).")
+    _model_options(p)
+    p.add_argument("--motion", required=True, metavar="SPEC", help=SPEC_HELP)
+    p.add_argument("--param", required=True, choices=["alpha_L", "alpha_R", "alpha", "theta_L", "theta_R", "theta",
+                                                      "e_L", "e_R", "e"])
+    p.add_argument("--values", required=True, metavar="V0:V1:N", help="values (START:STOP:N or a comma list)")
+    p.add_argument("--over-delta", action="store_true", help="theta values are fractions of delta of that side")
+    p.add_argument("--json", metavar="OUT", help="output JSON (default: sweep_<param>.json beside PARAMS.json)")
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("identify", help="e_L, e_R from a free-rocking record (eq. 43)",
+                       description="Coefficients of restitution per impact and fitted e(|theta'|) curves from a "
+                                   "measured free-rocking record (CSV: time s, rotation; theta > 0 on the right pivot).")
+    p.add_argument("params", metavar="PARAMS.json", help="rocking parameters (JSON of `statue2model props`)")
+    p.add_argument("record", metavar="RECORD.csv", help="two columns: time (s), rotation")
+    p.add_argument("--units", choices=["rad", "deg"], default="rad", help="rotation unit of the record")
+    p.add_argument("--json", metavar="OUT", help="output JSON (default: identify.json beside PARAMS.json)")
+    p.set_defaults(func=cmd_identify)
+
+    p = sub.add_parser("motion", help="shake-table input: baseline-corrected displacement of a motion",
+                       description="Write t, acc, vel, disp (baseline-corrected double integration) of a ground "
+                                   "motion for a shake table, with a plot.")
+    p.add_argument("motion", metavar="SPEC", help=SPEC_HELP)
+    p.add_argument("--dt", type=_positive, metavar="S", help="sampling step (default: the record's, or 1 ms)")
+    p.add_argument("--csv", metavar="OUT", help="output CSV (default: outputs/motion/table.csv)")
+    p.set_defaults(func=cmd_motion)

@@ -1,0 +1,120 @@
+"""Stability spectrum: the outcome of a pulse over a (frequency, amplitude) grid
+(thesis ch. 4.2.1, Fig. 65-68).
+
+Outcome classes: no motion (below the uplift limit), rolling (lifted but never
+past theta_side), rocking, overturn mode 1, 2, 3 (0, 1, >= 2 impacts before
+overturning).
+
+Example
+-------
+>>> import numpy as np
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> from statue2model.dynamics import RockingModel
+>>> a1 = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
+>>> model = RockingModel.imperfect(a1, 0.65, 0.65, 0.13 * a1.delta_L, 0.13 * a1.delta_R, e_L=0.93, e_R=0.93)
+>>> sp = stability_spectrum(model, np.linspace(1, 6, 6), np.linspace(0.05, 1.0, 8) * 9.81)
+>>> sp.codes.shape, sp.codes[:, 0].tolist()          # 0.05 g is below 0.65 a = 0.125 g
+((6, 8), [0, 0, 0, 0, 0, 0])
+>>> sp.outcome(2.0, 1.0 * 9.81)
+'overturn mode 1'
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from . import kernel as K
+from .batch import OUTCOMES, outcome_codes, run_batch
+from .engine import FREE_TIME
+from .model import RockingModel
+
+PULSES = {"cosine": math.pi / 2, "sine": 0.0}
+
+
+@dataclass(frozen=True, eq=False)
+class StabilitySpectrum:
+    """freqs (n_f,) Hz, amps (n_a,) m/s^2, codes (n_f, n_a) into OUTCOMES,
+    theta_max_over_delta, n_impacts (n_f, n_a); pulse name; the model.
+
+    Runs stop as soon as their outcome is decided (see ``early_exit`` of
+    :meth:`RockingModel.kernel_vector`), so n_impacts counts the impacts until then."""
+
+    model: RockingModel
+    pulse: str
+    freqs: np.ndarray
+    amps: np.ndarray
+    codes: np.ndarray
+    theta_max_over_delta: np.ndarray
+    n_impacts: np.ndarray
+    n_integrated: int
+
+    def outcome(self, freq: float, amp: float) -> str:
+        i = int(np.argmin(np.abs(self.freqs - freq)))
+        j = int(np.argmin(np.abs(self.amps - amp)))
+        return OUTCOMES[self.codes[i, j]]
+
+    def min_overturning_amp(self) -> np.ndarray:
+        """Smallest amplitude of the grid that overturns, per frequency (nan if none)."""
+        ot = self.codes >= 3
+        out = np.full(self.freqs.size, np.nan)
+        for i in range(self.freqs.size):
+            j = np.flatnonzero(ot[i])
+            if j.size:
+                out[i] = self.amps[j[0]]
+        return out
+
+    def counts(self) -> dict:
+        return {name: int(np.sum(self.codes == k)) for k, name in enumerate(OUTCOMES)}
+
+    def to_dict(self) -> dict:
+        return {"pulse": self.pulse, "freqs_hz": self.freqs, "amps_m_s2": self.amps,
+                "outcomes": list(OUTCOMES), "codes": self.codes, "theta_max_over_delta": self.theta_max_over_delta,
+                "n_impacts": self.n_impacts, "counts": self.counts(), "n_runs": int(self.codes.size),
+                "n_integrated": self.n_integrated, "min_overturning_amp_m_s2": self.min_overturning_amp(),
+                "model": self.model.to_dict()}
+
+    def to_csv(self) -> str:
+        lines = ["freq_hz,amp_m_s2,amp_g,outcome_code,outcome,theta_max_over_delta,n_impacts"]
+        g = self.model.params.g
+        for i, f in enumerate(self.freqs):
+            for j, a in enumerate(self.amps):
+                c = int(self.codes[i, j])
+                lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{OUTCOMES[c]},"
+                             f"{self.theta_max_over_delta[i, j]:.6g},{int(self.n_impacts[i, j])}")
+        return "\n".join(lines) + "\n"
+
+
+def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", rtol: float = 1e-7,
+                       free_time: float = FREE_TIME, progress: bool = False) -> StabilitySpectrum:
+    """Run one pulse (``cosine`` or ``sine``, amplitude > 0 toward +x) for every
+    (freq, amp) pair; ``free_time`` s of free motion follow each pulse."""
+    if pulse not in PULSES:
+        raise InputError(f"pulse must be one of {', '.join(PULSES)}, got {pulse!r}")
+    freqs = np.asarray(freqs, dtype=float).ravel()
+    amps = np.asarray(amps, dtype=float).ravel()
+    if freqs.size == 0 or amps.size == 0:
+        raise InputError("the spectrum grid is empty")
+    if not (np.all(np.isfinite(freqs)) and np.all(freqs > 0)):
+        raise InputError("pulse frequencies must be positive numbers of Hz")
+    if not (np.all(np.isfinite(amps)) and np.all(amps >= 0)):
+        raise InputError("pulse amplitudes must be >= 0 (m/s^2)")
+    F, A = np.meshgrid(freqs, amps, indexing="ij")
+    n = F.size
+    M = np.zeros((n, K.N_M))
+    M[:, K.MA] = A.ravel()
+    M[:, K.MW] = 2 * np.pi * F.ravel()
+    M[:, K.MPH] = PULSES[pulse]
+    M[:, K.MT1] = 1.0 / F.ravel()
+    kinds = np.full(n, K.M_HARMONIC)
+    P = np.tile(model.kernel_vector(early_exit=True), (n, 1))
+    lim_up, lim_dn = model.uplift_limits
+    quiet = (A.ravel() <= lim_up) & (A.ravel() <= lim_dn)  # a full cycle reaches +amp and -amp
+    S = run_batch(model, P, kinds, M, np.zeros(2), M[:, K.MT1] + free_time, rtol=rtol, quiet=quiet,
+                  progress="spectrum" if progress else None)
+    codes = outcome_codes(S, model.kind == "imperfect").reshape(F.shape)
+    tmd = np.maximum(S[:, K.S_QMAX_L] / model.params.delta_L, S[:, K.S_QMAX_R] / model.params.delta_R)
+    return StabilitySpectrum(model, pulse, freqs, amps, codes, tmd.reshape(F.shape),
+                             S[:, K.S_N_IMP].reshape(F.shape).astype(int), int(n - quiet.sum()))

@@ -1,0 +1,170 @@
+"""Sweeps of one record or one parameter: the response as a distribution.
+
+* :func:`variability` - maximum rotation |theta|max/delta of one record scaled
+  to a range of PGA values (thesis Fig. 70-75).
+* :func:`parameter_sweep` - the same motion for many values of one model
+  parameter (e.g. 49 values of theta_R, Table 24), with the distribution of the
+  peak response.
+
+Example
+-------
+>>> import numpy as np
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> from statue2model.dynamics import RockingModel, motions
+>>> a1 = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
+>>> model = RockingModel.imperfect(a1, 0.65, 0.65, e_L=0.93, e_R=0.93)
+>>> rec = motions.synthetic_record(10.0, 0.01, 1.0, seed=3)
+>>> v = variability(model, rec, np.linspace(0.5, 3.0, 6))
+>>> bool(v.theta_max_over_delta[0] == 0.0), bool(v.theta_max_over_delta[-1] > 0)
+(True, True)
+>>> s = parameter_sweep(model, rec.scaled_to_pga(2.0), "theta_R", np.linspace(0.5, 1.5, 5) * model.theta_R)
+>>> sorted(s.summary())
+['max', 'mean', 'n', 'n_overturned', 'p05', 'p50', 'p95', 'std']
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from . import kernel as K
+from .batch import OUTCOMES, outcome_codes, run_batch
+from .engine import FREE_TIME, simulate
+from .model import RockingModel
+from .motions import GroundMotion
+
+SWEEPABLE = ("alpha_L", "alpha_R", "alpha", "theta_L", "theta_R", "theta", "e_L", "e_R", "e")
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """One response per swept value: ``values`` (n,) of ``name`` (PGA in m/s^2 for
+    a variability sweep), theta_max_over_delta, theta_max_L, theta_max_R (rad),
+    overturned (bool), codes (into OUTCOMES), n_impacts (until the outcome was decided)."""
+
+    name: str
+    values: np.ndarray
+    theta_max_over_delta: np.ndarray
+    theta_max_L: np.ndarray
+    theta_max_R: np.ndarray
+    overturned: np.ndarray
+    codes: np.ndarray
+    n_impacts: np.ndarray
+    model: RockingModel
+    motion: GroundMotion
+
+    def summary(self) -> dict:
+        """Distribution of |theta|max/delta over the sweep (overturned runs count as 1)."""
+        x = self.theta_max_over_delta
+        return {"n": int(x.size), "mean": float(x.mean()), "std": float(x.std()),
+                "p05": float(np.percentile(x, 5)), "p50": float(np.percentile(x, 50)),
+                "p95": float(np.percentile(x, 95)), "max": float(x.max()),
+                "n_overturned": int(self.overturned.sum())}
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "values": self.values, "theta_max_over_delta": self.theta_max_over_delta,
+                "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R,
+                "overturned": self.overturned, "outcome": [OUTCOMES[c] for c in self.codes],
+                "n_impacts": self.n_impacts, "summary": self.summary(),
+                "model": self.model.to_dict(), "motion": self.motion.to_dict()}
+
+    def to_csv(self) -> str:
+        lines = [f"{self.name},theta_max_over_delta,theta_max_L_rad,theta_max_R_rad,overturned,outcome,n_impacts"]
+        for i in range(self.values.size):
+            lines.append(f"{self.values[i]:.9g},{self.theta_max_over_delta[i]:.9g},{self.theta_max_L[i]:.9g},"
+                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{OUTCOMES[self.codes[i]]},"
+                         f"{int(self.n_impacts[i])}")
+        return "\n".join(lines) + "\n"
+
+
+def _result(name, values, S, model, motion, codes) -> SweepResult:
+    p = model.params
+    tl, tr = S[:, K.S_QMAX_L], S[:, K.S_QMAX_R]
+    tmd = np.maximum(tl / p.delta_L, tr / p.delta_R)
+    return SweepResult(name, np.asarray(values, dtype=float), tmd, tl, tr, S[:, K.S_OVERTURNED] > 0, codes,
+                       S[:, K.S_N_IMP].astype(int), model, motion)
+
+
+def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1e-7,
+                free_time: float = FREE_TIME, progress: bool = False) -> SweepResult:
+    """|theta|max/delta of ``motion`` scaled to each PGA in ``pgas`` (m/s^2)."""
+    pgas = np.asarray(pgas, dtype=float).ravel()
+    if pgas.size == 0 or not np.all(np.isfinite(pgas)) or np.any(pgas < 0):
+        raise InputError("PGA values must be finite and >= 0 (m/s^2)")
+    if motion.pga == 0:
+        raise InputError(f"motion {motion.label!r} is zero everywhere")
+    kind, M0, samples = motion.kernel_args()
+    n = pgas.size
+    M = np.tile(M0, (n, 1))
+    gain = pgas / motion.pga
+    M[:, K.MA] *= gain
+    hi, lo = motion.extremes()
+    lim_up, lim_dn = model.uplift_limits
+    quiet = (gain * hi <= lim_up) & (-gain * lo <= lim_dn)
+    P = np.tile(model.kernel_vector(early_exit=True), (n, 1))
+    S = run_batch(model, P, np.full(n, kind), M, samples, np.full(n, motion.end + free_time), rtol=rtol,
+                  quiet=quiet, progress="variability" if progress else None)
+    return _result("pga_m_s2", pgas, S, model, motion, outcome_codes(S, model.kind == "imperfect"))
+
+
+def _models(model: RockingModel, name: str, values) -> list[RockingModel]:
+    if name not in SWEEPABLE:
+        raise InputError(f"cannot sweep {name!r}; choose one of {', '.join(SWEEPABLE)}")
+    out = []
+    for v in values:
+        if name in ("alpha", "theta", "e"):
+            out.append(model.with_(**{f"{name}_L": v, f"{name}_R": v}))
+        else:
+            out.append(model.with_(**{name: v}))
+    return out
+
+
+def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values, rtol: float = 1e-7,
+                    free_time: float = FREE_TIME, progress: bool = False) -> SweepResult:
+    """Run ``motion`` once per value of parameter ``name`` (one of SWEEPABLE;
+    "alpha", "theta", "e" set both sides)."""
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise InputError(f"sweep values of {name} must be finite numbers")
+    models = _models(model, name, values)
+    n = values.size
+    t_end = motion.end + free_time
+    if name.startswith("e"):
+        # restitution tables are shared by a batch: run one by one
+        S = np.zeros((n, K.N_S))
+        for i, m in enumerate(models):
+            r = simulate(m, motion, t_end=t_end, rtol=rtol, max_records=1)
+            S[i, K.S_QMAX_L], S[i, K.S_QMAX_R] = r.theta_max_L, r.theta_max_R
+            S[i, K.S_OVERTURNED] = r.overturned
+            S[i, K.S_IMP_BEFORE_OT] = r.impacts_before_overturn or 0
+            S[i, K.S_N_IMP] = r.n_impacts
+            S[i, K.S_MOVED] = r.uplift_time is not None
+            S[i, K.S_FULL_UPLIFT] = r.full_uplift
+    else:
+        kind, M0, samples = motion.kernel_args()
+        P = np.stack([m.kernel_vector(early_exit=True) for m in models])
+        S = run_batch(model, P, np.full(n, kind), np.tile(M0, (n, 1)), samples, np.full(n, t_end), rtol=rtol,
+                      progress=f"sweep {name}" if progress else None)
+    codes = outcome_codes(S, any(m.kind == "imperfect" for m in models))
+    return _result(name, values, S, model, motion, codes)
+
+
+def linspace_spec(text: str, what: str) -> np.ndarray:
+    """'START:STOP:N' -> N equally spaced values (inclusive); 'a,b,c' -> a list."""
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            n = int(n)
+            if n < 1:
+                raise ValueError
+            out = np.linspace(float(a), float(b), n)
+        else:
+            out = np.array([float(x) for x in text.split(",") if x.strip()])
+    except ValueError:
+        raise InputError(f"{what}: expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+    if out.size == 0 or not np.all(np.isfinite(out)):
+        raise InputError(f"{what}: values must be finite numbers, got {text!r}")
+    return out
+
+
