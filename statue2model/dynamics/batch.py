@@ -31,6 +31,7 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     kinds = np.ascontiguousarray(kinds, dtype=np.int64)
     t_end = np.ascontiguousarray(np.broadcast_to(t_end, (n,)), dtype=float)
     samples = np.ascontiguousarray(samples, dtype=float)
+    _threading_layer()
     bar = None
     if progress:
         from tqdm import tqdm
@@ -51,6 +52,15 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     if np.any(bad):
         raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {n} runs")
     return S
+
+
+def _threading_layer() -> None:
+    """Use OpenMP threads for the parallel batch unless the user chose a layer
+    (numba's default would first try a TBB that may be too old and warn)."""
+    from numba import config
+
+    if config.THREADING_LAYER == "default":
+        config.THREADING_LAYER = "omp"
 
 
 def outcome_codes(S: np.ndarray, has_transition: bool) -> np.ndarray:

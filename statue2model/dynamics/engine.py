@@ -155,7 +155,7 @@ def _check_run(model: RockingModel, theta0: float, omega0: float, rtol: float):
 
 def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, omega0: float = 0.0,
              t_end: float | None = None, rtol: float = 1e-8, dt_out: float | None = None,
-             max_records: int = 100_000, rest_tol: float = 1e-9, max_steps: int = 20_000_000) -> RockingResult:
+             max_records: int = 10_000, rest_tol: float = 1e-9, max_steps: int = 20_000_000) -> RockingResult:
     """Integrate the rocking model under ``motion`` from (theta0, omega0) at t = 0.
 
     t_end defaults to the end of the motion + 20 s; the run stops earlier at
@@ -182,9 +182,9 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
         out_t = np.arange(n) * dt_out
     else:
         out_t = np.empty(0)
-    out_y = np.zeros((out_t.size, 3))
-    imp = np.zeros((max_records, 3))
-    peaks = np.zeros((max_records, 3))
+    out_y = np.empty((out_t.size, 3))
+    imp = np.empty((max_records, 3))
+    peaks = np.empty((max_records, 3))
     S = np.zeros(K.N_S)
     hi, lo = motion.extremes()
     lim_up, lim_dn = model.uplift_limits

@@ -14,11 +14,11 @@ Method
   of a record). Steps never cross a segment boundary: motion breakpoints are
   step limits, theta-boundaries are events located inside the step.
 * Events (impact at theta = 0, region change at |theta| = theta_side,
-  overturning at |theta| = delta_side, and extrema of |theta|) are located by a
-  safeguarded Newton iteration on the step length, re-taking the DOP853 step
-  from the start of the step: the located state is as accurate as a step.
-* Output samples are re-taken steps from the last accepted point, so the
-  output grid never changes the solution (results are independent of it).
+  overturning at |theta| = delta_side, and extrema of |theta|) are located on
+  the 7th-order dense output of the step (3 extra stages, as in scipy's DOP853)
+  by the Illinois method, to machine precision in time.
+* Output samples are read from the same dense output; they never change the
+  steps, so results are independent of the output grid.
 * Stick (full contact) is not integrated: the next uplift is found in closed
   form on each motion segment (linear or harmonic).
 * Zeno: after an impact whose next excursion would peak below
@@ -43,6 +43,11 @@ _B = np.ascontiguousarray(_dop.B, dtype=np.float64)
 _C = np.ascontiguousarray(_dop.C[:_NS], dtype=np.float64)
 _E3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
 _E5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
+_AX = np.ascontiguousarray(_dop.A, dtype=np.float64)    # with the 3 extra stages of the dense output
+_CX = np.ascontiguousarray(_dop.C, dtype=np.float64)
+_D = np.ascontiguousarray(_dop.D, dtype=np.float64)
+_NX = _dop.N_STAGES_EXTENDED
+_NI = _dop.INTERPOLATOR_POWER
 
 # --- model vector P --------------------------------------------------------
 P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL, EARLY = range(14)
@@ -262,50 +267,80 @@ def _error_norm(h, th, om, thn, omn, Kt, Ko, atol_t, atol_o, rtol):
 
 
 @njit(cache=True)
-def _locate(what, target, t, th, om, f0, a, Fa, b, Fb, s, reg, P, seg, Kt, Ko, out):
-    """Root x in [a, b] of F(x) = s*theta(t+x) - target (what=0) or s*theta'(t+x)
-    (what=1), F(a), F(b) of opposite signs. Safeguarded Newton on re-taken steps.
-    Writes (theta, theta') at the root into out; returns x and the number of
-    right-hand-side evaluations used."""
-    nrhs = 0
-    x = a - Fa * (b - a) / (Fb - Fa)
-    if not (a < x < b):
-        x = 0.5 * (a + b)
-    thx = th
-    omx = om
-    tol = 4.0 * _EPS * (abs(t) + abs(b))
-    for _ in range(80):
-        thx, omx = _step(t, th, om, f0, x, s, reg, P, seg, Kt, Ko)
-        nrhs += _NS - 1
+def _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo):
+    """Dense-output coefficients of the accepted step (Kt, Ko rows 0..12 hold its
+    stages, row 12 the slope at t + h); 3 more right-hand sides."""
+    for i in range(_NS + 1, _NX):
+        dth = 0.0
+        dom = 0.0
+        for j in range(i):
+            a = _AX[i, j]
+            if a != 0.0:
+                dth += a * Kt[j]
+                dom += a * Ko[j]
+        Kt[i] = om + h * dom
+        Ko[i] = _rhs(t + _CX[i] * h, th + h * dth, s, reg, P, seg)
+    dt_ = thn - th
+    do_ = omn - om
+    Ft[0] = dt_
+    Fo[0] = do_
+    Ft[1] = h * Kt[0] - dt_
+    Fo[1] = h * Ko[0] - do_
+    Ft[2] = 2.0 * dt_ - h * (Kt[_NS] + Kt[0])
+    Fo[2] = 2.0 * do_ - h * (Ko[_NS] + Ko[0])
+    for r in range(_NI - 3):
+        st = 0.0
+        so = 0.0
+        for j in range(_NX):
+            st += _D[r, j] * Kt[j]
+            so += _D[r, j] * Ko[j]
+        Ft[3 + r] = h * st
+        Fo[3 + r] = h * so
+
+
+@njit(cache=True, inline="always")
+def _dense_eval(x, F, y0):
+    y = 0.0
+    for i in range(_NI):
+        y += F[_NI - 1 - i]
+        if i % 2 == 0:
+            y *= x
+        else:
+            y *= 1.0 - x
+    return y + y0
+
+
+@njit(cache=True)
+def _root_dense(what, target, s, xa, Fa, xb, Fb, Ft, Fo, th, om, xtol):
+    """Root in [xa, xb] (fractions of the step) of s*theta(x) - target (what=0) or
+    s*theta'(x) (what=1) on the dense output; Fa, Fb of opposite signs (Illinois)."""
+    side = 0
+    x = xb
+    for _ in range(200):
+        x = (xa * Fb - xb * Fa) / (Fb - Fa)
+        if not (xa < x < xb):
+            x = 0.5 * (xa + xb)
         if what == 0:
-            Fx = s * thx - target
-            dF = s * omx
+            fx = s * _dense_eval(x, Ft, th) - target
         else:
-            Fx = s * omx
-            dF = s * _rhs(t + x, thx, s, reg, P, seg)
-            nrhs += 1
-        if Fx == 0.0:
-            break
-        if (Fx > 0.0) == (Fa > 0.0):
-            a = x
-            Fa = Fx
+            fx = s * _dense_eval(x, Fo, om)
+        if fx == 0.0:
+            return x
+        if (fx > 0.0) == (Fb > 0.0):
+            xb = x
+            Fb = fx
+            if side == -1:
+                Fa *= 0.5
+            side = -1
         else:
-            b = x
-            Fb = Fx
-        if b - a <= tol:
+            xa = x
+            Fa = fx
+            if side == 1:
+                Fb *= 0.5
+            side = 1
+        if xb - xa <= xtol:
             break
-        xn = x - Fx / dF if dF != 0.0 else 0.5 * (a + b)
-        if not (a < xn < b):
-            xn = 0.5 * (a + b)
-        if abs(xn - x) <= tol:
-            x = xn
-            thx, omx = _step(t, th, om, f0, x, s, reg, P, seg, Kt, Ko)
-            nrhs += _NS - 1
-            break
-        x = xn
-    out[0] = thx
-    out[1] = omx
-    return x, nrhs
+    return x
 
 
 @njit(cache=True, inline="always")
@@ -358,10 +393,11 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     S[S_T_OVERTURN] = np.nan
     S[S_T_REST] = np.nan
     S[S_OT_SIDE] = 0.0
-    Kt = np.empty(_NS + 1)
-    Ko = np.empty(_NS + 1)
+    Kt = np.empty(_NX)
+    Ko = np.empty(_NX)
+    Ft = np.empty(_NI)
+    Fo = np.empty(_NI)
     seg = np.empty(7)
-    loc = np.empty(2)
     n_out = out_t.shape[0]
     cap_imp = imp.shape[0]
     cap_pk = peaks.shape[0]
@@ -503,6 +539,8 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         h_next = h * fac
         if hits and h_next < h_try:
             h_next = h_try
+        dense = False
+        xtol = 4.0 * _EPS * max(1.0, abs(t)) / h
         nsteps += 1
         q0 = s * th
         qn = s * thn
@@ -530,9 +568,13 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 x_e = h
                 q_e = qn
             else:
-                x_e, nr = _locate(1, 0.0, t, th, om, f0, 0.0, d0, h, dn_, s, reg, P, seg, Kt, Ko, loc)
-                nrhs += nr
-                q_e = s * loc[0]
+                if not dense:
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                    nrhs += 3
+                    dense = True
+                xr = _root_dense(1, 0.0, s, 0.0, d0, 1.0, dn_, Ft, Fo, th, om, xtol)
+                x_e = xr * h
+                q_e = s * _dense_eval(xr, Ft, th)
         # which boundary event comes first
         ev = 0  # 0 none, -1 leaves through lo, +1 through hi
         xa = 0.0
@@ -594,10 +636,14 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 th_ev = thn
                 om_ev = omn
             else:
-                x_ev, nr = _locate(0, target, t, th, om, f0, xa, Fa, xb, Fb, s, reg, P, seg, Kt, Ko, loc)
-                nrhs += nr
-                th_ev = loc[0]
-                om_ev = loc[1]
+                if not dense:
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                    nrhs += 3
+                    dense = True
+                xr = _root_dense(0, target, s, xa / h, Fa, xb / h, Fb, Ft, Fo, th, om, xtol)
+                x_ev = xr * h
+                th_ev = _dense_eval(xr, Ft, th)
+                om_ev = _dense_eval(xr, Fo, om)
         t_ev = t + x_ev if x_ev < h else tn
         # output samples in (t, t_ev]
         while io < n_out and out_t[io] <= t_ev:
@@ -607,8 +653,12 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             elif xo == h:
                 tho, omo = thn, omn
             else:
-                tho, omo = _step(t, th, om, f0, xo, s, reg, P, seg, Kt, Ko)
-                nrhs += _NS - 1
+                if not dense:
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                    nrhs += 3
+                    dense = True
+                tho = _dense_eval(xo / h, Ft, th)
+                omo = _dense_eval(xo / h, Fo, om)
             out_y[io, 0] = tho
             out_y[io, 1] = omo
             out_y[io, 2] = 1.0 if reg == 0 else 2.0
