@@ -282,7 +282,7 @@ def cmd_identify(args) -> int:
         print(f"{i:>3} {ti:>8.3f} {w:>20.4f} {e:>8.4f} {s}")
     for side in ("L", "R"):
         f = ident.fit[side]
-        print(f"e_{side} = {f['c0']:.4f} + {f['c1']:.4f} |theta_dot|  ({f['n']} impacts, rms {f['rms_residual']:.2g})")
+        print(f"e_{side} = {f['c0']:.4f} {f['c1']:+.4f} |theta_dot|  ({f['n']} impacts, rms {f['rms_residual']:.2g})")
     write_json(out, ident.to_dict())
     csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(ident.to_csv()))
     png = plot_identification(ident, out.with_suffix(".png"))

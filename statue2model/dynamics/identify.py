@@ -167,13 +167,15 @@ def identify_restitution(t, theta, params: RockingParams, min_fraction: float = 
 
 
 def read_rotation_record(path, units: str = "rad") -> tuple[np.ndarray, np.ndarray]:
-    """Two-column CSV (time s, rotation) with an optional header; ``units`` rad or deg."""
+    """CSV of time (s) and rotation in its first two columns (further columns, such as
+    those of a ``rock`` history, are ignored), optional header; ``units`` rad or deg."""
     from pathlib import Path
 
     path = Path(path)
     if not path.is_file():
         raise InputError(f"record file not found: {path}")
     rows = []
+    ncol = 0
     for j, line in enumerate(path.read_text(errors="replace").splitlines(), start=1):
         parts = [x for x in line.replace(";", ",").replace("\t", ",").replace(" ", ",").split(",") if x]
         if not parts or parts[0].startswith("#"):
@@ -184,9 +186,12 @@ def read_rotation_record(path, units: str = "rad") -> tuple[np.ndarray, np.ndarr
             if rows:
                 raise InputError(f"{path}: line {j}: not a number: {line.strip()!r}") from None
             continue
-        if len(vals) != 2:
-            raise InputError(f"{path}: line {j}: expected 2 columns (time, rotation), found {len(vals)}")
-        rows.append(vals)
+        if len(vals) < 2:
+            raise InputError(f"{path}: line {j}: expected at least 2 columns (time, rotation), found {len(vals)}")
+        if ncol and len(vals) != ncol:
+            raise InputError(f"{path}: line {j}: {len(vals)} columns where earlier lines have {ncol}")
+        ncol = len(vals)
+        rows.append(vals[:2])
     if len(rows) < 5:
         raise InputError(f"{path}: fewer than 5 data rows")
     data = np.asarray(rows)
