@@ -380,6 +380,18 @@ def _start_region(s, P):
     return 0 if tr > 0.0 else 1
 
 
+@njit(cache=True, inline="always")
+def _fill_still(out_t, out_y, io, t_until):
+    """Output samples up to t_until of a body at rest; returns the next index."""
+    n = out_t.shape[0]
+    while io < n and out_t[io] <= t_until:
+        out_y[io, 0] = 0.0
+        out_y[io, 1] = 0.0
+        out_y[io, 2] = 0.0
+        io += 1
+    return io
+
+
 @njit(cache=True)
 def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0, t_end,
                     rtol, max_steps, out_t, out_y, imp, peaks, S):
@@ -472,18 +484,10 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     break
                 tc = tb
             if side == 0 or t_up >= t_end:
-                while io < n_out and out_t[io] <= t_end:
-                    out_y[io, 0] = 0.0
-                    out_y[io, 1] = 0.0
-                    out_y[io, 2] = 0.0
-                    io += 1
+                io = _fill_still(out_t, out_y, io, t_end)
                 t = t_end
                 break
-            while io < n_out and out_t[io] <= t_up:
-                out_y[io, 0] = 0.0
-                out_y[io, 1] = 0.0
-                out_y[io, 2] = 0.0
-                io += 1
+            io = _fill_still(out_t, out_y, io, t_up)
             # the limit and the equation of motion agree only to rounding: lift once
             # the equation of motion itself pushes the body off (q'' > 0)
             s = side
@@ -733,11 +737,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 dside = P[DR] if s > 0 else P[DL]
                 if c > 0.0 and (wp == 0.0 or (e < 1.0 and wp * wp / (2.0 * c) < P[REST_TOL] * dside)):
                     t_rest = t + (2.0 * wp / c) / (1.0 - e) if wp > 0.0 else t
-                    while io < n_out and out_t[io] <= t_rest:
-                        out_y[io, 0] = 0.0
-                        out_y[io, 1] = 0.0
-                        out_y[io, 2] = 0.0
-                        io += 1
+                    io = _fill_still(out_t, out_y, io, t_rest)
                     t = t_rest
                     th = 0.0
                     om = 0.0
