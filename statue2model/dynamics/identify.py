@@ -130,8 +130,9 @@ def identify_restitution(t, theta, params: RockingParams, min_fraction: float = 
         if a == b:
             continue
         qa, qb = abs(pk_th[i]), abs(pk_th[i + 1])
-        ea = math.cos(delta[a] - qa) - math.cos(delta[a])
-        eb = math.cos(delta[b] - qb) - math.cos(delta[b])
+        # cos(delta - q) - cos(delta), written without cancellation for small q
+        ea = 2.0 * math.sin(delta[a] - 0.5 * qa) * math.sin(0.5 * qa)
+        eb = 2.0 * math.sin(delta[b] - 0.5 * qb) * math.sin(0.5 * qb)
         if ea <= 0:
             continue
         e = math.sqrt(d[b] * inertia[a] * eb / (inertia[b] * d[a] * ea))
