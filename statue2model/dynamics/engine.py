@@ -194,6 +194,7 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
         S[K.S_T_UPLIFT] = S[K.S_T_OVERTURN] = S[K.S_T_REST] = np.nan
         S[K.S_T_FINAL] = t_end
         S[K.S_N_OUT] = out_t.size
+        out_y[:] = 0.0
     else:
         K.simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, 0.0, float(t_end),
                           float(rtol), int(max_steps), out_t, out_y, imp, peaks, S)

@@ -158,13 +158,14 @@ def _first_exceedance(ta, tb, seg, up, dn):
     A = seg[3]
     if A == 0.0:
         c1 = seg[1]
-        if c1 > 0.0:
+        ub = _acc(tb, seg) if tb < np.inf else (np.inf if c1 > 0.0 else -np.inf)
+        if c1 > 0.0 and ub > up:
             t = seg[2] + (up - seg[0]) / c1
             if t < ta:
                 t = ta
             if t < tb:
                 return t, -1
-        elif c1 < 0.0:
+        elif c1 < 0.0 and ub < -dn:
             t = seg[2] + (-dn - seg[0]) / c1
             if t < ta:
                 t = ta
@@ -533,7 +534,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         Ko[_NS] = fn
         nrhs += _NS
         err = _error_norm(h, th, om, thn, omn, Kt, Ko, atol_t, atol_o, rtol)
-        if err > 1.0:
+        if not (err <= 1.0):  # also rejects nan
             h *= max(0.2, 0.9 * err ** (-1.0 / 8.0))
             nrej += 1
             if h < 1e-14 * max(1.0, abs(t)):
@@ -596,6 +597,62 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 ev = -1
             elif qn > hi:
                 ev = 1
+        x_ev = h
+        th_ev = thn
+        om_ev = omn
+        retry = False
+        floor = h <= 1e-12 * max(1.0, abs(t))
+        if ev != 0:
+            target = lo if ev < 0 else hi
+            if xa == 0.0:
+                Fa = q0 - target
+            else:
+                Fa = q_e - target
+            if xb == h:
+                Fb = qn - target
+            else:
+                Fb = q_e - target
+            if Fa == 0.0:
+                if xa == 0.0 and not floor:
+                    # it starts on that boundary moving inward, yet ends outside with no
+                    # extremum seen: the step missed one; retry shorter
+                    retry = True
+                x_ev = xa
+                th_ev = th if xa == 0.0 else s * q_e
+                om_ev = om
+            elif Fb == 0.0:
+                x_ev = xb
+                th_ev = thn
+                om_ev = omn
+            else:
+                if not dense:
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                    nrhs += 3
+                    dense = True
+                xr = _root_dense(0, target, s, xa / h, Fa, xb / h, Fb, Ft, Fo, th, om, xtol)
+                x_ev = xr * h
+                th_ev = _dense_eval(xr, Ft, th)
+                om_ev = _dense_eval(xr, Fo, om)
+                # check the dense output against a step taken to the event
+                thv, omv = _step(t, th, om, f0, x_ev, s, reg, P, seg, Kt, Ko)
+                nrhs += _NS - 1
+                if not floor and (abs(thv - th_ev) > 10.0 * (atol_t + rtol * abs(thv)) or
+                                  abs(omv - om_ev) > 10.0 * (atol_o + rtol * abs(omv))):
+                    retry = True
+                th_ev = thv
+                om_ev = omv
+        if x_e >= 0.0 and x_e < h and not retry and not floor:
+            thv, omv = _step(t, th, om, f0, x_e, s, reg, P, seg, Kt, Ko)
+            nrhs += _NS - 1
+            if abs(s * thv - q_e) > 10.0 * (atol_t + rtol * abs(thv)) or abs(omv) > 10.0 * (atol_o + rtol * abs(om)):
+                retry = True
+            else:
+                q_e = s * thv
+        if retry:
+            nsteps -= 1
+            nrej += 1
+            h *= 0.25
+            continue
         if x_e >= 0.0 and is_peak and q_e <= hi and not (ev == -1 and xb == x_e):
             if n_pk < cap_pk:
                 peaks[n_pk, 0] = t + x_e
@@ -617,37 +674,6 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     S[S_DECIDED] = 1.0
                     t = t + x_e
                     break
-        x_ev = h
-        th_ev = thn
-        om_ev = omn
-        if ev != 0:
-            target = lo if ev < 0 else hi
-            if xa == 0.0:
-                Fa = q0 - target
-            else:
-                Fa = q_e - target
-            if xb == h:
-                Fb = qn - target
-            else:
-                Fb = q_e - target
-            if Fa == 0.0:
-                # starts on the boundary it leaves through: root at the start
-                x_ev = xa
-                th_ev = th if xa == 0.0 else s * q_e
-                om_ev = om
-            elif Fb == 0.0:
-                x_ev = xb
-                th_ev = thn
-                om_ev = omn
-            else:
-                if not dense:
-                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
-                    nrhs += 3
-                    dense = True
-                xr = _root_dense(0, target, s, xa / h, Fa, xb / h, Fb, Ft, Fo, th, om, xtol)
-                x_ev = xr * h
-                th_ev = _dense_eval(xr, Ft, th)
-                om_ev = _dense_eval(xr, Fo, om)
         t_ev = t + x_ev if x_ev < h else tn
         # output samples in (t, t_ev]
         while io < n_out and out_t[io] <= t_ev:

@@ -144,8 +144,10 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     else:
         kind, M0, samples = motion.kernel_args()
         P = np.stack([m.kernel_vector(early_exit=True) for m in models])
+        hi, lo = motion.extremes()
+        quiet = np.array([hi <= m.uplift_limits[0] and -lo <= m.uplift_limits[1] for m in models])
         S = run_batch(model, P, np.full(n, kind), np.tile(M0, (n, 1)), samples, np.full(n, t_end), rtol=rtol,
-                      progress=f"sweep {name}" if progress else None)
+                      quiet=quiet, progress=f"sweep {name}" if progress else None)
     codes = outcome_codes(S, any(m.kind == "imperfect" for m in models))
     return _result(name, values, S, model, motion, codes)
 
