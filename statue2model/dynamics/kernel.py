@@ -72,11 +72,13 @@ _EPS = 2.220446049250313e-16
 # --- ground motion ------------------------------------------------------------
 @njit(cache=True)
 def segment(t, kind, M, samples, seg):
-    """Fill ``seg`` = [c0, c1, t0, A, w, ts, phi] for the smooth piece of the
-    motion that holds t (right-continuous); u(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi).
+    """Fill ``seg`` = [c0, c1, t0, A, w, ts, phi, u_end] for the smooth piece of the
+    motion that holds t (right-continuous); u(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi);
+    u_end is a record sample's exact value at the end of the piece (nan otherwise).
     Return the end of that piece (inf if none)."""
-    for i in range(7):
+    for i in range(8):
         seg[i] = 0.0
+    seg[7] = np.nan
     if kind == M_NONE:
         return np.inf
     ts = M[MT0]
@@ -110,6 +112,7 @@ def segment(t, kind, M, samples, seg):
     seg[0] = M[MA] * samples[k]
     seg[1] = M[MA] * (samples[k + 1] - samples[k]) / dt
     seg[2] = tk
+    seg[7] = M[MA] * samples[k + 1]  # the exact value at the end of the piece
     if k == n - 2:
         return te
     return ts + (k + 1) * dt
@@ -126,7 +129,7 @@ def _acc(t, seg):
 @njit(cache=True)
 def ground_acc(t, kind, M, samples):
     """Ground acceleration u_g''(t) in m/s^2 (right-continuous at breakpoints)."""
-    seg = np.empty(7)
+    seg = np.empty(8)
     segment(t, kind, M, samples, seg)
     return _acc(t, seg)
 
@@ -158,7 +161,12 @@ def _first_exceedance(ta, tb, seg, up, dn):
     A = seg[3]
     if A == 0.0:
         c1 = seg[1]
-        ub = _acc(tb, seg) if tb < np.inf else (np.inf if c1 > 0.0 else -np.inf)
+        if tb == np.inf:
+            ub = np.inf if c1 > 0.0 else -np.inf
+        elif seg[7] == seg[7]:
+            ub = seg[7]
+        else:
+            ub = _acc(tb, seg)
         if c1 > 0.0 and ub > up:
             t = seg[2] + (up - seg[0]) / c1
             if t < ta:
@@ -410,7 +418,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     Ko = np.empty(_NX)
     Ft = np.empty(_NI)
     Fo = np.empty(_NI)
-    seg = np.empty(7)
+    seg = np.empty(8)
     n_out = out_t.shape[0]
     cap_imp = imp.shape[0]
     cap_pk = peaks.shape[0]
@@ -546,6 +554,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             h_next = h_try
         dense = False
         xtol = 4.0 * _EPS * max(1.0, abs(t)) / h
+        floor_h = h <= 1e-12 * max(1.0, abs(t))
         nsteps += 1
         q0 = s * th
         qn = s * thn
@@ -567,17 +576,52 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         x_e = -1.0
         q_e = 0.0
         is_peak = False
-        if (d0 > 0.0 and dn_ <= 0.0) or (d0 < 0.0 and dn_ >= 0.0):
-            is_peak = d0 > 0.0
-            if dn_ == 0.0:
-                x_e = h
-                q_e = qn
+        xe0 = 0.0
+        Fe0 = d0
+        xe1 = 1.0
+        Fe1 = dn_
+        found = (d0 > 0.0 and dn_ <= 0.0) or (d0 < 0.0 and dn_ >= 0.0)
+        if not found and f0 * fn <= 0.0:
+            # theta'' changes sign: theta' may cross zero and come back inside the step
+            if not dense:
+                _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                nrhs += 3
+                dense = True
+            xp = 0.0
+            Fp = d0
+            twice = False
+            for k in range(1, 9):
+                xk = k / 8.0
+                Fk = s * _dense_eval(xk, Fo, om) if k < 8 else dn_
+                if (Fp > 0.0 and Fk <= 0.0) or (Fp < 0.0 and Fk >= 0.0):
+                    if not found:
+                        found = True
+                        xe0, Fe0, xe1, Fe1 = xp, Fp, xk, Fk
+                    elif not floor_h:
+                        twice = True
+                        break
+                xp = xk
+                Fp = Fk
+            if twice:
+                # two extrema in one step: retry shorter, one extremum per step
+                nsteps -= 1
+                nrej += 1
+                h *= 0.25
+                continue
+        if found:
+            is_peak = Fe0 > 0.0
+            if Fe1 == 0.0:
+                x_e = xe1 * h
+                if xe1 == 1.0:
+                    q_e = qn
+                else:
+                    q_e = s * _dense_eval(xe1, Ft, th)
             else:
                 if not dense:
                     _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
                     nrhs += 3
                     dense = True
-                xr = _root_dense(1, 0.0, s, 0.0, d0, 1.0, dn_, Ft, Fo, th, om, xtol)
+                xr = _root_dense(1, 0.0, s, xe0, Fe0, xe1, Fe1, Ft, Fo, th, om, xtol)
                 x_e = xr * h
                 q_e = s * _dense_eval(xr, Ft, th)
         # which boundary event comes first
@@ -648,6 +692,21 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 retry = True
             else:
                 q_e = s * thv
+        t_ev = t + x_ev if x_ev < h else tn
+        if not retry and not floor and reg == 0:
+            # in the rolling transition (stiff when theta_side is small) the dense output
+            # may be poor while the end point passes: check it at mid-step (a fixed point,
+            # so the output grid never changes the solution)
+            xo = 0.5 * h
+            if not dense:
+                _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
+                nrhs += 3
+                dense = True
+            thv, omv = _step(t, th, om, f0, xo, s, reg, P, seg, Kt, Ko)
+            nrhs += _NS - 1
+            if abs(thv - _dense_eval(xo / h, Ft, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
+                    abs(omv - _dense_eval(xo / h, Fo, om)) > 10.0 * (atol_o + rtol * abs(omv)):
+                retry = True
         if retry:
             nsteps -= 1
             nrej += 1
@@ -674,7 +733,6 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     S[S_DECIDED] = 1.0
                     t = t + x_e
                     break
-        t_ev = t + x_ev if x_ev < h else tn
         # output samples in (t, t_ev]
         while io < n_out and out_t[io] <= t_ev:
             xo = out_t[io] - t
@@ -761,8 +819,15 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 nrhs += 1
                 wp = abs(om)
                 dside = P[DR] if s > 0 else P[DL]
-                if c > 0.0 and (wp == 0.0 or (e < 1.0 and wp * wp / (2.0 * c) < P[REST_TOL] * dside)):
-                    t_rest = t + (2.0 * wp / c) / (1.0 - e) if wp > 0.0 else t
+                if c > 0.0 and (wp == 0.0 or wp * wp / (2.0 * c) < P[REST_TOL] * dside):
+                    # the next excursions peak below rest_tol * delta: at rest (for e < 1
+                    # after the geometric series of their durations, else after one)
+                    if wp == 0.0:
+                        t_rest = t
+                    elif e < 1.0:
+                        t_rest = t + (2.0 * wp / c) / (1.0 - e)
+                    else:
+                        t_rest = t + 2.0 * wp / c
                     io = _fill_still(out_t, out_y, io, t_rest)
                     t = t_rest
                     th = 0.0

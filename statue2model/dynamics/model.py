@@ -38,6 +38,8 @@ from ..errors import InputError
 from ..geometry.rocking_params import RockingParams
 from . import kernel as K
 
+THETA_FLOOR = 1e-9  # shortest rolling transition integrated, as a fraction of delta
+
 
 def _finite(name: str, value) -> float:
     try:
@@ -177,9 +179,21 @@ class RockingModel:
     def uplift_limits(self) -> tuple[float, float]:
         """(alpha_L a_L, alpha_R a_R) in m/s^2: stick while -alpha_R a_R <= u_g'' <= alpha_L a_L."""
         p = self.params
+        aL, aR = self.effective_alpha
         if self.linearised:
-            return self.alpha_L * p.g * p.delta_L, self.alpha_R * p.g * p.delta_R
-        return self.alpha_L * p.a_L, self.alpha_R * p.a_R
+            return aL * p.g * p.delta_L, aR * p.g * p.delta_R
+        return aL * p.a_L, aR * p.a_R
+
+    @property
+    def effective_alpha(self) -> tuple[float, float]:
+        """(alpha_L, alpha_R) as integrated. A rolling transition shorter than
+        THETA_FLOOR * delta_side (1e-9 of the overturning angle) is taken as none: the
+        body could only roll by less than that before rocking needs the full uplift
+        acceleration a_side, so alpha_side acts as 1 (it would only make the run stiff)."""
+        p = self.params
+        aL = self.alpha_L if self.theta_L >= THETA_FLOOR * p.delta_L else 1.0
+        aR = self.alpha_R if self.theta_R >= THETA_FLOOR * p.delta_R else 1.0
+        return aL, aR
 
     @property
     def energy_gain_possible(self) -> bool:
@@ -196,9 +210,10 @@ class RockingModel:
         P = np.zeros(K.N_P)
         P[K.P2L], P[K.P2R] = p.p_L**2, p.p_R**2
         P[K.DL], P[K.DR] = p.delta_L, p.delta_R
-        P[K.AL], P[K.AR] = self.alpha_L, self.alpha_R
-        P[K.TL] = self.theta_L if self.alpha_L < 1.0 else 0.0
-        P[K.TR] = self.theta_R if self.alpha_R < 1.0 else 0.0
+        aL, aR = self.effective_alpha
+        P[K.AL], P[K.AR] = aL, aR
+        P[K.TL] = self.theta_L if aL < 1.0 else 0.0
+        P[K.TR] = self.theta_R if aR < 1.0 else 0.0
         P[K.GRAV] = p.g
         P[K.LIN] = 1.0 if self.linearised else 0.0
         P[K.LIM_UP], P[K.LIM_DN] = self.uplift_limits

@@ -53,8 +53,9 @@ def simulate_scipy(model: RockingModel, motion: GroundMotion, theta0: float = 0.
     lin = model.linearised
     P2 = {1: p.p_R**2, -1: p.p_L**2}
     D = {1: p.delta_R, -1: p.delta_L}
-    AL = {1: model.alpha_R, -1: model.alpha_L}
-    TH = {1: model.theta_R if model.alpha_R < 1 else 0.0, -1: model.theta_L if model.alpha_L < 1 else 0.0}
+    a_l, a_r = model.effective_alpha
+    AL = {1: a_r, -1: a_l}
+    TH = {1: model.theta_R if a_r < 1 else 0.0, -1: model.theta_L if a_l < 1 else 0.0}
     lim_up, lim_dn = model.uplift_limits
     acc, breaks = _accel_fn(motion)
     if t_end is None:
