@@ -13,15 +13,14 @@ seeded records up to 60 s and 5 g; FREE_TAIL s simulated after the motion.
 (d) the results do not depend on the output sampling (dt_out None / 0.01 / 0.0037);
 (e) a motion that never exceeds the uplift limits (often touching them exactly) does
     not lift a body at rest, through simulate() and through the batch kernel (the
-    sweeps skip such rows since e4b1cb8, but the kernel should not need that).
+    sweeps skip such rows, but the kernel must not need that).
 Also: results are internally consistent (impact records, overturning side at delta,
 sampled history within the maxima to 10 rtol delta).
 
 Examples are derandomised (reproducible in CI); ``pytest -s`` prints how many ran.
 
 Engine bugs found with these properties are pinned at the end of this file as
-minimal reproducers: ``test_regression_*`` (fixed in e4b1cb8) and ``test_bug_*``
-(open: they fail, and so do the properties that found them, until fixed).
+minimal reproducers (``test_regression_*``); all are fixed.
 """
 from __future__ import annotations
 
@@ -439,7 +438,7 @@ def test_motion_below_the_uplift_limits_never_lifts(case):
 BLOCK = RockingParams.rectangular_block(0.05, 0.3, 2.0)   # delta = 0.165, a = 1.635 m/s^2
 
 
-def test_bug_uplift_at_a_limit_that_is_only_touched():
+def test_regression_uplift_at_a_limit_that_is_only_touched():
     """Open (found by (e)). A record sample equal to the uplift limit, reached on a
     rising segment, lifts the body: _first_exceedance now requires u(tb) > up, but
     u(tb) = c0 + c1 (tb - t0) rounds one ulp above the sample (tb - t0 = dt + 4e-18).
@@ -460,7 +459,7 @@ def test_bug_uplift_at_a_limit_that_is_only_touched():
 
 
 @pytest.mark.parametrize("excess", [1e-6, 1e-9])
-def test_bug_grazing_uplift_with_e_1_never_ends(excess):
+def test_regression_grazing_uplift_with_e_1_never_ends(excess):
     """Open (found by (a) and the stress script). A pulse just above the uplift limit
     lifts the body with almost no energy; with e = 1 nothing is lost at the impacts, so
     the body chatters about theta = 0 with |theta'| ~ 1e-20 rad/s and ever shorter
@@ -473,7 +472,7 @@ def test_bug_grazing_uplift_with_e_1_never_ends(excess):
     assert r.stats["t_final"] == r.t_end and not r.overturned
 
 
-def test_bug_extremum_inside_a_step_is_missed():
+def test_regression_extremum_inside_a_step_is_missed():
     """Open (found by the history-vs-maxima check of (c)). Along a record the ground
     acceleration is linear in each sample interval, so theta' can change sign twice
     inside one step (a maximum, then a minimum). Both end slopes then have the same
