@@ -38,9 +38,7 @@ from numba import njit, prange
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 _NS = _dop.N_STAGES
-_A = np.ascontiguousarray(_dop.A[:_NS, :_NS], dtype=np.float64)
 _B = np.ascontiguousarray(_dop.B, dtype=np.float64)
-_C = np.ascontiguousarray(_dop.C[:_NS], dtype=np.float64)
 _E3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
 _E5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
 _AX = np.ascontiguousarray(_dop.A, dtype=np.float64)    # with the 3 extra stages of the dense output
@@ -231,22 +229,27 @@ def _rhs(t, th, s, reg, P, seg):
     return P[P2L] * (al * math.sin(x) - u * math.cos(x))
 
 
+@njit(cache=True, inline="always")
+def _stage(i, t, th, om, h, s, reg, P, seg, Kt, Ko):
+    """Stage i of the DOP853 tableau (the 3 dense-output stages included): fills Kt[i], Ko[i]."""
+    dth = 0.0
+    dom = 0.0
+    for j in range(i):
+        a = _AX[i, j]
+        if a != 0.0:
+            dth += a * Kt[j]
+            dom += a * Ko[j]
+    Kt[i] = om + h * dom
+    Ko[i] = _rhs(t + _CX[i] * h, th + h * dth, s, reg, P, seg)
+
+
 @njit(cache=True)
 def _step(t, th, om, f0, h, s, reg, P, seg, Kt, Ko):
     """One DOP853 step of length h; returns (theta, theta') at t + h."""
     Kt[0] = om
     Ko[0] = f0
     for i in range(1, _NS):
-        dth = 0.0
-        dom = 0.0
-        for j in range(i):
-            a = _A[i, j]
-            if a != 0.0:
-                dth += a * Kt[j]
-                dom += a * Ko[j]
-        thi = th + h * dth
-        Kt[i] = om + h * dom
-        Ko[i] = _rhs(t + _C[i] * h, thi, s, reg, P, seg)
+        _stage(i, t, th, om, h, s, reg, P, seg, Kt, Ko)
     bth = 0.0
     bom = 0.0
     for j in range(_NS):
@@ -280,15 +283,7 @@ def _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo):
     """Dense-output coefficients of the accepted step (Kt, Ko rows 0..12 hold its
     stages, row 12 the slope at t + h); 3 more right-hand sides."""
     for i in range(_NS + 1, _NX):
-        dth = 0.0
-        dom = 0.0
-        for j in range(i):
-            a = _AX[i, j]
-            if a != 0.0:
-                dth += a * Kt[j]
-                dom += a * Ko[j]
-        Kt[i] = om + h * dom
-        Ko[i] = _rhs(t + _CX[i] * h, th + h * dth, s, reg, P, seg)
+        _stage(i, t, th, om, h, s, reg, P, seg, Kt, Ko)
     dt_ = thn - th
     do_ = omn - om
     Ft[0] = dt_
