@@ -17,27 +17,8 @@ import sys
 from pathlib import Path
 
 from . import __version__
+from .argtypes import finite_float, positive_float
 from .errors import InputError
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not value > 0 or value != value or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
-    return value
-
-
-def _finite_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if value != value or abs(value) == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
-    return value
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -61,13 +42,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="length unit of the file (default: detected from the size)")
     p.add_argument("--up", default="auto", choices=["auto", "x", "y", "z", "-x", "-y", "-z"],
                    help="file axis pointing up (default: detected from the flat base)")
-    p.add_argument("--height", type=_positive_float, metavar="H",
+    p.add_argument("--height", type=positive_float, metavar="H",
                    help="rescale the scan to this real height in metres (for normalised scans)")
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--density", type=_positive_float, metavar="RHO",
+    group.add_argument("--density", type=positive_float, metavar="RHO",
                        help="density in kg/m^3 (default: marble, 2650)")
-    group.add_argument("--mass", type=_positive_float, metavar="M", help="measured mass in kg (sets the density)")
-    p.add_argument("--direction", type=_finite_float, metavar="DEG",
+    group.add_argument("--mass", type=positive_float, metavar="M", help="measured mass in kg (sets the density)")
+    p.add_argument("--direction", type=finite_float, metavar="DEG",
                    help="excitation direction in plan, degrees from +x toward +y (default: the weakest)")
     p.add_argument("--base-tol", type=float, metavar="M",
                    help="contact tolerance in metres: vertices this close to the base touch it "

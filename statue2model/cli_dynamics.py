@@ -10,29 +10,13 @@ import argparse
 import math
 from pathlib import Path
 
+from .argtypes import finite_float, positive_float
 from .errors import InputError
 
 SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
              "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=LAMBDA][,units=g] | "
              "synthetic[:duration=S,dt=S,pga=A,seed=N]; A in m/s^2 or with a g suffix (0.3g); "
              "amp > 0 accelerates the ground toward +x; add start=S to delay a pulse")
-
-
-def _float(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"must be finite, got {text}")
-    return v
-
-
-def _positive(text: str) -> float:
-    v = _float(text)
-    if v <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
-    return v
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:
@@ -42,19 +26,19 @@ def _model_options(p: argparse.ArgumentParser) -> None:
                    help="classical (Housner) or imperfect asymmetric model (default: imperfect if any alpha is "
                         "given, else housner)")
     g.add_argument("--linearised", action="store_true", help="slender-block linearisation (sin x -> x, cos x -> 1)")
-    g.add_argument("--alpha", type=_float, metavar="A", help="alpha_L = alpha_R = A (imperfect model), in (0, 1]")
-    g.add_argument("--alpha-L", type=_float, metavar="A", help="reduction of the left uplift acceleration, in (0, 1]")
-    g.add_argument("--alpha-R", type=_float, metavar="A", help="reduction of the right uplift acceleration, in (0, 1]")
-    g.add_argument("--theta", type=_float, metavar="RAD", help="theta_L = theta_R (rolling transition, rad)")
-    g.add_argument("--theta-L", type=_float, metavar="RAD", help="left rolling-transition rotation, rad "
+    g.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A (imperfect model), in (0, 1]")
+    g.add_argument("--alpha-L", type=finite_float, metavar="A", help="reduction of the left uplift acceleration, in (0, 1]")
+    g.add_argument("--alpha-R", type=finite_float, metavar="A", help="reduction of the right uplift acceleration, in (0, 1]")
+    g.add_argument("--theta", type=finite_float, metavar="RAD", help="theta_L = theta_R (rolling transition, rad)")
+    g.add_argument("--theta-L", type=finite_float, metavar="RAD", help="left rolling-transition rotation, rad "
                    "(default 0.07 delta_L)")
-    g.add_argument("--theta-R", type=_float, metavar="RAD", help="right rolling-transition rotation, rad "
+    g.add_argument("--theta-R", type=finite_float, metavar="RAD", help="right rolling-transition rotation, rad "
                    "(default 0.07 delta_R)")
     g.add_argument("--e", metavar="E", help="e_L = e_R = E")
     g.add_argument("--e-L", metavar="E", help="restitution landing on the left edge: a number in [0, 1] or the JSON "
                    "of `statue2model identify` (its fitted curve); default: angular momentum, eq. 15")
     g.add_argument("--e-R", metavar="E", help="restitution landing on the right edge (as --e-L)")
-    g.add_argument("--rtol", type=_positive, default=None, metavar="TOL", help="solver tolerance (default 1e-8 for "
+    g.add_argument("--rtol", type=positive_float, default=None, metavar="TOL", help="solver tolerance (default 1e-8 for "
                    "rock, 1e-7 for sweeps)")
 
 
@@ -318,9 +302,9 @@ def add_parsers(sub) -> None:
                                    "OUT (JSON), OUT_history.csv and OUT.png.")
     _model_options(p)
     p.add_argument("--motion", required=True, metavar="SPEC", help=SPEC_HELP)
-    p.add_argument("--t-end", type=_float, metavar="S", help="end time (default: motion end + 20 s; the run stops at "
+    p.add_argument("--t-end", type=finite_float, metavar="S", help="end time (default: motion end + 20 s; the run stops at "
                    "overturning or rest)")
-    p.add_argument("--dt-out", type=_positive, default=0.002, metavar="S", help="history sampling step (default 2 ms)")
+    p.add_argument("--dt-out", type=positive_float, default=0.002, metavar="S", help="history sampling step (default 2 ms)")
     p.add_argument("--json", metavar="OUT", help="output JSON (default: rock.json beside PARAMS.json)")
     p.set_defaults(func=cmd_rock)
 
@@ -368,6 +352,6 @@ def add_parsers(sub) -> None:
                        description="Write t, acc, vel, disp (baseline-corrected double integration) of a ground "
                                    "motion for a shake table, with a plot.")
     p.add_argument("motion", metavar="SPEC", help=SPEC_HELP)
-    p.add_argument("--dt", type=_positive, metavar="S", help="sampling step (default: the record's, or 1 ms)")
+    p.add_argument("--dt", type=positive_float, metavar="S", help="sampling step (default: the record's, or 1 ms)")
     p.add_argument("--csv", metavar="OUT", help="output CSV (default: outputs/motion/table.csv)")
     p.set_defaults(func=cmd_motion)

@@ -549,7 +549,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             h_next = h_try
         dense = False
         xtol = 4.0 * _EPS * max(1.0, abs(t)) / h
-        floor_h = h <= 1e-12 * max(1.0, abs(t))
+        floor = h <= 1e-12 * max(1.0, abs(t))  # shortest step: no more retries
         nsteps += 1
         q0 = s * th
         qn = s * thn
@@ -592,7 +592,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     if not found:
                         found = True
                         xe0, Fe0, xe1, Fe1 = xp, Fp, xk, Fk
-                    elif not floor_h:
+                    elif not floor:
                         twice = True
                         break
                 xp = xk
@@ -640,7 +640,6 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         th_ev = thn
         om_ev = omn
         retry = False
-        floor = h <= 1e-12 * max(1.0, abs(t))
         if ev != 0:
             target = lo if ev < 0 else hi
             if xa == 0.0:
