@@ -25,3 +25,72 @@ def finite_float(text: str) -> float:
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
     return value
+
+
+_PER_METRE = {"mm": 1000.0, "cm": 100.0, "m": 1.0, "in": 1 / 0.0254}
+
+
+def _split_unit(text: str, default: str) -> tuple[str, float]:
+    t = text.strip().lower()
+    for unit in sorted(_PER_METRE, key=len, reverse=True):
+        if t.endswith(unit):
+            return t[: -len(unit)].strip(), _PER_METRE[unit]
+    if t and (t[-1].isalpha()):
+        raise argparse.ArgumentTypeError(f"unknown length unit in {text!r} (use mm, cm, m or in)")
+    return t, _PER_METRE[default]
+
+
+def length(text: str) -> float:
+    """A non-negative length with a unit ('9mm', '0.5 mm', '1.2cm', '0.009m', '0.35in'),
+    returned in metres; a bare number is taken as millimetres.
+
+    >>> length("9mm"), length("0.5 mm"), length("9")
+    (0.009, 0.0005, 0.009)
+    """
+    number, per_metre = _split_unit(text, "mm")
+    try:
+        value = float(number)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a length: {text!r} (e.g. 9mm)") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"must be a non-negative finite length, got {text}")
+    return value / per_metre
+
+
+def sheet_size(text: str) -> tuple[float, float]:
+    """Panel size 'WxH' with one unit for both ('2500x1250mm', '2.5x1.25m'; bare numbers are mm),
+    returned as (W, H) in metres.
+
+    >>> sheet_size("2500x1250mm")
+    (2.5, 1.25)
+    """
+    number, per_metre = _split_unit(text, "mm")
+    parts = number.replace("*", "x").split("x")
+    try:
+        w, h = (float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a sheet size: {text!r} (e.g. 2500x1250mm)") from None
+    if not all(math.isfinite(v) and v > 0 for v in (w, h)):
+        raise argparse.ArgumentTypeError(f"sheet sides must be positive, got {text}")
+    return w / per_metre, h / per_metre
+
+
+def scale_ratio(text: str) -> float:
+    """Model scale as '1:2', '1/2' or a factor '0.5'; returns lambda (prototype length =
+    real length / lambda).
+
+    >>> scale_ratio("1:2"), scale_ratio("1/4"), scale_ratio("0.5")
+    (2.0, 4.0, 2.0)
+    """
+    t = text.strip().replace("/", ":")
+    try:
+        if ":" in t:
+            a, b = (float(p) for p in t.split(":"))
+            lam = b / a
+        else:
+            lam = 1.0 / float(t)
+    except (ValueError, ZeroDivisionError):
+        raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)") from None
+    if not (math.isfinite(lam) and lam > 0):
+        raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)")
+    return lam

@@ -5,6 +5,7 @@
                        [--base-tol M] [--json OUT]
     statue2model rock PARAMS.json --motion SPEC [model options] [--t-end S] [--json OUT]
     statue2model spectrum | variability | sweep | identify | motion ...   (see --help of each)
+    statue2model slice [MESH] --scale 1:2 [--board 9mm] ... --out DIR
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
 exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
@@ -57,9 +58,10 @@ def build_parser() -> argparse.ArgumentParser:
                    "the plot (OUT.png) and the rose table (OUT_rose.csv) are written beside it")
     p.set_defaults(func=_cmd_props)
 
-    from .cli_dynamics import add_parsers
+    from . import cli_dynamics, cli_fabrication
 
-    add_parsers(sub)
+    cli_dynamics.add_parsers(sub)
+    cli_fabrication.add_parsers(sub)
     return parser
 
 

@@ -1,7 +1,14 @@
-"""CNC-ready DXF of one layer: R2010, millimetres, closed LWPOLYLINEs.
+"""CNC-ready DXF: R2010, millimetres, one drawing layer per machining operation.
 
-Layers of the drawing: CUT_OUTSIDE (outer contours of the parts) and CUT_INSIDE
-(holes through a part). Coordinates are in mm ($INSUNITS = 4).
+Layers of the drawing (the names CAM post-processors are set up for):
+
+    CUT_OUTSIDE  closed LWPOLYLINE, outer contour of each part (cut outside it)
+    CUT_INSIDE   closed LWPOLYLINE, a hole through a part (cut inside it)
+    DRILL        CIRCLE, an alignment-rod hole (drilled, or helix-milled)
+    ENGRAVE      open LWPOLYLINE, the part's label and front arrow (single strokes)
+
+Coordinates are in mm ($INSUNITS = 4, $MEASUREMENT = 1); the geometry handed in
+is in metres like the rest of the package.
 
 Example
 -------
@@ -15,16 +22,88 @@ Example
 """
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from ..files import atomic_write
 
 CUT_OUTSIDE = "CUT_OUTSIDE"
 CUT_INSIDE = "CUT_INSIDE"
+DRILL = "DRILL"
+ENGRAVE = "ENGRAVE"
+LAYER_COLOURS = {CUT_OUTSIDE: 1, CUT_INSIDE: 5, DRILL: 3, ENGRAVE: 2}
 MM = 1000.0
+
+
+@dataclass(frozen=True)
+class Drawing:
+    """What is machined on one part, in metres, already where it goes on the drawing.
+
+    outline : the part (exterior -> CUT_OUTSIDE, interiors -> CUT_INSIDE)
+    holes   : (n, 2) centres of the rod holes (DRILL circles of diameter ``hole``)
+    engrave : open polylines (k, 2) for the ENGRAVE layer
+    """
+
+    outline: object
+    holes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    hole: float = 0.0
+    engrave: tuple = ()
+
+
+def new_document(title: str = ""):
+    """An empty R2010 drawing in mm with the four machining layers."""
+    import ezdxf
+
+    doc = ezdxf.new("R2010", setup=False)
+    doc.header["$INSUNITS"] = 4       # millimetres
+    doc.header["$MEASUREMENT"] = 1    # metric
+    for name, colour in LAYER_COLOURS.items():
+        doc.layers.add(name, color=colour)
+    if title:
+        doc.header["$PROJECTNAME"] = title
+    return doc
+
+
+def add_drawing(msp, drawing: Drawing) -> None:
+    """Add one part's entities to a modelspace."""
+    for poly in shapely.get_parts(drawing.outline):
+        if not isinstance(poly, Polygon) or poly.is_empty:
+            continue
+        msp.add_lwpolyline(_ring_mm(poly.exterior.coords), close=True, dxfattribs={"layer": CUT_OUTSIDE})
+        for hole in poly.interiors:
+            msp.add_lwpolyline(_ring_mm(hole.coords), close=True, dxfattribs={"layer": CUT_INSIDE})
+    for x, y in np.asarray(drawing.holes).reshape(-1, 2):
+        msp.add_circle((x * MM, y * MM), 0.5 * drawing.hole * MM, dxfattribs={"layer": DRILL})
+    for line in drawing.engrave:
+        msp.add_lwpolyline([tuple(p) for p in np.asarray(line) * MM], close=False, dxfattribs={"layer": ENGRAVE})
+
+
+def write_dxf(path, drawings, title: str = "") -> Path:
+    """Write ``drawings`` (iterable of Drawing) to one DXF file at ``path``, atomically."""
+    doc = new_document(title)
+    msp = doc.modelspace()
+    for d in drawings:
+        add_drawing(msp, d)
+    return atomic_write(path, lambda p: doc.saveas(p))
+
+
+def read_dxf(path) -> Drawing:
+    """Read a drawing back (all parts merged): outlines, DRILL circles, ENGRAVE strokes (m)."""
+    import ezdxf
+
+    doc = ezdxf.readfile(str(path))
+    msp = doc.modelspace()
+    outline = read_section_dxf(path, doc=doc)
+    circles = [e for e in msp.query("CIRCLE") if e.dxf.layer == DRILL]
+    holes = np.array([(c.dxf.center.x, c.dxf.center.y) for c in circles]).reshape(-1, 2) / MM
+    hole = 2 * circles[0].dxf.radius / MM if circles else 0.0
+    strokes = tuple(np.array([(x, y) for x, y, *_ in e.get_points()]) / MM
+                    for e in msp.query("LWPOLYLINE") if e.dxf.layer == ENGRAVE)
+    return Drawing(outline=outline, holes=holes, hole=hole, engrave=strokes)
 
 
 def _ring_mm(coords) -> list[tuple[float, float]]:
@@ -33,32 +112,20 @@ def _ring_mm(coords) -> list[tuple[float, float]]:
 
 
 def write_section_dxf(path, section: MultiPolygon, label: str = "") -> Path:
-    """Write the parts of one layer (section in m) to ``path`` (mm), atomically."""
-    import ezdxf
-
-    doc = ezdxf.new("R2010", setup=False)
-    doc.header["$INSUNITS"] = 4       # millimetres
-    doc.header["$MEASUREMENT"] = 1    # metric
-    doc.layers.add(CUT_OUTSIDE, color=1)
-    doc.layers.add(CUT_INSIDE, color=5)
-    msp = doc.modelspace()
-    for poly in section.geoms:
-        msp.add_lwpolyline(_ring_mm(poly.exterior.coords), close=True, dxfattribs={"layer": CUT_OUTSIDE})
-        for hole in poly.interiors:
-            msp.add_lwpolyline(_ring_mm(hole.coords), close=True, dxfattribs={"layer": CUT_INSIDE})
-    if label:
-        doc.header["$PROJECTNAME"] = label
-    return atomic_write(path, lambda p: doc.saveas(p))
+    """Write the parts of one layer (section in m, nothing else) to ``path`` (mm), atomically."""
+    return write_dxf(path, [Drawing(outline=section)], title=label)
 
 
-def read_section_dxf(path) -> MultiPolygon:
-    """Read a layer DXF back into a MultiPolygon in m (outer contours minus holes)."""
+def read_section_dxf(path, doc=None) -> MultiPolygon:
+    """Read the cut contours of a DXF back into a MultiPolygon in m (outer contours minus holes)."""
     import ezdxf
     from shapely.ops import unary_union
 
-    doc = ezdxf.readfile(str(path))
+    doc = doc or ezdxf.readfile(str(path))
     outer, inner = [], []
     for e in doc.modelspace().query("LWPOLYLINE"):
+        if e.dxf.layer not in (CUT_OUTSIDE, CUT_INSIDE):
+            continue
         pts = np.array([(x, y) for x, y, *_ in e.get_points()]) / MM
         (outer if e.dxf.layer == CUT_OUTSIDE else inner).append(Polygon(pts))
     shape = unary_union(outer).difference(unary_union(inner)) if inner else unary_union(outer)

@@ -3,8 +3,13 @@
 A prototype at scale 1:lambda is built from boards of thickness ``board`` glued
 with a film of thickness ``glue``: layer k (k = 0 at the base) fills
 z in [k p, k p + board] with pitch p = board + glue, all lengths in m. Each layer's
-outline is one section of the scaled body (policy ``mid``: the board's mid-plane),
-a shapely MultiPolygon that may hold several islands and holes.
+outline is a shapely MultiPolygon that may hold several islands and holes; the
+section policy says which:
+
+    mid       the section at the board's mid-plane (default; second-order accurate)
+    envelope  the union of the sections through the board (both faces and three
+              planes between): the board is never smaller than the statue
+    core      their intersection: the board never sticks out of the statue
 
 Volume check (midpoint rule): sum_k A_k p differs from the volume under the
 sections by at most (H p^2 / 24) max |A''(z)| plus the part of the top layer
@@ -33,22 +38,70 @@ from shapely.geometry import MultiPolygon, Polygon
 from ..errors import InputError
 
 
+POLICIES = ("mid", "envelope", "core")
+SLAB_PLANES = 5
+"""Planes through a board for the envelope and core policies (faces included)."""
+
+
 def section_heights(height: float, board: float, glue: float, policy: str = "mid") -> np.ndarray:
-    """z (m) of the section of each layer, bottom first: n = ceil(height / pitch)
-    layers (the top one trimmed by the body); ``policy`` 'mid' cuts at the board's
-    mid-plane."""
+    """z (m) of the mid-plane of each layer, bottom first: n = ceil(height / pitch)
+    layers (the top one trimmed by the body)."""
+    return layer_bottoms(height, board, glue, policy) + 0.5 * board
+
+
+def layer_bottoms(height: float, board: float, glue: float, policy: str = "mid") -> np.ndarray:
+    """z (m) of the underside of each board, bottom first (k * pitch): the boards
+    whose mid-plane lies below the top of the body (policy 'envelope': every board
+    the body reaches into)."""
     if not (math.isfinite(height) and height > 0):
         raise InputError(f"body height must be positive, got {height}")
     if not (math.isfinite(board) and board > 0):
         raise InputError(f"board thickness must be positive, got {board}")
     if not (math.isfinite(glue) and glue >= 0):
         raise InputError(f"glue thickness must be >= 0, got {glue}")
-    if policy != "mid":
-        raise InputError(f"section policy {policy!r} is not available (use 'mid')")
+    if policy not in POLICIES:
+        raise InputError(f"section policy {policy!r} is not one of {', '.join(POLICIES)}")
     pitch = board + glue
     n = int(math.ceil(height / pitch - 1e-9))
-    z = np.arange(n) * pitch + 0.5 * board
-    return z[z < height]
+    z0 = np.arange(n) * pitch
+    if policy == "envelope":          # any board the body reaches into
+        return z0[z0 < height - 1e-9 * height]
+    return z0[z0 + 0.5 * board < height]
+
+
+def layer_sections(vertices, faces, bottoms, board: float, policy: str = "mid",
+                   tolerance: float = 0.0) -> list[MultiPolygon]:
+    """The outline of each board (bottom z in ``bottoms``, m) under ``policy``,
+    simplified to ``tolerance`` (m, topology kept)."""
+    bottoms = np.asarray(bottoms, dtype=float)
+    if policy == "mid":
+        out = sections(vertices, faces, bottoms + 0.5 * board)
+    elif policy in ("envelope", "core"):
+        # planes just inside the board faces: a face exactly on the base plane has no section
+        t = np.linspace(1e-4, 1 - 1e-4, SLAB_PLANES)
+        top = float(np.asarray(vertices)[:, 2].max())
+        z = np.minimum(bottoms[:, None] + board * t[None, :], top - 1e-6 * board)
+        flat = sections(vertices, faces, z.ravel())
+        out = []
+        for k in range(len(bottoms)):
+            slab = [s for s in flat[k * SLAB_PLANES:(k + 1) * SLAB_PLANES]]
+            if policy == "envelope":
+                geom = shapely.union_all(slab)
+            else:
+                geom = slab[0]
+                for s in slab[1:]:
+                    geom = geom.intersection(s)
+            out.append(_as_multipolygon(geom))
+    else:
+        raise InputError(f"section policy {policy!r} is not one of {', '.join(POLICIES)}")
+    if tolerance > 0:
+        out = [_as_multipolygon(shapely.simplify(s, tolerance, preserve_topology=True)) for s in out]
+    return out
+
+
+def _as_multipolygon(geom) -> MultiPolygon:
+    polys = [g for g in shapely.get_parts(shapely.make_valid(geom)) if isinstance(g, Polygon) and g.area > 0]
+    return MultiPolygon(polys)
 
 
 def _segments(vertices: np.ndarray, faces: np.ndarray, z: float, cand: np.ndarray) -> np.ndarray:
@@ -89,9 +142,7 @@ def _assemble(segs: np.ndarray) -> MultiPolygon:
     out = Polygon()
     for r in rings:
         out = out.symmetric_difference(Polygon(r.exterior))
-    out = shapely.make_valid(out)
-    polys = [g for g in shapely.get_parts(out) if isinstance(g, Polygon) and g.area > 0]
-    return MultiPolygon(polys)
+    return _as_multipolygon(out)
 
 
 def sections(vertices, faces, heights) -> list[MultiPolygon]:

@@ -1,0 +1,285 @@
+"""Write a SliceResult to its output folder, so that an interrupted run never
+leaves a folder that looks complete.
+
+    DIR/layers/layer_001.dxf ...  one DXF per layer, in the statue's plan frame
+                                  (all layers registered: rods at the same x, y)
+    DIR/sheets/sheet_01.dxf ...   one DXF per panel, parts nested, plus
+           sheet_01.png/.svg      a preview of it
+    DIR/bom.csv                   bill of materials and machining time
+    DIR/assembly.txt              the order of assembly
+    DIR/prototype.stl             the stack as built (boards + glue films), m
+    DIR/prototype.json            its properties, with the keys of `props` JSON,
+                                  and its errors against the scaled scan
+    DIR/slice.json                n_layers, pitch, per-layer areas, holes, tool
+                                  checks, rods, sheets, warnings (written last)
+
+Everything is written into a hidden sibling folder first and moved into place
+at the end. An existing DIR is replaced only if it holds a previous slice (a
+slice.json); any other non-empty folder is refused, so nothing else is lost.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from .. import __version__
+from ..errors import InputError
+from ..files import atomic_write, prepare_dir, write_json
+from ..props import props_dict
+from .dxf import Drawing, write_dxf
+from .slicing import SliceResult
+
+
+def check_out_dir(out: Path) -> None:
+    """Refuse an output folder that exists with foreign content, before any work."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out} is a file; give a folder")
+    if out.is_dir() and any(out.iterdir()) and not (out / "slice.json").exists():
+        raise InputError(f"--out {out} is not empty and holds no previous slice; choose a new folder")
+    parent = out.parent if str(out.parent) else Path(".")
+    prepare_dir(parent)
+
+
+def _drawing(part, placement=None, use_cut=True) -> Drawing:
+    outline = part.cut if use_cut else part.outline
+    holes = part.holes
+    strokes = part.label.strokes if part.label is not None else ()
+    if placement is not None:
+        outline = placement.apply(outline)
+        holes = placement.transform(holes) if len(holes) else holes
+        strokes = tuple(placement.transform(s) for s in strokes)
+    return Drawing(outline=outline, holes=holes, engrave=strokes)
+
+
+def _with_hole(d: Drawing, hole: float) -> Drawing:
+    return Drawing(outline=d.outline, holes=d.holes, hole=hole, engrave=d.engrave)
+
+
+def cut_lengths(part) -> tuple[float, float, float]:
+    """(outside contour, inside contours, engraving) path lengths of a part, m."""
+    outside = float(part.cut.exterior.length)
+    inside = float(sum(r.length for r in part.cut.interiors))
+    engrave = part.label.length() if part.label is not None else 0.0
+    return outside, inside, engrave
+
+
+def machining_minutes(spec, outside: float, inside: float, engrave: float, holes: int) -> float:
+    """Cutting (all depth passes) and engraving at the feed, plus drilling; rapids not counted."""
+    return ((outside + inside) * spec.passes + engrave) / spec.feed / 60.0 + holes * spec.drill_time / 60.0
+
+
+def bom_rows(res: SliceResult) -> list[dict]:
+    spec = res.spec
+    W, H = spec.sheet
+    rows = []
+    tot = dict(out=0.0, ins=0.0, eng=0.0, holes=0, minutes=0.0)
+    for s in range(res.nesting.n_sheets):
+        out = ins = eng = 0.0
+        holes = 0
+        parts = [res.parts[p.part] for p in res.nesting.parts_on(s)]
+        for part in parts:
+            o, i, e = cut_lengths(part)
+            out, ins, eng, holes = out + o, ins + i, eng + e, holes + len(part.holes)
+        minutes = machining_minutes(spec, out, ins, eng, holes)
+        rows.append({
+            "item": f"sheet {s + 1:02d}", "material": "OSB board", "quantity": 1,
+            "size_mm": f"{W * 1000:.0f} x {H * 1000:.0f} x {spec.board * 1000:g}",
+            "parts": " ".join(p.name for p in parts), "cut_outside_m": round(out, 3), "cut_inside_m": round(ins, 3),
+            "engrave_m": round(eng, 3), "drill_holes": holes, "machining_min": round(minutes, 1),
+            "note": f"material use {res.nesting.utilisation[s] * 100:.1f} %",
+        })
+        tot["out"] += out
+        tot["ins"] += ins
+        tot["eng"] += eng
+        tot["holes"] += holes
+        tot["minutes"] += minutes
+    lengths: dict[float, int] = {}
+    for r in res.rods.rods:
+        key = round(r.length * 1000, 1)
+        lengths[key] = lengths.get(key, 0) + 1
+    for length_mm, count in sorted(lengths.items()):
+        rows.append({"item": "alignment rod", "material": "steel bar" if spec.rod_density > 2000 else "rod",
+                     "quantity": count, "size_mm": f"diameter {spec.rod * 1000:g}, length {length_mm:g}",
+                     "parts": "", "cut_outside_m": "", "cut_inside_m": "", "engrave_m": "", "drill_holes": "",
+                     "machining_min": "", "note": "cut to length"})
+    glue_area = sum(a.intersection(b).area for a, b in zip(res.sections[:-1], res.sections[1:]))
+    rows.append({"item": "glue", "material": "PVA wood glue", "quantity": round(glue_area, 3),
+                 "size_mm": f"m^2 at {spec.glue * 1000:g} mm", "parts": "", "cut_outside_m": "",
+                 "cut_inside_m": "", "engrave_m": "", "drill_holes": "", "machining_min": "",
+                 "note": f"about {glue_area * spec.glue * spec.glue_density:.2f} kg cured"})
+    rows.append({"item": "total", "material": "", "quantity": res.nesting.n_sheets,
+                 "size_mm": "sheets", "parts": f"{len(res.parts)} parts", "cut_outside_m": round(tot["out"], 3),
+                 "cut_inside_m": round(tot["ins"], 3), "engrave_m": round(tot["eng"], 3),
+                 "drill_holes": tot["holes"], "machining_min": round(tot["minutes"], 1),
+                 "note": f"{spec.passes} pass(es) per cut at {spec.feed * 60000:g} mm/min, "
+                         f"{spec.drill_time:g} s per hole, rapids not counted; "
+                         f"material use {res.nesting.material_use * 100:.1f} %"})
+    return rows
+
+
+def _csv_text(rows: list[dict]) -> str:
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buf.getvalue()
+
+
+def assembly_text(res: SliceResult) -> str:
+    """Numbered assembly steps, bottom up."""
+    spec = res.spec
+    where = {}
+    for p in res.nesting.placements:
+        where[p.part] = p.sheet + 1
+    starts: dict[int, list] = {}
+    for r in res.rods.rods:
+        starts.setdefault(r.first, []).append(r)
+    lines = [
+        f"Assembly of the 1:{spec.scale:g} prototype of {Path(res.source).name}: {res.n_layers} layers of "
+        f"{spec.board * 1000:g} mm board, {spec.glue * 1000:g} mm glue, {len(res.rods.rods)} rods of "
+        f"{spec.rod * 1000:g} mm.",
+        "Every part is engraved with its layer number and an arrow that points to the statue's front; "
+        "lay each part engraving up, arrow to the front.",
+        "",
+    ]
+    step = 1
+    by_layer: dict[int, list] = {}
+    for i, part in enumerate(res.parts):
+        by_layer.setdefault(part.layer, []).append((i, part))
+    for k in range(res.n_layers):
+        items = by_layer.get(k, [])
+        names = ", ".join(f"{p.name} (sheet {where[i]})" for i, p in items) or "nothing"
+        text = f"{step}. Layer {k + 1}: place {names}"
+        if k > 0:
+            text += " on glue"
+        lines.append(text + ".")
+        step += 1
+        for r in sorted(starts.get(k, []), key=lambda r: (r.x, r.y)):
+            lines.append(f"   insert a {r.length * 1000:.1f} mm rod at x = {r.x * 1000:.1f} mm, y = {r.y * 1000:.1f} mm "
+                         f"(through layers {r.first + 1}-{r.last + 1})")
+    lines += ["", "Clamp or weigh down the stack while the glue cures; sand the steps of the edges if wanted."]
+    return "\n".join(lines) + "\n"
+
+
+def slice_dict(res: SliceResult) -> dict:
+    spec = res.spec
+    layers = []
+    for k, sec in enumerate(res.sections):
+        layers.append({
+            "layer": k + 1, "z_bottom": float(res.bottoms[k]), "z_top": float(res.bottoms[k] + spec.board),
+            "area": float(sec.area), "parts": [p.name for p in res.parts if p.layer == k],
+            "holes": res.rods.holes[k].tolist(), "tool": res.tool[k].to_dict(),
+        })
+    return {
+        "schema": "statue2model.slice/1",
+        "version": __version__,
+        "source": res.source,
+        "spec": spec.to_dict(),
+        "n_layers": res.n_layers,
+        "pitch": spec.pitch,
+        "height": res.height,
+        "direction_deg": res.direction_deg,
+        "front_deg": res.front_deg,
+        "volume_layers": float(sum(s.area for s in res.sections) * spec.board),
+        "layers": layers,
+        "rods": res.rods.to_dict(),
+        "sheets": {
+            "n_sheets": res.nesting.n_sheets,
+            "material_use": res.nesting.material_use,
+            "utilisation": list(res.nesting.utilisation),
+            "placements": [{"part": res.parts[p.part].name, "sheet": p.sheet + 1, "angle_deg": p.angle_deg,
+                            "dx": p.dx, "dy": p.dy} for p in res.nesting.placements],
+        },
+        "prototype": {"mass": res.proto_mass.mass, "comparison": res.comparison.to_dict()},
+        "timings": res.timings,
+        "warnings": list(res.warnings),
+    }
+
+
+class _ProtoBody:
+    """The few Body attributes props_dict reads, for the prototype."""
+
+    def __init__(self, res: SliceResult):
+        self.source = f"{res.source} (1:{res.spec.scale:g} prototype, {res.n_layers} layers)"
+        self.kind = "prototype"
+        self.units = "m"
+        self.up = "+z"
+        self.scale = 1.0 / res.spec.scale
+        self.height = float(res.bottoms[-1] + res.spec.board)
+        self.mass = res.proto_mass
+        self.footprint = res.proto_footprint
+        self.log = (f"stack of {res.n_layers} boards as cut, glue films and rods",)
+        self.warnings = ()
+
+
+def prototype_dict(res: SliceResult) -> dict:
+    from ..geometry.rocking_params import vulnerability_rose
+
+    body = _ProtoBody(res)
+    out = props_dict(body, res.proto_params, vulnerability_rose(res.proto_mass, res.proto_footprint.hull))
+    out["scaled_scan"] = {
+        "volume": res.scan_mass.volume, "mass_same_density": res.scan_mass.mass, "com": res.scan_mass.com.tolist(),
+        **{k: getattr(res.scan_params, k) for k in ("h", "b_L", "b_R", "I_G", "a_L", "a_R")},
+    }
+    out["errors_vs_scaled_scan"] = res.comparison.to_dict()
+    out["materials"] = {"board_density": res.spec.osb_density, "glue_density": res.spec.glue_density,
+                        "rod_density": res.spec.rod_density}
+    return out
+
+
+def write_slice(res: SliceResult, out: Path, previews: bool = True) -> Path:
+    """Write every output of the module docstring into ``out`` (see there)."""
+    import trimesh
+
+    from ..report.fabrication_plots import plot_sheet
+
+    out = Path(out)
+    check_out_dir(out)
+    parent = out.parent if str(out.parent) else Path(".")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
+    try:
+        spec = res.spec
+        (tmp / "layers").mkdir()
+        (tmp / "sheets").mkdir()
+        width = max(3, len(str(res.n_layers)))
+        by_layer: dict[int, list] = {}
+        for part in res.parts:
+            by_layer.setdefault(part.layer, []).append(part)
+        for k in range(res.n_layers):
+            drawings = [_with_hole(_drawing(p), spec.hole) for p in by_layer.get(k, [])]
+            write_dxf(tmp / "layers" / f"layer_{k + 1:0{width}d}.dxf", drawings, title=f"layer {k + 1}")
+        for s in range(res.nesting.n_sheets):
+            placed = res.nesting.parts_on(s)
+            drawings = [_with_hole(_drawing(res.parts[p.part], p), spec.hole) for p in placed]
+            path = write_dxf(tmp / "sheets" / f"sheet_{s + 1:02d}.dxf", drawings, title=f"sheet {s + 1}")
+            if previews:
+                plot_sheet(res, s, drawings, path.with_suffix(""))
+        atomic_write(tmp / "bom.csv", lambda p: p.write_text(_csv_text(bom_rows(res))))
+        atomic_write(tmp / "assembly.txt", lambda p: p.write_text(assembly_text(res)))
+        v, f = res.mesh
+        trimesh.Trimesh(v, f, process=False).export(tmp / "prototype.stl")
+        write_json(tmp / "prototype.json", prototype_dict(res))
+        write_json(tmp / "slice.json", slice_dict(res))
+        _swap_in(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out
+
+
+def _swap_in(tmp: Path, out: Path) -> None:
+    old = None
+    if out.exists():
+        old = out.with_name(f".{out.name}.old-{os.getpid()}")
+        os.replace(out, old)
+    os.replace(tmp, out)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
