@@ -6,7 +6,6 @@ scaled scan), section policies, compensation and bad input."""
 import csv
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,7 +17,11 @@ from statue2model.cli import main
 from statue2model.errors import InputError
 from statue2model.fabrication.dxf import audit, read_dxf, read_section_dxf
 from statue2model.fabrication.layers import layer_bottoms, layer_sections
-from statue2model.fabrication.prototype import area_moments, stack_mass_properties, stack_mesh
+from statue2model.fabrication.prototype import (
+    area_moments,
+    stack_mass_properties,
+    stack_mesh,
+)
 from statue2model.fabrication.rods import Rod, check_holes, place_rods
 from statue2model.fabrication.spec import SliceSpec
 from statue2model.fabrication.toolcheck import check_layer, compensate
@@ -69,7 +72,7 @@ def test_every_dxf_audits_clean_in_mm(sliced):
 
 def test_layer_dxf_reads_back_to_the_sections(sliced):
     """Each layer file holds exactly that layer's section (in the statue frame)."""
-    import statue2model.paths as paths
+    from statue2model import paths
     from statue2model.geometry.body import load_body
 
     body = load_body(paths.default_scan())

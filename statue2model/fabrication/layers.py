@@ -37,7 +37,6 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from ..errors import InputError
 
-
 POLICIES = ("mid", "envelope", "core")
 SLAB_PLANES = 5
 """Planes through a board for the envelope and core policies (faces included)."""

@@ -26,9 +26,6 @@ import shutil
 import tempfile
 from pathlib import Path
 
-import numpy as np
-import shapely
-
 from .. import __version__
 from ..errors import InputError
 from ..files import atomic_write, prepare_dir, write_json

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from shapely.geometry import MultiPolygon, Point, Polygon
+from shapely.geometry import Point, Polygon
 
 from ..geometry.massprops import MassProperties
 
@@ -186,7 +186,7 @@ class Comparison:
 def compare(proto_mass: MassProperties, proto_params, scan_mass: MassProperties, scan_params,
             height: float) -> Comparison:
     """Relative errors of the prototype (as built) against the scaled scan."""
-    rel = lambda a, b: a / b - 1.0  # noqa: E731
+    rel = lambda a, b: a / b - 1.0
     return Comparison(
         volume=rel(proto_mass.volume, scan_mass.volume),
         mass_ratio=proto_mass.mass / scan_mass.mass,

@@ -41,7 +41,7 @@ from .nesting import Nesting, nest
 from .prototype import Comparison, compare, stack_mass_properties, stack_mesh
 from .rods import RodPlan, place_rods
 from .spec import SliceSpec
-from .toolcheck import ToolReport, as_cut, check_layer, compensate
+from .toolcheck import as_cut, check_layer, compensate
 
 MAX_LAYERS = 2000
 NEST_GRIDS = (0.005, 0.004)

@@ -17,7 +17,11 @@ def plot_sheet(res, sheet: int, drawings, stem: Path) -> tuple[Path, Path]:
     W, H = (s * 1000 for s in res.spec.sheet)
     fig, ax = plt.subplots(figsize=(12, 12 * H / W + 0.8))
     try:
-        from matplotlib.collections import EllipseCollection, LineCollection, PathCollection
+        from matplotlib.collections import (
+            EllipseCollection,
+            LineCollection,
+            PathCollection,
+        )
         from matplotlib.path import Path as MplPath
 
         ax.add_patch(plt.Rectangle((0, 0), W, H, fill=True, fc="#f3e6c8", ec="k", lw=1.0))
