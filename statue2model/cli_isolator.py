@@ -1,0 +1,194 @@
+"""Command-line stage of the isolator: ``statue2model isolator design|plates|simulate``.
+
+    statue2model isolator design PARAMS.json (--spectrum SPEC | --motion SPEC) --mu MU [...] --json OUT
+    statue2model isolator plates DESIGN.json --out DIR
+    statue2model isolator simulate --R M --r M --mass KG --mu MU [--model coulomb|boucwen --q Q]
+                                   [--statue PARAMS.json] --motion SPEC --json OUT
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from .argtypes import finite_float, length, positive_float
+from .errors import InputError
+
+
+def add_parsers(sub) -> None:
+    p = sub.add_parser("isolator", help="rolling-ball isolator: design, groove plates, simulation",
+                       description="Design a rolling-ball isolator for a statue, write its groove plates, "
+                       "or simulate it under a ground motion (thesis ch. 2.4.1, 5, 6.4).")
+    isub = p.add_subparsers(dest="isolator_command", metavar="ACTION")
+    isub.required = True
+
+    d = isub.add_parser("design", help="choose R, r, grooves and plate size for a statue",
+                        description="Choose the groove radius R, ball radius r and plate size so that the plate's "
+                        "absolute acceleration stays below the statue's reduced uplift acceleration; write the "
+                        "design (JSON) and a readable report (text) with pass/fail per check.")
+    d.add_argument("params", metavar="PARAMS.json", help="the statue's rocking parameters (`statue2model props`)")
+    src = d.add_mutually_exclusive_group(required=True)
+    src.add_argument("--spectrum", metavar="SPEC",
+                     help="elastic response spectrum: ec8:ag=0.25g,ground=C,type=1[,xi=5] | "
+                          "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B[,topo=T1][,xi=5]")
+    src.add_argument("--motion", metavar="SPEC", help="a ground motion simulated on every candidate (as for `rock`)")
+    d.add_argument("--mu", type=finite_float, required=True, help="rolling friction coefficient (Tables 19, 25)")
+    d.add_argument("--target", type=_accel, metavar="A",
+                   help="stricter limit for the plate acceleration, m/s^2 (or 0.03g)")
+    d.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
+    d.add_argument("--alpha-L", type=finite_float, metavar="A")
+    d.add_argument("--alpha-R", type=finite_float, metavar="A")
+    d.add_argument("--grooves", type=int, choices=[3, 4], default=4, help="number of grooves (default 4)")
+    d.add_argument("--thickness", type=length, default=0.03, metavar="T", help="plate thickness (default 30mm)")
+    d.add_argument("--fuse-release", type=_accel, metavar="A",
+                   help="add a release mechanism (fuse) that lets go at A m/s^2 (or e.g. 0.075g with the g suffix)")
+    d.add_argument("--json", metavar="OUT", required=True, help="design JSON; OUT.txt gets the report")
+    d.set_defaults(func=_cmd_design)
+
+    pl = isub.add_parser("plates", help="the two groove plates as STL, 3MF, DXF and a section drawing")
+    pl.add_argument("design", metavar="DESIGN.json", help="the JSON written by `isolator design`")
+    pl.add_argument("--segments", type=int, default=256, help="tessellation of each groove (default 256)")
+    pl.add_argument("--out", metavar="DIR", required=True)
+    pl.set_defaults(func=_cmd_plates)
+
+    s = isub.add_parser("simulate", help="top plate (and statue) under a ground motion")
+    s.add_argument("--R", type=positive_float, required=True, metavar="M", help="groove radius of curvature, m")
+    s.add_argument("--r", type=positive_float, required=True, metavar="M", help="ball radius, m")
+    s.add_argument("--mass", type=positive_float, required=True, metavar="KG",
+                   help="supported mass M = top plate + statue, kg")
+    s.add_argument("--mu", type=finite_float, required=True)
+    s.add_argument("--model", choices=["coulomb", "boucwen"], default="coulomb")
+    s.add_argument("--q", type=positive_float, default=30.0, help="Bouc-Wen k_i / k (30 without rubber, 5 with)")
+    s.add_argument("--n", type=int, choices=[1, 2], default=1, help="Bouc-Wen exponent")
+    s.add_argument("--statue", metavar="PARAMS.json", help="check the statue on the plate (uplift, rocking, efficiency)")
+    s.add_argument("--alpha", type=finite_float, metavar="A", help="the statue's alpha_L = alpha_R (imperfect model)")
+    s.add_argument("--motion", required=True, metavar="SPEC", help="as for `rock`, plus free:u0=M[,v0=M/S]")
+    s.add_argument("--t-end", type=positive_float, metavar="S")
+    s.add_argument("--dt-out", type=positive_float, default=0.005, metavar="S")
+    s.add_argument("--rtol", type=positive_float, default=1e-9)
+    s.add_argument("--json", metavar="OUT", required=True)
+    s.set_defaults(func=_cmd_simulate)
+
+
+def _statue(path):
+    from .files import read_json
+    from .geometry.rocking_params import RockingParams
+
+    data = read_json(path)
+    try:
+        return RockingParams.from_dict(data)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{path} does not hold rocking parameters ({exc})") from None
+
+
+def _accel(text: str) -> float:
+    """An acceleration in m/s^2, or with a g suffix (0.075g)."""
+    import argparse
+
+    from .dynamics.motions import parse_accel
+
+    try:
+        value = parse_accel(text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be a positive acceleration, got {text}")
+    return value
+
+
+def _cmd_design(args) -> int:
+    from .dynamics.motions import parse_spec
+    from .files import atomic_write, write_json
+    from .isolator.design import design
+    from .isolator.design_spectrum import parse_spectrum
+
+    statue = _statue(args.params)
+    aL = args.alpha_L if args.alpha_L is not None else (args.alpha if args.alpha is not None else 1.0)
+    aR = args.alpha_R if args.alpha_R is not None else (args.alpha if args.alpha is not None else 1.0)
+    spectrum = parse_spectrum(args.spectrum) if args.spectrum else None
+    motion = parse_spec(args.motion)[0] if args.motion else None
+    res = design(statue, mu=args.mu, spectrum=spectrum, motion=motion, target=args.target, alpha=(aL, aR),
+                 n_grooves=args.grooves, thickness=args.thickness, fuse_release=args.fuse_release)
+    out = Path(args.json)
+    write_json(out, res.to_dict())
+    report = res.report()
+    atomic_write(out.with_suffix(".txt"), lambda p: p.write_text(report + "\n"))
+    print(report)
+    print(f"\nwrote {out} and {out.with_suffix('.txt').name}")
+    if not res.passed:
+        failed = [c.name for c in res.checks if c.required and not c.passed]
+        raise InputError(f"no design meets every check ({'; '.join(failed)}); see {out.with_suffix('.txt')}")
+    return 0
+
+
+def _cmd_plates(args) -> int:
+    from .files import read_json
+    from .isolator.plates import PlateGeometry, write_plates
+
+    d = read_json(args.design)
+    try:
+        fuse = d.get("fuse") or {}
+        geom = PlateGeometry(
+            side=float(d["side"]), thickness=float(d["thickness"]), R=float(d["R"]), depth=float(d["depth"]),
+            groove_centres=tuple(tuple(c) for c in d["groove_centres"]), ball_radius=float(d["r"]),
+            **_fuse_geometry(fuse, d),
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{args.design} is not an isolator design ({exc})") from None
+    if args.segments < 16 or args.segments > 4096:
+        raise InputError(f"--segments must be in 16..4096, got {args.segments}")
+    paths = write_plates(geom, Path(args.out), segments=args.segments)
+    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    return 0
+
+
+def _fuse_geometry(fuse: dict, d: dict) -> dict:
+    """Fuse seats between the grooves (on the diagonals, halfway to the centre)."""
+    if not fuse:
+        return {}
+    rf = float(fuse["ball_radius"])
+    centres = [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]]
+    return {"fuse_centres": tuple(centres), "fuse_ball_radius": rf, "fuse_seat_depth": float(fuse["seat_depth"]),
+            "fuse_hole_diameter": 2.4 * rf, "fuse_hole_depth": min(2.2 * rf, float(d["thickness"]) - 0.006),
+            "fuse_hole_offset": 3.0 * rf}
+
+
+def _cmd_simulate(args) -> int:
+    from .dynamics.model import RockingModel
+    from .dynamics.motions import parse_spec
+    from .files import write_json
+    from .isolator.device import Isolator
+    from .isolator.dynamics import simulate, statue_on_plate
+
+    spec = args.motion.strip()
+    u0 = v0 = 0.0
+    if spec.startswith("free:") and "u0" in spec:
+        from .dynamics import motions
+
+        opts = dict(kv.split("=", 1) for kv in spec[5:].split(",") if kv)
+        try:
+            u0 = float(opts.pop("u0"))
+            v0 = float(opts.pop("v0", 0.0))
+        except ValueError as exc:
+            raise InputError(f"bad free-vibration start in --motion {spec!r}: {exc}") from None
+        if opts:
+            raise InputError(f"unknown key(s) {', '.join(opts)} in --motion {spec!r} (free:u0=M[,v0=M/S])")
+        motion = motions.free()
+    else:
+        motion = parse_spec(spec)[0]
+    iso = Isolator(R=args.R, r=args.r, M=args.mass, mu=args.mu, model=args.model, q=args.q, n=args.n)
+    res = simulate(iso, motion, u0=u0, v0=v0, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol)
+    out = res.to_dict()
+    if args.statue:
+        params = _statue(args.statue)
+        model = RockingModel.housner(params) if args.alpha is None else RockingModel.imperfect(
+            params, alpha_L=args.alpha, alpha_R=args.alpha)
+        sp = statue_on_plate(res, model)
+        out["statue"] = sp.to_dict()
+        out["uplift"] = sp.uplift
+        out["efficiency"] = res.efficiency
+    write_json(Path(args.json), out)
+    print(f"T = {iso.T:.3f} s, k = {iso.k:.2f} N/m; u_max = {res.u_max * 1000:.2f} mm, "
+          f"|a_abs| max = {res.acc_abs_max:.4f} m/s^2 (pga {res.pga:.4f}), {len(res.peaks_u)} peaks")
+    if args.statue:
+        print(f"statue: uplift {'YES' if out['uplift'] else 'no'}, efficiency {res.efficiency:.3f}")
+    print(f"wrote {args.json}")
+    return 0

@@ -1,0 +1,1 @@
+"""Seismic isolator design: response spectra and the models built on them."""

@@ -1,0 +1,422 @@
+"""Compiled integrators of the top plate (numba); see dynamics.py for the interface.
+
+The ground acceleration is taken piece by piece from the rocking kernel's motion
+representation (statue2model.dynamics.kernel.segment): on each piece
+f(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi).
+
+Coulomb (eq. 20): while sliding with velocity sign s, u'' + omega^2 u = -s mu g - f(t)
+is linear with a closed-form solution on each piece, so the plate is advanced
+exactly: reversals (u' = 0) are roots of the closed-form velocity, found by
+sampling at 1/16 of the shortest period and bisecting to machine precision; a
+stuck plate (|omega^2 u + f| <= mu g) moves with the ground until f leaves that
+band, found exactly as for the rocking uplift.
+
+Bouc-Wen (eqs. 22-24, beta = gamma = 1/2, n = 1 or 2): while u' keeps its sign,
+z is an exact function of u - u_r (the loading branch is an exponential (n = 1)
+or a tanh (n = 2) towards sgn(u'); unloading is linear with slope 1/u_y), so
+|z| <= 1 by construction and the stiff z equation never has to be stepped. The
+remaining 2-state equation u'' = -omega^2 u - (1 - 1/q) mu g z(u) - f(t) is
+integrated with an adaptive Dormand-Prince 5(4) step that never crosses a motion
+breakpoint or an output time; a reversal is located by bisection on the step.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..dynamics import kernel as K
+
+# statistics vector
+(I_UMAX, I_AMAX, I_NSTEPS, I_NREJ, I_TFINAL, I_NPEAKS, I_STATUS, I_TSLIDE) = range(8)
+N_I = 8
+
+
+@njit(cache=True)
+def _grow(a, n):
+    if n < a.shape[0]:
+        return a
+    b = np.empty(2 * a.shape[0] + 16)
+    b[: a.shape[0]] = a
+    return b
+
+
+# ---------------------------------------------------------------- Coulomb, exact
+@njit(cache=True)
+def _coulomb_coeffs(ta, ua, va, s, seg, om, mug, out):
+    """out = [p0, p1, B, res, C, D]: u(t) = p0 + p1 (t - t0) + harmonic(t) + C cos(om (t-ta)) + D sin(om (t-ta))."""
+    c0, c1, t0, A, w, ts, ph = seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6]
+    om2 = om * om
+    p1 = -c1 / om2
+    p0 = (-s * mug - c0) / om2
+    B = 0.0
+    res = 0.0
+    if A != 0.0:
+        if abs(w - om) > 1e-9 * om:
+            B = -A / (om2 - w * w)
+        else:
+            res = A / (2.0 * om)
+    out[0] = p0
+    out[1] = p1
+    out[2] = B
+    out[3] = res
+    P, dP, _ = _part(ta, seg, out)
+    out[4] = ua - P
+    out[5] = (va - dP) / om
+
+
+@njit(cache=True)
+def _part(t, seg, cf):
+    """Particular solution and its first two derivatives at t."""
+    t0, w, ts, ph = seg[2], seg[4], seg[5], seg[6]
+    P = cf[0] + cf[1] * (t - t0)
+    dP = cf[1]
+    ddP = 0.0
+    if cf[2] != 0.0:
+        x = w * (t - ts) + ph
+        P += cf[2] * math.sin(x)
+        dP += cf[2] * w * math.cos(x)
+        ddP -= cf[2] * w * w * math.sin(x)
+    elif cf[3] != 0.0:
+        tau = t - ts
+        x = w * tau + ph
+        c = math.cos(x)
+        sn = math.sin(x)
+        P += cf[3] * tau * c
+        dP += cf[3] * (c - w * tau * sn)
+        ddP += cf[3] * (-2.0 * w * sn - w * w * tau * c)
+    return P, dP, ddP
+
+
+@njit(cache=True)
+def _coulomb_state(t, ta, seg, cf, om):
+    P, dP, ddP = _part(t, seg, cf)
+    x = om * (t - ta)
+    c = math.cos(x)
+    sn = math.sin(x)
+    u = P + cf[4] * c + cf[5] * sn
+    v = dP + om * (-cf[4] * sn + cf[5] * c)
+    a = ddP - om * om * (cf[4] * c + cf[5] * sn)
+    return u, v, a
+
+
+@njit(cache=True)
+def _max_abs_f(ta, tb, seg):
+    """max |f| on [ta, tb] for one piece (ends, and the sine's crests inside)."""
+    m = max(abs(K._acc(ta, seg)), abs(K._acc(tb, seg) if seg[7] != seg[7] else seg[7]))
+    if seg[3] != 0.0 and seg[1] == 0.0:
+        w, ts, ph = seg[4], seg[5], seg[6]
+        xa = w * (ta - ts) + ph
+        k = math.ceil((xa - 0.5 * math.pi) / math.pi)
+        x = 0.5 * math.pi + k * math.pi
+        if ts + (x - ph) / w <= tb:
+            m = max(m, abs(seg[0]) + abs(seg[3]))
+    return m
+
+
+@njit(cache=True)
+def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_a, pk_t, pk_u, stats):
+    """Advance the Coulomb plate exactly; fill outputs at k dt_out; return (n_peaks, pk_t, pk_u)."""
+    seg = np.empty(8)
+    cf = np.empty(6)
+    n_out = out_u.shape[0]
+    t = 0.0
+    u = u0
+    v = v0
+    n_pk = 0
+    umax = abs(u0)
+    amax = 0.0
+    k_out = 0
+    steps = 0
+    t_slide = 0.0
+    om2 = om * om
+    # initial phase
+    if v != 0.0:
+        s = 1.0 if v > 0.0 else -1.0
+    else:
+        s = 0.0
+    while t < t_end and steps < 10_000_000:
+        steps += 1
+        t_piece_end = K.segment(t, kind, M, samples, seg)
+        tb = min(t_piece_end, t_end)
+        if s == 0.0:
+            # stuck: moves with the ground until |om^2 u + f| > mu g
+            up = mug - om2 * u
+            dn = mug + om2 * u
+            te, side = K._first_exceedance(t, tb, seg, up, dn)
+            t_stop = min(te, tb)
+            while k_out < n_out and k_out * dt_out < t_stop:
+                tk = k_out * dt_out
+                out_u[k_out] = u
+                out_v[k_out] = 0.0
+                out_a[k_out] = K._acc(tk, seg)
+                k_out += 1
+            amax = max(amax, _max_abs_f(t, t_stop, seg))
+            if te < tb or (te == tb and side != 0):
+                t = te
+                s = float(side)
+                continue
+            if t_piece_end == np.inf and kind != K.M_NONE and abs(om2 * u) <= mug:
+                # the ground is at rest for good and the plate is stuck: done
+                t = t_end
+                break
+            if t_piece_end == np.inf:
+                t = t_end
+                break
+            t = tb
+            continue
+        # sliding with sign s
+        _coulomb_coeffs(t, u, v, s, seg, om, mug, cf)
+        # sample the velocity to find the first reversal in (t, tb]
+        span = tb - t
+        period = 2.0 * math.pi / om
+        if seg[3] != 0.0:
+            period = min(period, 2.0 * math.pi / seg[4])
+        h = period / 16.0
+        nsub = int(math.ceil(span / h)) if span < np.inf else 1
+        if nsub < 1:
+            nsub = 1
+        h = span / nsub
+        t_rev = np.inf
+        lo = t
+        for i in range(1, nsub + 1):
+            ti = t + i * h if i < nsub else tb
+            _, vi, _ = _coulomb_state(ti, t, seg, cf, om)
+            if s * vi <= 0.0:
+                hi = ti
+                for _ in range(200):
+                    mid = 0.5 * (lo + hi)
+                    if mid <= lo or mid >= hi:
+                        break
+                    _, vm, _ = _coulomb_state(mid, t, seg, cf, om)
+                    if s * vm > 0.0:
+                        lo = mid
+                    else:
+                        hi = mid
+                t_rev = hi
+                break
+            lo = ti
+        t_stop = min(t_rev, tb)
+        while k_out < n_out and k_out * dt_out < t_stop:
+            tk = k_out * dt_out
+            uk, vk, ak = _coulomb_state(tk, t, seg, cf, om)
+            out_u[k_out] = uk
+            out_v[k_out] = vk
+            out_a[k_out] = ak + K._acc(tk, seg)
+            k_out += 1
+        u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
+        # |a_abs| = |om^2 u + s mu g| is monotonic while sliding: its extremes are at the ends
+        amax = max(amax, abs(om2 * u + s * mug), abs(om2 * u_end + s * mug))
+        umax = max(umax, abs(u_end))
+        t_slide += t_stop - t
+        t = t_stop
+        u = u_end
+        if t_rev <= tb and t_rev < np.inf:
+            v = 0.0
+            pk_t = _grow(pk_t, n_pk)
+            pk_u = _grow(pk_u, n_pk)
+            pk_t[n_pk] = t
+            pk_u[n_pk] = u
+            n_pk += 1
+            K.segment(t, kind, M, samples, seg)
+            d = -om2 * u - K._acc(t, seg)
+            if abs(d) <= mug * (1.0 + 1e-12):
+                s = 0.0
+            else:
+                s = 1.0 if d > 0.0 else -1.0
+        else:
+            v = v_end
+    while k_out < n_out:
+        out_u[k_out] = u
+        out_v[k_out] = 0.0
+        out_a[k_out] = 0.0 if s == 0.0 else -(om2 * u + s * mug)
+        k_out += 1
+    stats[I_UMAX] = umax
+    stats[I_AMAX] = amax
+    stats[I_NSTEPS] = steps
+    stats[I_TFINAL] = t
+    stats[I_NPEAKS] = n_pk
+    stats[I_TSLIDE] = t_slide
+    return n_pk, pk_t, pk_u
+
+
+# ---------------------------------------------------------------- Bouc-Wen
+@njit(cache=True)
+def z_map(z_r, du, s, u_y, n):
+    """z after the plate moves by du (sign s) from z_r, exactly (beta = gamma = 1/2)."""
+    x = abs(du) / u_y
+    y0 = s * z_r
+    if y0 < 0.0:
+        if x <= -y0:
+            return s * (y0 + x)
+        x -= -y0
+        y0 = 0.0
+    if n == 1:
+        y = 1.0 - (1.0 - y0) * math.exp(-x)
+    else:
+        if y0 >= 1.0:
+            y = 1.0
+        else:
+            y = math.tanh(math.atanh(y0) + x)
+    return s * y
+
+
+@njit(cache=True)
+def _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n):
+    z = z_map(z_r, u - u_r, s, u_y, n)
+    return -om2 * u - cz * z - K._acc(t, seg), z
+
+
+# Dormand-Prince 5(4)
+_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
+_A = np.array([
+    [0, 0, 0, 0, 0, 0],
+    [1 / 5, 0, 0, 0, 0, 0],
+    [3 / 40, 9 / 40, 0, 0, 0, 0],
+    [44 / 45, -56 / 15, 32 / 9, 0, 0, 0],
+    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0, 0],
+    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656, 0],
+    [35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+])
+_B5 = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
+_B4 = np.array([5179 / 57600, 0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40])
+
+
+@njit(cache=True)
+def _dp_step(t, u, v, h, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv):
+    for i in range(7):
+        ui = u
+        vi = v
+        for j in range(i):
+            ui += h * _A[i, j] * ku[j]
+            vi += h * _A[i, j] * kv[j]
+        ku[i] = vi
+        kv[i], _ = _bw_acc(t + _C[i] * h, ui, seg, om2, cz, u_r, z_r, s, u_y, n)
+    u5 = u
+    v5 = v
+    eu = 0.0
+    ev = 0.0
+    for i in range(7):
+        u5 += h * _B5[i] * ku[i]
+        v5 += h * _B5[i] * kv[i]
+        eu += h * (_B5[i] - _B4[i]) * ku[i]
+        ev += h * (_B5[i] - _B4[i]) * kv[i]
+    return u5, v5, eu, ev
+
+
+@njit(cache=True)
+def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u,
+            out_u, out_v, out_a, out_z, pk_t, pk_u, stats):
+    seg = np.empty(8)
+    ku = np.empty(7)
+    kv = np.empty(7)
+    om2 = om * om
+    cz = (1.0 - 1.0 / q) * mug
+    u_y = mug / (q * om2)           # mu W / (q k) = mu g / (q omega^2)
+    atol_v = atol_u * om
+    n_out = out_u.shape[0]
+    t = 0.0
+    u = u0
+    v = v0
+    u_r = u0
+    z_r = 0.0
+    s = 1.0 if v0 > 0.0 else (-1.0 if v0 < 0.0 else 0.0)
+    n_pk = 0
+    umax = abs(u0)
+    amax = 0.0
+    k_out = 0
+    steps = 0
+    rej = 0
+    h = min(2.0 * math.pi / om / 50.0, max(dt_out, 1e-6))
+    while True:
+        t_piece_end = K.segment(t, kind, M, samples, seg)
+        if s == 0.0:
+            a0, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, 1.0, u_y, n)
+            if a0 != 0.0:
+                s = 1.0 if a0 > 0.0 else -1.0
+                u_r = u
+            else:
+                t_next = min(t_piece_end, t_end)
+                while k_out < n_out and k_out * dt_out <= t_next:
+                    out_u[k_out] = u
+                    out_v[k_out] = 0.0
+                    out_a[k_out] = 0.0
+                    out_z[k_out] = z_r
+                    k_out += 1
+                if t_next >= t_end or t_piece_end == np.inf:
+                    break
+                t = t_next
+                continue
+        # outputs at t
+        while k_out < n_out and k_out * dt_out <= t + 1e-12 * max(1.0, t):
+            a_rel, z = _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n)
+            out_u[k_out] = u
+            out_v[k_out] = v
+            out_a[k_out] = a_rel + K._acc(t, seg)
+            out_z[k_out] = z
+            k_out += 1
+        if t >= t_end or steps > 50_000_000:
+            break
+        t_next_out = k_out * dt_out if k_out < n_out else np.inf
+        t_lim = min(t_piece_end, t_end, t_next_out)
+        hh = min(h, t_lim - t)
+        if hh <= 0.0:
+            t = t_lim
+            continue
+        u5, v5, eu, ev = _dp_step(t, u, v, hh, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+        steps += 1
+        err = max(abs(eu) / (atol_u + rtol * max(abs(u), abs(u5))), abs(ev) / (atol_v + rtol * max(abs(v), abs(v5))))
+        if not (err <= 1.0):
+            rej += 1
+            fac = 0.9 * err ** -0.2 if err == err else 0.1
+            h = hh * max(0.1, min(0.9, fac))
+            continue
+        fac = 0.9 * err ** -0.2 if err > 0.0 else 5.0
+        h_new = hh * max(0.2, min(5.0, fac))
+        if s * v5 < 0.0:
+            # reversal inside the step: bisect the step length on the sign of v
+            lo = 0.0
+            hi = hh
+            for _ in range(100):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                um, vm, _, _ = _dp_step(t, u, v, mid, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+                if s * vm > 0.0:
+                    lo = mid
+                else:
+                    hi = mid
+            um, vm, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+            t = t + hi
+            z_e = z_map(z_r, um - u_r, s, u_y, n)
+            u = um
+            v = 0.0
+            pk_t = _grow(pk_t, n_pk)
+            pk_u = _grow(pk_u, n_pk)
+            pk_t[n_pk] = t
+            pk_u[n_pk] = u
+            n_pk += 1
+            umax = max(umax, abs(u))
+            u_r = u
+            z_r = z_e
+            K.segment(t, kind, M, samples, seg)
+            a_e, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, -s, u_y, n)
+            s = 1.0 if a_e > 0.0 else (-1.0 if a_e < 0.0 else 0.0)
+            amax = max(amax, abs(a_e + K._acc(t, seg)))
+            h = max(h_new, 1e-12)
+            continue
+        t = t + hh
+        u = u5
+        v = v5
+        umax = max(umax, abs(u))
+        a_rel, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n)
+        amax = max(amax, abs(a_rel + K._acc(t, seg)))
+        h = h_new
+    stats[I_UMAX] = umax
+    stats[I_AMAX] = amax
+    stats[I_NSTEPS] = steps
+    stats[I_NREJ] = rej
+    stats[I_TFINAL] = t
+    stats[I_NPEAKS] = n_pk
+    return n_pk, pk_t, pk_u
