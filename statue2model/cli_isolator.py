@@ -146,9 +146,12 @@ def _fuse_geometry(fuse: dict, d: dict) -> dict:
         return {}
     rf = float(fuse["ball_radius"])
     centres = [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]]
-    return {"fuse_centres": tuple(centres), "fuse_ball_radius": rf, "fuse_seat_depth": float(fuse["seat_depth"]),
-            "fuse_hole_diameter": 2.4 * rf, "fuse_hole_depth": min(2.2 * rf, float(d["thickness"]) - 0.006),
-            "fuse_hole_offset": 3.0 * rf}
+    z = float(fuse["seat_depth"])
+    hole = max(2.4 * rf, 2 * rf + 0.002)
+    seat = (2 * rf * z - z * z) ** 0.5
+    return {"fuse_centres": tuple(centres), "fuse_ball_radius": rf, "fuse_seat_depth": z,
+            "fuse_hole_diameter": hole, "fuse_hole_depth": min(max(2.2 * rf, 0.003), float(d["thickness"]) - 0.006),
+            "fuse_hole_offset": seat + hole / 2 + 0.006}
 
 
 def _cmd_simulate(args) -> int:

@@ -15,7 +15,8 @@ first), n grooves (3 or 4):
 2. design displacement d: SDe(T) or the simulated peak |u_o|;
 3. grooves: each ball rolls d/2 on each plate, so the opening radius is
    d/2 + r + margin and the depth follows from the spherical cap; at least
-   MIN_BOTTOM of wood must remain under a groove;
+   MIN_BOTTOM of wood must remain under a groove, and the balls must stand
+   proud of the grooves (a gap of MIN_GAP between the plates);
 4. the plate is at least as large as the statue's base (2 max(b_L, b_R) + edges,
    or ``min_side``); top-plate overturning (eqs. 47-49): lever arm l, safety length
    a = (a_design/g) l, allowable displacement d_max = L_cr - a with L_cr the
@@ -56,6 +57,8 @@ EDGE = 0.02
 """Wood between a groove opening and the plate edge, m."""
 GAP = 0.01
 """Wood between two groove openings, m."""
+MIN_GAP = 0.002
+"""Least clearance between the plates, m: the balls stand 2 (r - depth) proud."""
 WOOD_DENSITY = 700.0
 """Beech, kg/m^3 (the thesis' plates)."""
 
@@ -169,7 +172,7 @@ def _demand(iso: Isolator, spectrum, motion):
 def design(statue, *, mu: float, spectrum=None, motion=None, target: float | None = None,
            alpha: tuple[float, float] = (1.0, 1.0), n_grooves: int = 4, thickness: float = 0.03,
            balls=BALLS, R_grid=R_GRID, wood_density: float = WOOD_DENSITY, fuse_release: float | None = None,
-           fuse_ball: float = 0.009, min_side: float | None = None, g: float = G) -> Design:
+           fuse_ball: float | None = None, min_side: float | None = None, g: float = G) -> Design:
     """Choose R, r, spacing and plate size for ``statue`` (RockingParams); see the module."""
     if (spectrum is None) == (motion is None):
         raise InputError("give exactly one design input: a response spectrum or a ground motion")
@@ -214,7 +217,7 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
                 m_o = wood_density * side * side * thickness
             else:
                 cand = (R, r, iso, a_design, d, opening, depth, l, a_s, spacing, centres, L_cr, side, m_o)
-                ok = a_design <= a_lim and depth <= thickness - MIN_BOTTOM
+                ok = a_design <= a_lim and depth <= thickness - MIN_BOTTOM and depth <= r - MIN_GAP / 2
                 if best is None or (ok and not best[0]):
                     best = (ok, cand)
                 if ok:
@@ -234,6 +237,9 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
         Check("groove depth leaves wood under the groove", depth <= thickness - MIN_BOTTOM, depth,
               thickness - MIN_BOTTOM, f"depth {depth * 1000:.1f} mm, plate {thickness * 1000:.0f} mm, "
               f"at least {MIN_BOTTOM * 1000:.0f} mm must remain"),
+        Check("the plates stay apart (balls stand proud of the grooves)", depth <= r - MIN_GAP / 2,
+              2 * (r - depth), MIN_GAP, f"gap 2 (r - depth) = {2 * (r - depth) * 1000:.1f} mm, "
+              f"at least {MIN_GAP * 1000:.0f} mm"),
         Check("top plate does not overturn (eq. 49)", d <= d_max + 1e-12, d, d_max,
               f"design displacement {d * 1000:.1f} mm <= d_max = L_cr - a = {L_cr * 1000:.1f} - {a_s * 1000:.1f} mm"),
         Check("ball stays in its groove", d / 2 + r <= opening, d / 2 + r, opening,
@@ -241,9 +247,14 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
     ]
     fuse = {}
     if fuse_release is not None:
-        z = fuse_seat_depth(fuse_ball, fuse_release, g)
-        back = fuse_release_acceleration(fuse_ball, z, g)
-        fuse = {"ball_radius": fuse_ball, "seat_depth": z, "release": back, "release_g": back / g}
+        # the fuse balls carry the plate at rest: diameter = the gap between the plates + two seats,
+        # 2 r_f = 2 (r - depth) + 2 z with z = c r_f (eq. 52 solved for z)
+        c = fuse_seat_depth(1.0, fuse_release, g)
+        r_f = (r - depth) / (1.0 - c) if fuse_ball is None else fuse_ball
+        z = fuse_seat_depth(r_f, fuse_release, g)
+        back = fuse_release_acceleration(r_f, z, g)
+        fuse = {"ball_radius": r_f, "seat_depth": z, "release": back, "release_g": back / g,
+                "gap": 2 * (r - depth)}
         checks.append(Check("fuse releases before the statue rocks", back < a_lim, back, a_lim,
                             f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2"))
     notes = []

@@ -1,0 +1,559 @@
+"""The two wooden plates of the rolling-ball isolator: solids, CNC files, section drawing.
+
+Each plate is a square board (``side`` x ``side`` x ``thickness``) carved with n
+spherical grooves: caps of a sphere of radius R, ``depth`` deep, whose opening
+circle (radius a = sqrt(2 R depth - depth^2)) lies in the carved face. Balls of
+radius r roll between facing grooves; the top plate carries the statue.
+
+Frames and conventions (SI units, m):
+
+* Each plate in its own frame: plate centre at x = y = 0, lower face z = 0,
+  upper face z = thickness. The bottom plate is carved in its upper face (groove
+  sphere centred at z = thickness - depth + R); the top plate is its mirror
+  z -> thickness - z (grooves open downward, in its lower face), with the same
+  x, y, so the grooves face each other when the plates are stacked. Assembled,
+  with the balls at the bottom of the grooves, the top plate's lower face is a gap
+  2 (r - depth) above the bottom plate's upper face.
+* Fuse (release mechanism): for each centre in ``fuse_centres``, a seat (cap of a
+  sphere of radius r_f, the fuse ball's, ``fuse_seat_depth`` deep) in both plates,
+  and a drop hole (flat-bottomed cylinder, ``fuse_hole_diameter`` x
+  ``fuse_hole_depth``) in the bottom plate only: a released ball falls, the top plate
+  needs no hole. The hole's centre is ``fuse_hole_offset`` from the seat's centre,
+  radially outward from the plate centre (along +x for a seat at the plate centre).
+* Wood left: at least MIN_BOTTOM under every cutout, and MIN_WALL between any two
+  cutouts of a face and between a cutout and the plate's edge.
+* Files: the 3D files (STL, 3MF) and the DXF are written in millimetres (3MF is
+  millimetres by definition; CAM reads STL as mm), one DXF per plate, origin at
+  the plate centre. The top plate's DXF is drawn as its carved (lower) face is
+  seen on the machine, i.e. the plate flipped about its y axis (x -> -x).
+
+Tessellation. Every cutter is a surface of revolution whose vertices are computed
+directly in float64 (not through a 2D polygon library, which rounds): rings of
+``segments`` vertices, the groove's deepest point a single vertex exactly at
+z = thickness - depth, and the last ring exactly on the face at radius a. The
+profile of a cap is sampled every dtheta = dphi sin(theta_o) in polar angle
+(dphi = 2 pi / segments, theta_o the cap's half-angle), so the faces at the rim are
+about square. All vertices lie on the sphere, the polyhedral cap is convex and
+inscribed, so it removes a little less than the exact cap: if delta is the largest
+distance from a face's plane to the sphere (R minus that plane's distance to the
+sphere centre), the polyhedron contains the concentric sphere of radius R - delta,
+and the deficit per cap is at most cap_volume(R, d) - cap_volume(R - delta, d - delta),
+about delta times the cap's area 2 pi R d, with delta ~ R dphi^2 sin^2(theta_o) / 4.
+The faces lie on average about half as deep as their worst point: the measured
+deficit is 0.50-0.55 of this bound, and falls as 1 / segments^2 (relative to the cap:
+2.9e-4 at 256 segments, 4.7e-6 at 2048 for R = 0.30 m, d = 12 mm; about 20 / segments^2
+for any shallow cap).
+A drop hole is a regular inscribed polygon prism: its deficit is exact,
+h r^2 (pi - (m / 2) sin(2 pi / m)). ``volume_deficit_bound`` adds these up.
+
+Example
+-------
+>>> geom = PlateGeometry(side=0.40, thickness=0.03, R=0.30, depth=0.012,
+...                      groove_centres=((-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)),
+...                      ball_radius=0.0183)
+>>> round(geom.opening_radius * MM, 3), round(geom.gap * MM, 1)        # mm
+(84.0, 12.6)
+>>> round(geom.removed_volume * 1e6, 2)                                # cm^3, four caps
+535.63
+>>> solid = plate_solid(geom, segments=64)
+>>> solid.status().name, solid.genus()
+('NoError', 0)
+>>> deficit = geom.removed_volume - (geom.side ** 2 * geom.thickness - solid.volume())
+>>> 0 < deficit <= volume_deficit_bound(geom, segments=64)
+True
+>>> to_trimesh(plate_solid(geom, "top", segments=64)).is_watertight
+True
+"""
+from __future__ import annotations
+
+import importlib.util
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..fabrication.dxf import CUT_OUTSIDE, DRILL, MM, new_document
+from ..files import atomic_write, prepare_dir
+
+MIN_BOTTOM = 0.005   # m of wood left under any cutout
+MIN_WALL = 0.005     # m of wood between two cutouts of a face, and between a cutout and the edge
+ABOVE = 0.002        # m the cutters rise above the carved face (no coplanar faces in the booleans)
+POCKET = "POCKET"    # DXF layer: opening circles of the spherical pockets (machined from the 3D file)
+POCKET_COLOUR = 4
+MIN_SEGMENTS = 8
+WHICH = ("bottom", "top")
+
+
+# --------------------------------------------------------------------------- caps
+
+def _check_cap(R: float, depth: float, max_depth: float) -> None:
+    if not (math.isfinite(R) and R > 0):
+        raise InputError(f"sphere radius must be positive, got {R!r}")
+    if not (math.isfinite(depth) and 0 <= depth <= max_depth):
+        raise InputError(f"cap depth must be in [0, {max_depth:g}] m for R = {R:g} m, got {depth!r}")
+
+
+def cap_opening_radius(R: float, depth: float) -> float:
+    """Radius (m) of the circle a cap of a sphere of radius R, ``depth`` deep, opens on:
+    sqrt(2 R d - d^2)."""
+    _check_cap(R, depth, 2 * R)
+    return math.sqrt(depth * (2 * R - depth))
+
+
+def cap_volume(R: float, depth: float) -> float:
+    """Volume (m^3) of a cap of a sphere of radius R, ``depth`` deep: pi d^2 (3 R - d) / 3."""
+    _check_cap(R, depth, 2 * R)
+    return math.pi * depth * depth * (3 * R - depth) / 3
+
+
+def depth_for_opening(R: float, a: float) -> float:
+    """Depth (m, <= R) of the cap of a sphere of radius R opening on a circle of radius a:
+    R - sqrt(R^2 - a^2), computed as a^2 / (R + sqrt(R^2 - a^2)) (no cancellation)."""
+    _check_cap(R, a, R)
+    return a * a / (R + math.sqrt((R - a) * (R + a)))
+
+
+def _cap_profile(R: float, depth: float, face_z: float, segments: int) -> np.ndarray:
+    """(rho, z) profile of a cap cutter below the face z = face_z: deepest point on the
+    axis, sphere samples, the rim exactly (a, face_z), then a wall up to face_z + ABOVE."""
+    a = cap_opening_radius(R, depth)
+    theta_o = math.atan2(a, R - depth)
+    dphi = 2 * math.pi / segments
+    k = max(2, math.ceil(theta_o / (dphi * math.sin(theta_o))))
+    theta = theta_o * np.arange(1, k) / k
+    zc = face_z - depth + R
+    prof = [(0.0, face_z - depth)]
+    prof += list(zip(R * np.sin(theta), zc - R * np.cos(theta)))
+    prof += [(a, face_z), (a, face_z + ABOVE), (0.0, face_z + ABOVE)]
+    return np.array(prof, dtype=float)
+
+
+def _cap_deficit_bound(R: float, depth: float, segments: int) -> float:
+    """Upper bound (m^3) on cap_volume(R, depth) minus the volume of the tessellated cap
+    (see the module docstring): largest face-to-sphere distance delta, then the cap of the
+    inscribed concentric sphere of radius R - delta."""
+    prof = _cap_profile(R, depth, 0.0, segments)[:-2]          # axis .. rim, on the sphere
+    c = np.array([0.0, 0.0, R - depth])                         # sphere centre (face at z = 0)
+    dphi = 2 * math.pi / segments
+    p0 = np.column_stack([prof[:-1, 0], np.zeros(len(prof) - 1), prof[:-1, 1]]) - c
+    p1 = np.column_stack([prof[1:, 0], np.zeros(len(prof) - 1), prof[1:, 1]]) - c
+    p2 = np.column_stack([prof[1:, 0] * math.cos(dphi), prof[1:, 0] * math.sin(dphi), prof[1:, 1]]) - c
+    n = np.cross(p1 - p0, p2 - p0)
+    dist = np.abs(np.einsum("ij,ij->i", n, p0)) / np.linalg.norm(n, axis=1)
+    delta = R - float(dist.min())
+    return cap_volume(R, depth) - cap_volume(R - delta, max(float(depth - delta), 0.0))
+
+
+def _cylinder_deficit(radius: float, height: float, segments: int) -> float:
+    """Exact volume (m^3) a regular inscribed ``segments``-gon prism misses of the cylinder."""
+    return height * radius * radius * (math.pi - 0.5 * segments * math.sin(2 * math.pi / segments))
+
+
+# --------------------------------------------------------------------------- geometry
+
+@dataclass(frozen=True)
+class PlateGeometry:
+    """One isolator plate (both plates share it), m. See the module docstring for the frames."""
+
+    side: float
+    thickness: float
+    R: float
+    depth: float
+    groove_centres: tuple
+    ball_radius: float
+    fuse_centres: tuple = ()
+    fuse_ball_radius: float = 0.0
+    fuse_seat_depth: float = 0.0
+    fuse_hole_diameter: float = 0.0
+    fuse_hole_depth: float = 0.0
+    fuse_hole_offset: float = 0.0
+
+    def __post_init__(self):
+        for name in ("side", "thickness", "R", "depth", "ball_radius", "fuse_ball_radius",
+                     "fuse_seat_depth", "fuse_hole_diameter", "fuse_hole_depth", "fuse_hole_offset"):
+            value = getattr(self, name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise InputError(f"plate {name} must be a number, got {value!r}") from None
+            if not math.isfinite(value) or value < 0:
+                raise InputError(f"plate {name} must be a finite non-negative length in m, got {value!r}")
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "groove_centres", _points("groove_centres", self.groove_centres))
+        object.__setattr__(self, "fuse_centres", _points("fuse_centres", self.fuse_centres))
+        for name in ("side", "thickness", "R", "depth", "ball_radius"):
+            if getattr(self, name) <= 0:
+                raise InputError(f"plate {name} must be positive, got {getattr(self, name)!r}")
+        if not self.groove_centres:
+            raise InputError("a plate needs at least one groove centre")
+        if self.depth >= self.R:
+            raise InputError(f"groove depth {self.depth:g} m must be less than its radius R = {self.R:g} m")
+        if self.depth >= self.thickness - MIN_BOTTOM:
+            raise InputError(f"groove depth {self.depth * MM:.1f} mm leaves less than {MIN_BOTTOM * MM:g} mm "
+                             f"of a {self.thickness * MM:.1f} mm plate under the groove")
+        if not self.depth < self.ball_radius < self.R:
+            raise InputError(f"ball radius {self.ball_radius:g} m must lie between the groove depth "
+                             f"{self.depth:g} m (else the plates touch) and R = {self.R:g} m")
+        if self.fuse_centres:
+            rf, zf = self.fuse_ball_radius, self.fuse_seat_depth
+            if not (rf > 0 and 0 < zf < rf):
+                raise InputError(f"fuse needs a ball radius > 0 and a seat depth in (0, r_f), got {rf:g}, {zf:g} m")
+            if zf >= self.thickness - MIN_BOTTOM:
+                raise InputError(f"fuse seat depth {zf:g} m leaves less than {MIN_BOTTOM * MM:g} mm of wood")
+            if self.fuse_hole_diameter <= 2 * rf:
+                raise InputError(f"fuse hole diameter {self.fuse_hole_diameter * MM:.1f} mm must exceed "
+                                 f"the fuse ball's diameter {2 * rf * MM:.1f} mm")
+            if not 0 < self.fuse_hole_depth < self.thickness - MIN_BOTTOM:
+                raise InputError(f"fuse hole depth must be in (0, {(self.thickness - MIN_BOTTOM) * MM:.1f}) mm, "
+                                 f"got {self.fuse_hole_depth * MM:.1f} mm")
+            if self.fuse_hole_offset <= 0:
+                raise InputError("fuse hole offset (seat centre to hole centre) must be positive")
+        _check_layout(self)
+
+    # ---- derived sizes
+    @property
+    def opening_radius(self) -> float:
+        """Radius a of each groove's opening circle in the carved face, m."""
+        return cap_opening_radius(self.R, self.depth)
+
+    @property
+    def fuse_seat_radius(self) -> float:
+        """Radius of a fuse seat's opening circle, m (0 without a fuse)."""
+        return cap_opening_radius(self.fuse_ball_radius, self.fuse_seat_depth) if self.fuse_centres else 0.0
+
+    @property
+    def fuse_hole_centres(self) -> tuple:
+        """((x, y), ...) of the drop holes: ``fuse_hole_offset`` from each seat, radially
+        outward from the plate centre (+x for a seat at the centre)."""
+        out = []
+        for x, y in self.fuse_centres:
+            rho = math.hypot(x, y)
+            ux, uy = (x / rho, y / rho) if rho > 1e-12 else (1.0, 0.0)
+            out.append((x + self.fuse_hole_offset * ux, y + self.fuse_hole_offset * uy))
+        return tuple(out)
+
+    @property
+    def gap(self) -> float:
+        """Clearance between the plates' carved faces with the balls at the bottom of the grooves, m."""
+        return 2 * (self.ball_radius - self.depth)
+
+    @property
+    def removed_volume(self) -> float:
+        """Wood removed from the bottom plate, m^3: grooves, fuse seats and drop holes."""
+        holes = len(self.fuse_centres) * math.pi * (0.5 * self.fuse_hole_diameter) ** 2 * self.fuse_hole_depth
+        return self.top_removed_volume + holes
+
+    @property
+    def top_removed_volume(self) -> float:
+        """Wood removed from the top plate, m^3: grooves and fuse seats (no drop holes)."""
+        seats = len(self.fuse_centres) * cap_volume(self.fuse_ball_radius, self.fuse_seat_depth) \
+            if self.fuse_centres else 0.0
+        return len(self.groove_centres) * cap_volume(self.R, self.depth) + seats
+
+    def circles(self, which: str = "bottom") -> list[tuple[str, float, float, float]]:
+        """Cutouts of the carved face as (kind, x, y, opening radius): kind is
+        'groove', 'seat' or 'hole' (holes only in the bottom plate)."""
+        _check_which(which)
+        out = [("groove", x, y, self.opening_radius) for x, y in self.groove_centres]
+        out += [("seat", x, y, self.fuse_seat_radius) for x, y in self.fuse_centres]
+        if which == "bottom":
+            out += [("hole", x, y, 0.5 * self.fuse_hole_diameter) for x, y in self.fuse_hole_centres]
+        return out
+
+
+def _points(name: str, pts) -> tuple:
+    try:
+        arr = np.asarray(pts, dtype=float).reshape(-1, 2) if len(pts) else np.zeros((0, 2))
+    except (TypeError, ValueError):
+        raise InputError(f"plate {name} must be a sequence of (x, y) pairs in m") from None
+    if not np.isfinite(arr).all():
+        raise InputError(f"plate {name} must be finite")
+    return tuple((float(x), float(y)) for x, y in arr)
+
+
+def _check_layout(geom: PlateGeometry) -> None:
+    half = 0.5 * geom.side
+    count: dict[str, int] = {}
+    labelled = []
+    for kind, x, y, r in geom.circles("bottom"):
+        count[kind] = count.get(kind, 0) + 1
+        label = f"{kind} {count[kind]} at ({x * MM:.1f}, {y * MM:.1f}) mm"
+        edge = half - max(abs(x), abs(y)) - r
+        if edge < MIN_WALL - 1e-12:
+            where = "outside the plate" if edge < 0 else f"{edge * MM:.1f} mm from the plate's edge"
+            raise InputError(f"{label} (opening radius {r * MM:.1f} mm) is {where}: "
+                             f"at least {MIN_WALL * MM:g} mm of wood is needed")
+        labelled.append((label, x, y, r))
+    for i, (la, xa, ya, ra) in enumerate(labelled):
+        for lb, xb, yb, rb in labelled[i + 1:]:
+            wall = math.hypot(xa - xb, ya - yb) - ra - rb
+            if wall < MIN_WALL - 1e-12:
+                what = "overlap" if wall < 0 else f"are only {wall * MM:.1f} mm apart"
+                raise InputError(f"{la} and {lb} {what}: at least {MIN_WALL * MM:g} mm of wood is needed between them")
+
+
+def _check_segments(segments) -> int:
+    if not isinstance(segments, (int, np.integer)) or segments < MIN_SEGMENTS:
+        raise InputError(f"segments must be an integer >= {MIN_SEGMENTS}, got {segments!r}")
+    return int(segments)
+
+
+def _check_which(which: str) -> None:
+    if which not in WHICH:
+        raise InputError(f"plate must be 'bottom' or 'top', got {which!r}")
+
+
+# --------------------------------------------------------------------------- solids
+
+def _revolve(profile: np.ndarray, segments: int, centre=(0.0, 0.0)):
+    """Manifold of revolution of a (rho, z) profile that starts and ends on the axis
+    (rho = 0) and runs outward, up, back to the axis; float64 vertices, exact rings."""
+    import manifold3d as m3d
+
+    m = segments
+    inner = profile[1:-1]
+    phi = 2 * math.pi * np.arange(m) / m
+    c, s = np.cos(phi), np.sin(phi)
+    rings = np.stack([np.column_stack([rho * c + centre[0], rho * s + centre[1], np.full(m, z)])
+                      for rho, z in inner])
+    verts = np.vstack([[centre[0], centre[1], profile[0, 1]], rings.reshape(-1, 3),
+                       [centre[0], centre[1], profile[-1, 1]]])
+    i = np.arange(m)
+    ip = (i + 1) % m
+    top = len(verts) - 1
+    tris = [np.column_stack([np.zeros(m, int), 1 + ip, 1 + i])]             # fan from the lower axis point
+    for j in range(len(inner) - 1):
+        lo, up = 1 + j * m, 1 + (j + 1) * m
+        tris.append(np.column_stack([lo + i, lo + ip, up + ip]))
+        tris.append(np.column_stack([lo + i, up + ip, up + i]))
+    last = 1 + (len(inner) - 1) * m
+    tris.append(np.column_stack([last + i, last + ip, np.full(m, top)]))  # fan to the upper axis point
+    mesh = m3d.Mesh64(vert_properties=np.ascontiguousarray(verts, dtype=np.float64),
+                      tri_verts=np.ascontiguousarray(np.vstack(tris), dtype=np.uint64))
+    return m3d.Manifold(mesh)
+
+
+def _cutters(geom: PlateGeometry, which: str, segments: int) -> list:
+    """Cutters of the bottom-plate frame (carved face z = thickness)."""
+    t = geom.thickness
+    out = []
+    groove = _cap_profile(geom.R, geom.depth, t, segments)
+    out += [_revolve(groove, segments, c) for c in geom.groove_centres]
+    if geom.fuse_centres:
+        seat = _cap_profile(geom.fuse_ball_radius, geom.fuse_seat_depth, t, segments)
+        out += [_revolve(seat, segments, c) for c in geom.fuse_centres]
+        if which == "bottom":
+            rh, z0 = 0.5 * geom.fuse_hole_diameter, t - geom.fuse_hole_depth
+            hole = np.array([(0.0, z0), (rh, z0), (rh, t + ABOVE), (0.0, t + ABOVE)])
+            out += [_revolve(hole, segments, c) for c in geom.fuse_hole_centres]
+    return out
+
+
+def plate_solid(geom: PlateGeometry, which: str = "bottom", segments: int = 256):
+    """The plate as a ``manifold3d.Manifold`` in its own frame (m): the box
+    [-side/2, side/2]^2 x [0, thickness] minus the grooves (and the fuse's seats, and
+    drop holes in the bottom plate); ``which='top'`` gives the mirror z -> thickness - z.
+    ``segments`` vertices on every ring of the cutters."""
+    import manifold3d as m3d
+
+    _check_which(which)
+    segments = _check_segments(segments)
+    s, t = geom.side, geom.thickness
+    box = m3d.Manifold.cube((s, s, t)).translate((-0.5 * s, -0.5 * s, 0.0))
+    solid = m3d.Manifold.batch_boolean([box] + _cutters(geom, which, segments), m3d.OpType.Subtract)
+    if which == "top":
+        solid = solid.mirror((0.0, 0.0, 1.0)).translate((0.0, 0.0, t))
+    if solid.status() != m3d.Error.NoError:               # pragma: no cover - a manifold3d bug
+        raise RuntimeError(f"plate boolean failed: {solid.status()}")
+    return solid
+
+
+def volume_deficit_bound(geom: PlateGeometry, segments: int = 256, which: str = "bottom") -> float:
+    """Upper bound (m^3) on the wood the tessellated cutters of ``plate_solid(geom, which,
+    segments)`` leave in place compared with the exact ``removed_volume`` (the cutters are
+    inscribed: the solid is never smaller than the exact plate). See the module docstring."""
+    _check_which(which)
+    segments = _check_segments(segments)
+    bound = len(geom.groove_centres) * _cap_deficit_bound(geom.R, geom.depth, segments)
+    if geom.fuse_centres:
+        nf = len(geom.fuse_centres)
+        bound += nf * _cap_deficit_bound(geom.fuse_ball_radius, geom.fuse_seat_depth, segments)
+        if which == "bottom":
+            bound += nf * _cylinder_deficit(0.5 * geom.fuse_hole_diameter, geom.fuse_hole_depth, segments)
+    return bound
+
+
+def to_trimesh(solid):
+    """A ``manifold3d.Manifold`` as a ``trimesh.Trimesh`` (float64 vertices, unchanged)."""
+    import trimesh
+
+    mesh = solid.to_mesh64()
+    verts = np.asarray(mesh.vert_properties, dtype=float)[:, :3]
+    faces = np.asarray(mesh.tri_verts).astype(np.int64)
+    return trimesh.Trimesh(verts, faces, process=False)
+
+
+# --------------------------------------------------------------------------- files
+
+def _write_dxf(geom: PlateGeometry, which: str, path: Path) -> Path:
+    doc = new_document(f"isolator {which} plate")
+    doc.layers.add(POCKET, color=POCKET_COLOUR)
+    msp = doc.modelspace()
+    flip = -1.0 if which == "top" else 1.0         # the top plate's carved face, seen on the machine
+    h = 0.5 * geom.side * MM
+    msp.add_lwpolyline([(-h, -h), (h, -h), (h, h), (-h, h)], close=True, dxfattribs={"layer": CUT_OUTSIDE})
+    for kind, x, y, r in geom.circles(which):
+        centre = (flip * x * MM, y * MM)
+        if kind == "hole":
+            msp.add_circle(centre, r * MM, dxfattribs={"layer": DRILL})
+        else:
+            msp.add_circle(centre, r * MM, dxfattribs={"layer": POCKET})
+            if kind == "groove":
+                msp.add_point(centre, dxfattribs={"layer": DRILL})
+    return atomic_write(path, lambda p: doc.saveas(p))
+
+
+def _section_shapes(geom: PlateGeometry, y0: float):
+    """Sections (x, z) in m at the plane y = y0 of the assembly: bottom plate, top plate,
+    ball discs (main and fuse), as shapely geometries."""
+    from shapely.geometry import Point, box
+    from shapely.ops import unary_union
+
+    s, t, res = geom.side, geom.thickness, 128
+
+    def plate(which):
+        cuts = []
+        for x, y in geom.groove_centres:
+            e = abs(y - y0)
+            if e < geom.opening_radius:
+                cuts.append(Point(x, t - geom.depth + geom.R).buffer(math.sqrt(geom.R ** 2 - e * e), quad_segs=4 * res))
+        for x, y in geom.fuse_centres:
+            e, rf = abs(y - y0), geom.fuse_ball_radius
+            if e < geom.fuse_seat_radius:
+                cuts.append(Point(x, t - geom.fuse_seat_depth + rf).buffer(math.sqrt(rf * rf - e * e), quad_segs=res))
+        if which == "bottom":
+            for x, y in geom.fuse_hole_centres:
+                e, rh = abs(y - y0), 0.5 * geom.fuse_hole_diameter
+                if e < rh:
+                    w = math.sqrt(rh * rh - e * e)
+                    cuts.append(box(x - w, t - geom.fuse_hole_depth, x + w, t + 1.0))
+        return box(-0.5 * s, 0.0, 0.5 * s, t).difference(unary_union(cuts)) if cuts else box(-0.5 * s, 0, 0.5 * s, t)
+
+    from shapely.affinity import scale, translate
+
+    bottom = plate("bottom")
+    top = translate(scale(plate("top"), 1.0, -1.0, origin=(0, 0.5 * t)), 0.0, t + geom.gap)
+    balls = [Point(x, t - geom.depth + geom.ball_radius).buffer(math.sqrt(geom.ball_radius ** 2 - (y - y0) ** 2), quad_segs=res)
+             for x, y in geom.groove_centres if abs(y - y0) < geom.ball_radius]
+    fuse = [Point(x, t - geom.fuse_seat_depth + geom.fuse_ball_radius).buffer(
+                math.sqrt(geom.fuse_ball_radius ** 2 - (y - y0) ** 2), quad_segs=res)
+            for x, y in geom.fuse_centres if abs(y - y0) < geom.fuse_ball_radius]
+    return bottom, top, balls, fuse
+
+
+def _plot_section(geom: PlateGeometry, png: Path, svg: Path) -> tuple[Path, Path]:
+    """Section of both plates with the balls in place, through the first groove's
+    centre along x; the lower panel details that groove with its dimensions."""
+    import shapely
+
+    from ..report.plots import _pyplot
+
+    plt = _pyplot()
+    x0, y0 = geom.groove_centres[0]
+    bottom, top, balls, fuse = _section_shapes(geom, y0)
+    t, d, a, R, r, gap = geom.thickness, geom.depth, geom.opening_radius, geom.R, geom.ball_radius, geom.gap
+    fig, axes = plt.subplots(2, 1, figsize=(12, 9), gridspec_kw={"height_ratios": [1, 1.6]})
+
+    def draw(ax):
+        for geom_, fc in ((bottom, "burlywood"), (top, "tan")):
+            for poly in shapely.get_parts(geom_):
+                xy = np.asarray(poly.exterior.coords) * MM
+                ax.fill(xy[:, 0], xy[:, 1], fc=fc, ec="k", lw=0.8)
+        for disc, fc in [(b, "0.6") for b in balls] + [(f, "steelblue") for f in fuse]:
+            xy = np.asarray(disc.exterior.coords) * MM
+            ax.fill(xy[:, 0], xy[:, 1], fc=fc, ec="k", lw=0.6, alpha=0.7)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("z (mm)")
+
+    ax = axes[0]
+    draw(ax)
+    ax.set_title(f"Section y = {y0 * MM:.1f} mm through groove 1: bottom plate, balls (r = {r * MM:.1f} mm), "
+                 f"top plate; side {geom.side * MM:.0f} mm, gap {gap * MM:.1f} mm", fontsize=10)
+
+    ax = axes[1]
+    draw(ax)
+    pad = 0.02
+    sd = 1.0 if x0 <= 0 else -1.0                   # towards the plate centre: the side with wood
+    lo, hi = sorted(((x0 - sd * (a + pad)) * MM, (x0 + sd * (a + 3 * pad)) * MM))
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(-0.008 * MM, (2 * t + gap + 0.008) * MM)
+    arrow = {"arrowstyle": "<->", "color": "darkred", "lw": 1.0, "shrinkA": 0, "shrinkB": 0}
+    text = {"color": "darkred", "fontsize": 9, "bbox": {"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.0}}
+    ha = "left" if sd > 0 else "right"
+    # depth, beside the groove, with an extension line from its deepest point
+    xd = (x0 + sd * (a + 0.5 * pad)) * MM
+    ax.plot([x0 * MM, xd + 2 * sd], [(t - d) * MM] * 2, color="darkred", lw=0.6, ls="--")
+    ax.annotate("", xy=(xd, (t - d) * MM), xytext=(xd, t * MM), arrowprops=arrow)
+    ax.text(xd + sd, (t - 0.5 * d) * MM, f"depth = {d * MM:.1f} mm", ha=ha, va="center", **text)
+    # thickness, just beyond it
+    xt = xd + 22 * sd
+    ax.annotate("", xy=(xt, 0), xytext=(xt, t * MM), arrowprops=arrow)
+    ax.text(xt + sd, 0.35 * t * MM, f"t = {t * MM:.1f} mm", ha=ha, va="center", rotation=90, **text)
+    # opening radius, in the gap above the bottom plate
+    za = (t + 0.35 * gap) * MM
+    ax.annotate("", xy=(x0 * MM, za), xytext=((x0 + sd * a) * MM, za), arrowprops=arrow)
+    ax.plot([x0 * MM] * 2, [(t - d) * MM, za], color="darkred", lw=0.6, ls=":")
+    ax.text((x0 + 0.5 * sd * a) * MM, za + 0.8, f"a = {a * MM:.1f} mm", ha="center", va="bottom", **text)
+    # R: a leader along the radius to a point of the groove's surface, on the other side
+    th = -sd * 0.55 * math.asin(a / R)
+    px, pz = x0 + R * math.sin(th), t - d + R - R * math.cos(th)
+    ux, uz = -math.sin(th), math.cos(th)           # towards the sphere centre (far above)
+    L = 0.6 * (t + gap)
+    ax.annotate("", xy=(px * MM, pz * MM), xytext=((px + L * ux) * MM, (pz + L * uz) * MM),
+                arrowprops={"arrowstyle": "->", "color": "darkred", "lw": 1.0})
+    ax.text((px + L * ux) * MM, (pz + L * uz) * MM + 0.8,
+            f"R = {R * MM:.0f} mm\n(centre {(R - d) * MM:.0f} mm above the face)", ha="center", va="bottom", **text)
+    ax.set_title(f"Groove 1 at ({x0 * MM:.1f}, {y0 * MM:.1f}) mm: t = {t * MM:.1f} mm, R = {R * MM:.0f} mm, "
+                 f"depth = {d * MM:.1f} mm, a = {a * MM:.1f} mm, ball r = {r * MM:.1f} mm "
+                 "(top plate: the mirror)", fontsize=10)
+    fig.tight_layout()
+    try:
+        atomic_write(png, lambda p: fig.savefig(p, format="png", dpi=150))
+        atomic_write(svg, lambda p: fig.savefig(p, format="svg"))
+    finally:
+        plt.close(fig)
+    return png, svg
+
+
+def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str, Path]:
+    """Write the plates' fabrication files to ``out_dir`` and return their paths:
+
+    bottom_stl, top_stl   bottom_plate.stl, top_plate.stl (mm, each in its own frame)
+    bottom_3mf, top_3mf   bottom_plate.3mf, top_plate.3mf (mm); only when trimesh can
+                          write 3MF (it needs lxml; otherwise a warning, no 3MF)
+    bottom_dxf, top_dxf   bottom_plate.dxf, top_plate.dxf (mm, origin at the plate centre):
+                          outline CUT_OUTSIDE; groove and seat opening circles POCKET;
+                          groove centres DRILL points; drop holes DRILL circles
+    section_png, section_svg  plates_section.png / .svg, the dimensioned section
+    """
+    out = prepare_dir(out_dir)
+    can_3mf = importlib.util.find_spec("lxml") is not None
+    if not can_3mf:
+        warnings.warn("3MF files not written: trimesh needs the 'lxml' package to write 3MF", stacklevel=2)
+    paths: dict[str, Path] = {}
+    for which in WHICH:
+        mesh = to_trimesh(plate_solid(geom, which, segments))
+        mesh.apply_scale(MM)
+        paths[f"{which}_stl"] = atomic_write(out / f"{which}_plate.stl",
+                                             lambda p, m=mesh: m.export(p, file_type="stl"))
+        if can_3mf:
+            paths[f"{which}_3mf"] = atomic_write(out / f"{which}_plate.3mf",
+                                                 lambda p, m=mesh: m.export(p, file_type="3mf"))
+        paths[f"{which}_dxf"] = _write_dxf(geom, which, out / f"{which}_plate.dxf")
+    paths["section_png"], paths["section_svg"] = _plot_section(
+        geom, out / "plates_section.png", out / "plates_section.svg")
+    return paths
