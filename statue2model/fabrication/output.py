@@ -45,19 +45,17 @@ def check_out_dir(out: Path) -> None:
     prepare_dir(parent)
 
 
-def _drawing(part, placement=None, use_cut=True) -> Drawing:
-    outline = part.cut if use_cut else part.outline
+def _drawing(part, hole: float, placement=None) -> Drawing:
+    """What is machined on ``part`` (its cut contour, rod holes of diameter ``hole``,
+    engraving), moved by ``placement`` when it is nested on a sheet."""
+    outline = part.cut
     holes = part.holes
     strokes = part.label.strokes if part.label is not None else ()
     if placement is not None:
         outline = placement.apply(outline)
         holes = placement.transform(holes) if len(holes) else holes
         strokes = tuple(placement.transform(s) for s in strokes)
-    return Drawing(outline=outline, holes=holes, engrave=strokes)
-
-
-def _with_hole(d: Drawing, hole: float) -> Drawing:
-    return Drawing(outline=d.outline, holes=d.holes, hole=hole, engrave=d.engrave)
+    return Drawing(outline=outline, holes=holes, hole=hole, engrave=strokes)
 
 
 def cut_lengths(part) -> tuple[float, float, float]:
@@ -251,11 +249,11 @@ def write_slice(res: SliceResult, out: Path, previews: bool = True) -> Path:
         for part in res.parts:
             by_layer.setdefault(part.layer, []).append(part)
         for k in range(res.n_layers):
-            drawings = [_with_hole(_drawing(p), spec.hole) for p in by_layer.get(k, [])]
+            drawings = [_drawing(p, spec.hole) for p in by_layer.get(k, [])]
             write_dxf(tmp / "layers" / f"layer_{k + 1:0{width}d}.dxf", drawings, title=f"layer {k + 1}")
         for s in range(res.nesting.n_sheets):
             placed = res.nesting.parts_on(s)
-            drawings = [_with_hole(_drawing(res.parts[p.part], p), spec.hole) for p in placed]
+            drawings = [_drawing(res.parts[p.part], spec.hole, p) for p in placed]
             path = write_dxf(tmp / "sheets" / f"sheet_{s + 1:02d}.dxf", drawings, title=f"sheet {s + 1}")
             if previews:
                 plot_sheet(res, s, drawings, path.with_suffix(""))
