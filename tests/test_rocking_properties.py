@@ -560,3 +560,25 @@ def test_regression_batch_lifts_at_the_exact_limit():
     rec = motions.record(x, 0.005)
     assert simulate(model, rec).outcome == "no motion"
     assert parameter_sweep(model, rec, "theta_R", [0.0]).codes[0] == 0
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_regression_release_exactly_at_theta_side(side):
+    """Fixed while landing the isolator (found by (b)). A body released from rest at
+    exactly theta_R (the end of the rolling transition) started in the full-contact
+    region, fell inward at once, and was taken for a body 'falling below the base':
+    the step shrank to 1e-13 s and the run restarted, for good (1,000,000 steps by
+    t = 1.9e-6 s). It now starts in the transition, and its energy is conserved
+    (e = 1, no loss): every peak returns to theta_R on the side it was released."""
+    body = RockingParams(m=1.0, h=1.0, b_L=0.5463024898437905, b_R=0.5463024898437905,
+                         I_G=0.4328154701365083)
+    model = RockingModel.imperfect(body, 1.0 if side > 0 else 0.5, 0.5 if side > 0 else 1.0,
+                                   1e-9 if side > 0 else 0.25, 0.25 if side > 0 else 1e-9,
+                                   e_L=1.0, e_R=1.0)
+    r = simulate(model, motions.free(), theta0=side * 0.25, t_end=8.0, rtol=1e-10, max_steps=100_000,
+                 dt_out=0.01)
+    assert r.stats["t_final"] == 8.0
+    assert r.history["phase"][1] == 1               # rolling transition, not full contact
+    same = r.peak_sides == ("R" if side > 0 else "L")
+    assert same.sum() >= 3
+    assert np.allclose(r.peak_values[same], 0.25, rtol=1e-7)

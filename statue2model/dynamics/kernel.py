@@ -457,6 +457,13 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     seg_end = segment(t, kind, M, samples, seg)
     f0 = _rhs(t, th, s, reg, P, seg)
     nrhs += 1
+    if moving and reg == 1 and (P[TR] if s > 0 else P[TL]) > 0.0 and s * th == _bounds(s, 0, P)[1] \
+            and (s * om < 0.0 or (om == 0.0 and s * f0 < 0.0)):
+        # starts exactly at theta_side moving inward: it is in the rolling transition
+        reg = 0
+        S[S_FULL_UPLIFT] = 0.0
+        f0 = _rhs(t, th, s, reg, P, seg)
+        nrhs += 1
     overturned = False
     early = P[EARLY] > 0.0
     t_quiet = M[MT1] if kind != M_NONE else t0
@@ -559,7 +566,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             d0 = s * f0
         dn_ = s * omn
         # a run that started at rest and whose end point fell below the base: shrink
-        if q0 == lo and om == 0.0 and qn < lo:
+        if q0 == lo and lo == 0.0 and om == 0.0 and qn < lo:
             h *= 0.25
             nrej += 1
             if h < 1e-13 * max(1.0, abs(t)):
