@@ -36,7 +36,7 @@ def add_parsers(sub) -> None:
     d.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
     d.add_argument("--alpha-L", type=finite_float, metavar="A")
     d.add_argument("--alpha-R", type=finite_float, metavar="A")
-    d.add_argument("--grooves", type=int, choices=[3, 4], default=4, help="number of grooves (default 4)")
+    d.add_argument("--grooves", type=int, choices=[3, 4], help="number of grooves (default: 3 or 4, whichever needs the smaller plate)")
     d.add_argument("--thickness", type=length, default=0.03, metavar="T", help="plate thickness (default 30mm)")
     d.add_argument("--fuse-release", type=_accel, metavar="A",
                    help="add a release mechanism (fuse) that lets go at A m/s^2 (or e.g. 0.075g with the g suffix)")

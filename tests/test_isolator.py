@@ -199,6 +199,22 @@ def test_design_meets_its_checks_and_explains_failures():
         design(statue, mu=0.01)
 
 
+def test_design_chooses_three_or_four_grooves_by_plate_size():
+    """Without n_grooves both layouts are designed; the passing one with the smaller
+    plate is kept (3 grooves on a tie), and the note gives both sizes."""
+    statue = _statue()
+    for spec in (ec8(0.05 * G, "A"), ec8(0.25 * G, "C")):
+        three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
+        four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
+        auto = design(statue, spectrum=spec, mu=0.0073)
+        want = three if (three.passed, -three.side) >= (four.passed, -four.side) else four
+        assert auto.n_grooves == want.n_grooves and auto.side == want.side
+        assert auto.notes[-1].startswith(f"{want.n_grooves} grooves: plate {want.side * 1000:.0f} mm")
+    # with a large demand the plate size follows the overturning check, where 4 grooves
+    # put the tipping lines further out (L_cr = spacing / 2, not spacing / (2 sqrt 3))
+    assert four.side < three.side and auto.n_grooves == 4
+
+
 def test_bad_isolators():
     with pytest.raises(InputError, match="must be smaller than the groove radius"):
         Isolator(R=0.01, r=0.0183, M=10, mu=0.01)
