@@ -1,9 +1,10 @@
-"""Command-line stage of the isolator: ``statue2model isolator design|plates|simulate``.
+"""Command-line stage of the isolator: ``statue2model isolator design|plates|simulate|identify``.
 
     statue2model isolator design PARAMS.json (--spectrum SPEC | --motion SPEC) --mu MU [...] --json OUT
     statue2model isolator plates DESIGN.json --out DIR
     statue2model isolator simulate --R M --r M --mass KG --mu MU [--model coulomb|boucwen --q Q]
                                    [--statue PARAMS.json] --motion SPEC --json OUT
+    statue2model isolator identify RECORD.csv [--units m|mm] [--T S] [--mass KG --table 25] --json OUT
 """
 from __future__ import annotations
 
@@ -66,6 +67,20 @@ def add_parsers(sub) -> None:
     s.add_argument("--rtol", type=positive_float, default=1e-9)
     s.add_argument("--json", metavar="OUT", required=True)
     s.set_defaults(func=_cmd_simulate)
+
+    i = isub.add_parser("identify", help="rolling friction mu from a free-vibration record (eq. 51)",
+                        description="Identify the rolling friction mu from a free vibration of the top plate: "
+                        "a CSV of time (s) and displacement in its first two columns (a `simulate` history "
+                        "or a measured record). Prints mu per cycle, their mean, the envelope fit and the "
+                        "measured period; with --mass and --table, compares with the measured tables.")
+    i.add_argument("record", metavar="RECORD.csv")
+    i.add_argument("--units", choices=["m", "mm"], default="m", help="displacement unit of the record")
+    i.add_argument("--T", type=positive_float, metavar="S", help="period for eq. 51 (default: measured)")
+    i.add_argument("--mass", type=positive_float, metavar="KG", help="supported mass, for the table value")
+    i.add_argument("--table", choices=["19-steel", "19-resin", "19-resin-rubber", "25"],
+                   help="measured friction table (Table 19: three grooves; Table 25: four grooves)")
+    i.add_argument("--json", metavar="OUT", required=True)
+    i.set_defaults(func=_cmd_identify)
 
 
 def _statue(path):
@@ -189,9 +204,54 @@ def _cmd_simulate(args) -> int:
         out["uplift"] = sp.uplift
         out["efficiency"] = res.efficiency
     write_json(Path(args.json), out)
+    csv = _write_history(Path(args.json).with_suffix(".csv"), res)
     print(f"T = {iso.T:.3f} s, k = {iso.k:.2f} N/m; u_max = {res.u_max * 1000:.2f} mm, "
           f"|a_abs| max = {res.acc_abs_max:.4f} m/s^2 (pga {res.pga:.4f}), {len(res.peaks_u)} peaks")
     if args.statue:
         print(f"statue: uplift {'YES' if out['uplift'] else 'no'}, efficiency {res.efficiency:.3f}")
+    print(f"wrote {args.json} and {csv.name} (history)")
+    return 0
+
+
+def _write_history(path: Path, res) -> Path:
+    """t, u, v, a_abs, z every dt_out, SI units: readable by `isolator identify`."""
+    import numpy as np
+
+    from .files import atomic_write
+
+    data = np.column_stack([res.t, res.u, res.v, res.acc_abs, res.z])
+    return atomic_write(path, lambda p: np.savetxt(p, data, delimiter=",", fmt="%.10g",
+                                                    header="t_s,u_m,v_m_s,a_abs_m_s2,z", comments=""))
+
+
+_TABLES = {"19-steel": "steel_r0.0095", "19-resin": "resin_r0.0183", "19-resin-rubber": "resin_r0.0183_rubber"}
+
+
+def _cmd_identify(args) -> int:
+    from .dynamics.identify import read_time_series
+    from .files import write_json
+    from .isolator.friction import TABLE_19, TABLE_25, friction_from_record, mu_for_load
+
+    if (args.mass is None) != (args.table is None):
+        raise InputError("--mass and --table go together (the table value at that load)")
+    t, u = read_time_series(args.record, "displacement")
+    if args.units == "mm":
+        u = u / 1000.0
+    fr = friction_from_record(t, u, T=args.T)
+    out = fr.to_dict()
+    print(f"{len(fr.peaks_u)} peaks, period {fr.period:.4f} s")
+    print("mu per cycle: " + ", ".join(f"{m:.5f}" for m in fr.mu_per_cycle))
+    print(f"mu mean {fr.mu_mean:.5f}, envelope fit {fr.mu_fitted:.5f}")
+    if args.table:
+        if args.table == "25":
+            tab = TABLE_25["mu"]
+            masses = TABLE_25["M"]
+        else:
+            tab = TABLE_19[_TABLES[args.table]]
+            masses = TABLE_19["M"]
+        mu_t = mu_for_load(args.mass, masses, tab)
+        out["table"] = {"name": f"Table {args.table}", "mass": args.mass, "mu": mu_t}
+        print(f"Table {args.table} at {args.mass:g} kg: mu {mu_t:.5f} (identified / table = {fr.mu_fitted / mu_t:.3f})")
+    write_json(Path(args.json), out)
     print(f"wrote {args.json}")
     return 0

@@ -17,7 +17,8 @@ from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.design import design
 from statue2model.isolator.design_spectrum import ec8
 from statue2model.isolator.device import Isolator, fuse_release_acceleration, fuse_seat_depth, lever_arm
-from statue2model.isolator.dynamics import TABLE_25, identify_mu, mu_for_load, simulate, statue_on_plate
+from statue2model.isolator.dynamics import simulate, statue_on_plate
+from statue2model.isolator.friction import TABLE_25, friction_from_record, identify_mu, mu_for_load
 from statue2model.isolator.kernel import z_map
 
 G = 9.81
@@ -253,3 +254,39 @@ def test_cli(tmp_path, capsys):
     assert main(["isolator", "simulate", "--R", "0.01", "--r", "0.02", "--mass", "10", "--mu", "0.01",
                  "--motion", "free:u0=0.05", "--json", str(tmp_path / "x.json")]) == 2
     assert "must be smaller than the groove radius" in capsys.readouterr().err
+
+
+def test_friction_from_a_sampled_record():
+    """eq. 51 on a sampled free vibration: the peaks come from the samples (parabola),
+    so mu is recovered to the sampling's accuracy, the period to 5e-4."""
+    for mu, dt in ((0.0114, 0.002), (0.0073, 0.005)):
+        iso = Isolator(R=0.30, r=0.0183, M=21.664, mu=mu)
+        res = simulate(iso, motions.free(), u0=0.08, t_end=8.0, dt_out=dt)
+        fr = friction_from_record(res.t, res.u)
+        assert fr.period == pytest.approx(iso.T, rel=5e-4)
+        assert fr.mu_fitted == pytest.approx(mu, rel=3e-3)
+        assert np.allclose(fr.mu_per_cycle, mu, rtol=5e-3)
+        # a noisy record: 0.1 mm noise leaves mu within 5 %
+        noisy = res.u + np.random.default_rng(1).normal(0, 1e-4, res.u.size)
+        assert friction_from_record(res.t, noisy).mu_fitted == pytest.approx(mu, rel=0.05)
+    with pytest.raises(InputError, match="at least three"):
+        friction_from_record(res.t[:100], res.u[:100])
+    with pytest.raises(InputError, match="must increase"):
+        friction_from_record(res.t[::-1], res.u)
+
+
+def test_cli_simulate_then_identify(tmp_path, capsys):
+    out = tmp_path / "free.json"
+    assert main(["isolator", "simulate", "--R", "0.3", "--r", "0.0183", "--mass", "21.664", "--mu", "0.0114",
+                 "--motion", "free:u0=0.08", "--t-end", "8", "--dt-out", "0.002", "--json", str(out)]) == 0
+    hist = tmp_path / "free.csv"
+    assert hist.read_text().startswith("t_s,u_m,")
+    ij = tmp_path / "id.json"
+    assert main(["isolator", "identify", str(hist), "--mass", "21.664", "--table", "19-resin", "--json", str(ij)]) == 0
+    d = json.loads(ij.read_text())
+    assert d["mu_fitted"] == pytest.approx(0.0114, rel=3e-3) and d["table"]["mu"] == pytest.approx(0.0114)
+    capsys.readouterr()
+    assert main(["isolator", "identify", str(out), "--json", str(tmp_path / "x.json")]) == 2
+    assert "expected at least 2 columns" in capsys.readouterr().err
+    assert main(["isolator", "identify", str(hist), "--mass", "99", "--table", "25", "--json", str(ij)]) == 2
+    assert "outside the measured friction table" in capsys.readouterr().err

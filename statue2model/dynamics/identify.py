@@ -170,6 +170,16 @@ def identify_restitution(t, theta, params: RockingParams, min_fraction: float = 
 def read_rotation_record(path, units: str = "rad") -> tuple[np.ndarray, np.ndarray]:
     """CSV of time (s) and rotation in its first two columns (further columns, such as
     those of a ``rock`` history, are ignored), optional header; ``units`` rad or deg."""
+    if units not in ("rad", "deg"):
+        raise InputError(f"rotation units must be rad or deg, got {units!r}")
+    t, theta = read_time_series(path, "rotation")
+    return t, (np.radians(theta) if units == "deg" else theta)
+
+
+def read_time_series(path, quantity: str) -> tuple[np.ndarray, np.ndarray]:
+    """Time (s) and one quantity from the first two columns of a CSV (separators
+    , ; tab or space; optional header; further columns ignored); ``quantity`` names
+    the second column in error messages."""
     from pathlib import Path
 
     path = Path(path)
@@ -188,7 +198,7 @@ def read_rotation_record(path, units: str = "rad") -> tuple[np.ndarray, np.ndarr
                 raise InputError(f"{path}: line {j}: not a number: {line.strip()!r}") from None
             continue
         if len(vals) < 2:
-            raise InputError(f"{path}: line {j}: expected at least 2 columns (time, rotation), found {len(vals)}")
+            raise InputError(f"{path}: line {j}: expected at least 2 columns (time, {quantity}), found {len(vals)}")
         if ncol and len(vals) != ncol:
             raise InputError(f"{path}: line {j}: {len(vals)} columns where earlier lines have {ncol}")
         ncol = len(vals)
@@ -196,7 +206,8 @@ def read_rotation_record(path, units: str = "rad") -> tuple[np.ndarray, np.ndarr
     if len(rows) < 5:
         raise InputError(f"{path}: fewer than 5 data rows")
     data = np.asarray(rows)
-    if units not in ("rad", "deg"):
-        raise InputError(f"rotation units must be rad or deg, got {units!r}")
-    theta = np.radians(data[:, 1]) if units == "deg" else data[:, 1]
-    return data[:, 0], theta
+    if not np.all(np.isfinite(data)):
+        raise InputError(f"{path}: a value is not a finite number")
+    if np.any(np.diff(data[:, 0]) <= 0):
+        raise InputError(f"{path}: the times must increase")
+    return data[:, 0], data[:, 1]

@@ -127,44 +127,6 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
     )
 
 
-def identify_mu(peaks_u, T: float, g: float = 9.81) -> dict:
-    """Rolling friction from the successive peaks of a free-vibration record (eq. 51):
-    mu_j = omega^2 (u_j - u_{j+2}) / (4 g) per cycle, and the least-squares slope of
-    the peak envelope (|u_j| against j: each half cycle loses 2 mu g / omega^2)."""
-    p = np.abs(np.asarray(peaks_u, dtype=float))
-    if p.ndim != 1 or len(p) < 3 or not np.all(np.isfinite(p)):
-        raise InputError("identifying mu needs at least three finite successive peaks")
-    if not (math.isfinite(T) and T > 0):
-        raise InputError(f"period must be positive, got {T}")
-    om2 = (2 * math.pi / T) ** 2
-    per_cycle = om2 * (p[:-2] - p[2:]) / (4 * g)
-    j = np.arange(len(p))
-    slope = np.polyfit(j, p, 1)[0]
-    return {"per_cycle": per_cycle.tolist(), "mean": float(per_cycle.mean()),
-            "fitted": float(-slope * om2 / (2 * g))}
-
-
-def mu_for_load(M: float, table_M, table_mu) -> float:
-    """mu at supported mass M by linear interpolation in a measured table
-    (Tables 19, 25); outside the table: an error, not an extrapolation."""
-    tm = np.asarray(table_M, dtype=float)
-    tv = np.asarray(table_mu, dtype=float)
-    if tm.shape != tv.shape or len(tm) < 2 or np.any(np.diff(tm) <= 0):
-        raise InputError("the friction table needs two or more increasing masses with one mu each")
-    if not (tm[0] <= M <= tm[-1]):
-        raise InputError(f"mass {M:g} kg is outside the measured friction table ({tm[0]:g}-{tm[-1]:g} kg)")
-    return float(np.interp(M, tm, tv))
-
-
-TABLE_19 = {  # three-groove device (M kg -> mu)
-    "M": (11.664, 21.664, 31.664, 41.664, 51.664),
-    "steel_r0.0095": (0.0131, 0.0194, 0.0254, 0.0312, 0.0370),
-    "resin_r0.0183": (0.0094, 0.0114, 0.0130, 0.0154, 0.0170),
-    "resin_r0.0183_rubber": (0.0133, 0.0150, 0.0170, 0.0193, 0.0209),
-}
-TABLE_25 = {"M": (4.359, 9.359, 14.359, 19.359, 24.359), "mu": (0.0039, 0.0055, 0.0070, 0.0081, 0.0108)}
-
-
 @dataclass(frozen=True)
 class StatueOnPlate:
     """The statue on the moving plate: uplift check and, where needed, its rocking."""
