@@ -16,9 +16,19 @@ from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.design import design
 from statue2model.isolator.design_spectrum import ec8
-from statue2model.isolator.device import Isolator, fuse_release_acceleration, fuse_seat_depth, lever_arm
+from statue2model.isolator.device import (
+    Isolator,
+    fuse_release_acceleration,
+    fuse_seat_depth,
+    lever_arm,
+)
 from statue2model.isolator.dynamics import simulate, statue_on_plate
-from statue2model.isolator.friction import TABLE_25, friction_from_record, identify_mu, mu_for_load
+from statue2model.isolator.friction import (
+    TABLE_25,
+    friction_from_record,
+    identify_mu,
+    mu_for_load,
+)
 from statue2model.isolator.kernel import z_map
 
 G = 9.81
@@ -131,10 +141,7 @@ def test_boucwen_z_map_is_the_exact_solution():
     for n in (1, 2):
         for z0, du in [(0.0, 3e-4), (-0.8, 5e-4), (0.5, -2e-4), (0.99, 1e-3)]:
             s = math.copysign(1.0, du)
-
-            def dz(u, z, n=n, s=s):
-                return [(1 - abs(z[0]) ** n * (0.5 + 0.5 * math.copysign(1.0, s * z[0]))) * s / u_y * s]
-            sol = solve_ivp(lambda x, z: [(1 - abs(z[0]) ** n * (0.5 + 0.5 * np.sign(s * z[0]))) / u_y * s],
+            sol = solve_ivp(lambda x, z, n=n, s=s: [(1 - abs(z[0]) ** n * (0.5 + 0.5 * np.sign(s * z[0]))) / u_y * s],
                             (0, abs(du)), [z0], rtol=1e-12, atol=1e-14, method="Radau")
             assert z_map(z0, du, s, u_y, n) == pytest.approx(sol.y[0, -1], abs=1e-8)
             assert abs(z_map(z0, du, s, u_y, n)) <= 1.0

@@ -49,7 +49,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
-from .device import G, Isolator, allowable_displacement, fuse_release_acceleration, fuse_seat_depth, lever_arm, safety_length
+from .device import (
+    G,
+    Isolator,
+    allowable_displacement,
+    fuse_release_acceleration,
+    fuse_seat_depth,
+    lever_arm,
+    safety_length,
+)
 
 BALLS = (0.0095, 0.0125, 0.0183, 0.020, 0.025)
 """Ball radii tried (m): the thesis' steel 9.5 mm, resin 18.3 mm, ivory 20 mm, and two more."""

@@ -46,7 +46,7 @@ def _grow(a, n):
 @njit(cache=True)
 def _coulomb_coeffs(ta, ua, va, s, seg, om, mug, out):
     """out = [p0, p1, B, res, C, D]: u(t) = p0 + p1 (t - t0) + harmonic(t) + C cos(om (t-ta)) + D sin(om (t-ta))."""
-    c0, c1, t0, A, w, ts, ph = seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6]
+    c0, c1, A, w = seg[0], seg[1], seg[3], seg[4]
     om2 = om * om
     p1 = -c1 / om2
     p0 = (-s * mug - c0) / om2
@@ -174,9 +174,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
         if seg[3] != 0.0:
             period = min(period, 2.0 * math.pi / seg[4])
         h = period / 16.0
-        nsub = int(math.ceil(span / h)) if span < np.inf else 1
-        if nsub < 1:
-            nsub = 1
+        nsub = max(math.ceil(span / h), 1) if span < np.inf else 1
         h = span / nsub
         t_rev = np.inf
         lo = t
@@ -369,7 +367,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         err = max(abs(eu) / (atol_u + rtol * max(abs(u), abs(u5))), abs(ev) / (atol_v + rtol * max(abs(v), abs(v5))))
         if not (err <= 1.0):
             rej += 1
-            fac = 0.9 * err ** -0.2 if err == err else 0.1
+            fac = 0.1 if math.isnan(err) else 0.9 * err ** -0.2
             h = hh * max(0.1, min(0.9, fac))
             continue
         fac = 0.9 * err ** -0.2 if err > 0.0 else 5.0
