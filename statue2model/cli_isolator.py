@@ -59,7 +59,7 @@ def add_parsers(sub) -> None:
     s.add_argument("--model", choices=["coulomb", "boucwen"], default="coulomb")
     s.add_argument("--q", type=positive_float, default=30.0, help="Bouc-Wen k_i / k (30 without rubber, 5 with)")
     s.add_argument("--n", type=int, choices=[1, 2], default=1, help="Bouc-Wen exponent")
-    s.add_argument("--statue", metavar="PARAMS.json", help="check the statue on the plate (uplift, rocking, efficiency)")
+    s.add_argument("--statue", metavar="PARAMS.json", help="the statue on the plate: plate + statue coupled (uplift, rocking, efficiency)")
     s.add_argument("--alpha", type=finite_float, metavar="A", help="the statue's alpha_L = alpha_R (imperfect model)")
     s.add_argument("--motion", required=True, metavar="SPEC", help="as for `rock`, plus free:u0=M[,v0=M/S]")
     s.add_argument("--t-end", type=positive_float, metavar="S")
@@ -199,16 +199,20 @@ def _cmd_simulate(args) -> int:
         params = _statue(args.statue)
         model = RockingModel.housner(params) if args.alpha is None else RockingModel.imperfect(
             params, alpha_L=args.alpha, alpha_R=args.alpha)
-        sp = statue_on_plate(res, model)
+        sp = statue_on_plate(res, model, rtol=args.rtol)
         out["statue"] = sp.to_dict()
         out["uplift"] = sp.uplift
-        out["efficiency"] = res.efficiency
+        out["efficiency"] = sp.efficiency
     write_json(Path(args.json), out)
     csv = _write_history(Path(args.json).with_suffix(".csv"), res)
     print(f"T = {iso.T:.3f} s, k = {iso.k:.2f} N/m; u_max = {res.u_max * 1000:.2f} mm, "
           f"|a_abs| max = {res.acc_abs_max:.4f} m/s^2 (pga {res.pga:.4f}), {len(res.peaks_u)} peaks")
     if args.statue:
-        print(f"statue: uplift {'YES' if out['uplift'] else 'no'}, efficiency {res.efficiency:.3f}")
+        line = f"statue (coupled plate + statue): uplift {'YES' if sp.uplift else 'no'}, efficiency {sp.efficiency:.3f}"
+        if sp.uplift:
+            line += (f"; {sp.rocking.outcome}, theta_max/delta {sp.rocking.theta_max_over_delta:.3f} "
+                     f"(one-way estimate {sp.one_way.theta_max_over_delta:.3f})")
+        print(line)
     print(f"wrote {args.json} and {csv.name} (history)")
     return 0
 

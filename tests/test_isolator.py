@@ -136,6 +136,45 @@ def test_coulomb_forced_against_solve_ivp():
     assert ours.u_max > 0.01
 
 
+def _boucwen_reference(iso, motion, t_end):
+    """u(t) of eqs. 22-24 as a 3-state stiff ODE (u, u', z), Radau at rtol 1e-10."""
+    om2, mug, q, n = iso.omega**2, iso.mu * iso.g, iso.q, iso.n
+    u_y = mug / (q * om2)
+
+    def rhs(t, y):
+        u, v, z = y
+        dz = (1 - abs(z) ** n * (0.5 + 0.5 * np.sign(v * z))) * v / u_y
+        return [v, -om2 * u - (1 - 1 / q) * mug * z - motion.acc(t), dz]
+    t = np.linspace(0, t_end, 2001)
+    sol = solve_ivp(rhs, (0, t_end), [0.0, 0.0, 0.0], method="Radau", rtol=1e-10, atol=1e-13, t_eval=t,
+                    max_step=0.002)
+    return t, sol.y[0]
+
+
+@pytest.mark.parametrize("kind", ["sine pulse", "record from zero"])
+def test_boucwen_forced_from_rest_against_solve_ivp(kind):
+    """Regression: a plate at rest under a force that starts at exactly zero (a sine
+    pulse, a record whose first sample is 0) must start moving (it stayed at rest)."""
+    iso = Isolator(R=0.30, r=0.0183, M=15.0, mu=0.01, model="boucwen", q=30)
+    if kind == "sine pulse":
+        motion = motions.sine_pulse(0.3 * G, 1.0)
+    else:
+        motion = motions.record(np.sin(np.linspace(0, 6 * np.pi, 301)) * np.linspace(0, 1, 301) * 2.0, 0.01)
+    t, u_ref = _boucwen_reference(iso, motion, 3.0)
+    ours = simulate(iso, motion, t_end=3.0, dt_out=0.0015, rtol=1e-10)
+    assert ours.u_max > 0.01
+    assert np.max(np.abs(ours.u - u_ref)) < 1e-5 * np.max(np.abs(u_ref))
+
+
+def test_coulomb_last_sample_keeps_its_velocity():
+    """Regression: the sample at exactly t_end had v = 0 while the plate was sliding."""
+    iso = Isolator(R=0.30, r=0.0183, M=15.0, mu=0.0)
+    res = simulate(iso, motions.free(), u0=0.03, t_end=4.0)
+    w = iso.omega
+    assert res.v[-1] == pytest.approx(-0.03 * w * math.sin(w * 4.0), rel=1e-9)
+    assert res.acc_abs[-1] == pytest.approx(-0.03 * w * w * math.cos(w * 4.0), rel=1e-9)
+
+
 def test_boucwen_z_map_is_the_exact_solution():
     u_y = 1e-4
     for n in (1, 2):
@@ -186,9 +225,23 @@ def test_statue_on_the_plate_checks_contact_and_efficiency():
     assert abs(plate.acc_abs).max() <= plate.acc_abs_max * (1 + 1e-9)
     weak = RockingModel.imperfect(statue, alpha_L=0.175, alpha_R=0.175)
     sp = statue_on_plate(plate, weak)
-    assert sp.uplift == bool(plate.acc_abs_max > min(weak.uplift_limits))
+    assert sp.uplift and plate.acc_abs_max > min(weak.uplift_limits)
+    assert sp.rocking.stats["coupled_integration"] and sp.one_way is not None
+    # the rocking statue pushes the plate back: the two-way response differs from the one-way one
+    assert sp.rocking.theta_max_over_delta != pytest.approx(sp.one_way.theta_max_over_delta, rel=0.05)
+    d = sp.to_dict()
+    assert d["uplift"] and d["rocking_on_plate"]["outcome"] == sp.rocking.outcome
     strong = statue_on_plate(plate, RockingModel.housner(statue), compare_fixed=False)
-    assert not strong.uplift and strong.rocking is None
+    assert not strong.uplift and strong.one_way is None
+    # |a_abs| passes the smaller limit (2.24 m/s^2) but a_abs never crosses it on that side:
+    # the 2-DOF run finds no uplift and returns the plate's result
+    assert plate.acc_abs_max > min(strong.limit_pos, strong.limit_neg)
+    assert strong.rocking.stats["uplift_found"] is False
+    assert np.array_equal(strong.rocking.u, plate.u) and strong.efficiency == plate.efficiency
+    # a weaker motion: screened by the plate alone, no 2-DOF integration at all
+    gentle = statue_on_plate(simulate(iso, motions.synthetic_record(duration=10.0, pga=0.1 * G, seed=3)),
+                             RockingModel.housner(statue), compare_fixed=False)
+    assert not gentle.uplift and not gentle.rocking.stats["coupled_integration"]
 
 
 def test_design_meets_its_checks_and_explains_failures():

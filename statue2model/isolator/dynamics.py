@@ -8,13 +8,11 @@ absolute plate acceleration a_abs = u_g'' + u_o''. The problem (an immutable
 :class:`~statue2model.dynamics.motions.GroundMotion`) is kept apart from the
 solvers in kernel.py; :func:`simulate` returns an :class:`IsolatorResult`.
 
-With a statue on top (:func:`statue_on_plate`), its uplift limits are checked
-against a_abs (full contact is checked, not assumed). Where a_abs crosses them,
-the statue's rocking is integrated with the rocking engine under a_abs as its
-ground motion: the second degree of freedom, driven by the plate. The statue's
-rocking is not fed back into the plate (its horizontal reaction changes by far
-less than the plate's inertia while it only starts to rock; see the limits in
-the README).
+With a statue on top (:func:`statue_on_plate`), plate and statue are integrated
+together where the statue may lift (coupled.py: two degrees of freedom, the rocking
+statue pushes the plate back); full contact is checked, not assumed. While the
+statue stays in full contact the coupled model is exactly eq. 20 with M = m_o + m,
+so a plate whose a_abs stays inside the statue's limits needs no 2-DOF run.
 
 Example
 -------
@@ -129,43 +127,72 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
 
 @dataclass(frozen=True)
 class StatueOnPlate:
-    """The statue on the moving plate: uplift check and, where needed, its rocking."""
+    """The statue on the moving plate: uplift check and, where it lifts, its rocking.
+
+    rocking       : CoupledResult of plate + statue (two-way, coupled.py); when the
+                    statue never lifts it holds the plate result (no 2-DOF integration)
+    one_way       : RockingResult of the statue driven by the plate-only a_abs (the
+                    rocking not fed back), for comparison; None without uplift
+    fixed_rocking : RockingResult of the statue on a fixed base under the ground motion
+    """
 
     plate: IsolatorResult
     limit_pos: float      # a_abs above this tips the statue (alpha_L a_L), m/s^2
     limit_neg: float      # a_abs below minus this tips it the other way (alpha_R a_R)
-    uplift: bool
-    rocking: object       # RockingResult of the statue under a_abs, or None
-    fixed_rocking: object  # RockingResult without the isolator, or None
+    rocking: object
+    one_way: object
+    fixed_rocking: object
+
+    @property
+    def uplift(self) -> bool:
+        return bool(self.rocking.uplift)
+
+    @property
+    def efficiency(self) -> float:
+        """Peak |a_abs| isolated (coupled) / PGA (Table 26)."""
+        return self.rocking.efficiency
 
     def to_dict(self) -> dict:
+        r = self.rocking
         out = {
             "uplift": self.uplift, "uplift_limits": [self.limit_pos, self.limit_neg],
-            "acc_abs_max": self.plate.acc_abs_max, "pga": self.plate.pga, "efficiency": self.plate.efficiency,
-            "margin": min(self.limit_pos - float(self.plate.acc_abs.max()),
-                          self.limit_neg + float(self.plate.acc_abs.min())),
+            "acc_abs_max": r.acc_abs_max, "pga": r.pga, "efficiency": r.efficiency,
+            "margin_plate_only": min(self.limit_pos - float(self.plate.acc_abs.max()),
+                                     self.limit_neg + float(self.plate.acc_abs.min())),
+            "model": "coupled plate + statue (two-way)",
+            "coupled_integration": bool(r.stats.get("coupled_integration", False)),
         }
-        if self.rocking is not None:
-            out["rocking_on_plate"] = {"outcome": self.rocking.outcome,
-                                       "theta_max_over_delta": self.rocking.theta_max_over_delta}
+        if self.uplift:
+            out["rocking_on_plate"] = {"outcome": r.outcome, "theta_max_over_delta": r.theta_max_over_delta,
+                                       "t_uplift": r.t_uplift, "n_impacts": r.n_impacts, "overturned": r.overturned,
+                                       "u_max": r.u_max}
+        if self.one_way is not None:
+            out["rocking_one_way"] = {"outcome": self.one_way.outcome,
+                                      "theta_max_over_delta": self.one_way.theta_max_over_delta}
         if self.fixed_rocking is not None:
             out["rocking_fixed_base"] = {"outcome": self.fixed_rocking.outcome,
                                          "theta_max_over_delta": self.fixed_rocking.theta_max_over_delta}
         return out
 
 
-def statue_on_plate(plate: IsolatorResult, rocking_model, compare_fixed: bool = True) -> StatueOnPlate:
-    """Check the statue (a RockingModel) against the plate's absolute acceleration;
-    integrate its rocking under that acceleration where a limit is crossed."""
+def statue_on_plate(plate: IsolatorResult, rocking_model, compare_fixed: bool = True,
+                    rtol: float = 1e-9) -> StatueOnPlate:
+    """The statue (a RockingModel) on the plate of ``plate`` (same isolator, motion,
+    start and sampling): the coupled plate + statue model decides whether it lifts
+    and how it rocks; the one-way estimate (statue driven by the plate-only a_abs)
+    and the fixed-base response are given beside it."""
     from ..dynamics import motions
     from ..dynamics.engine import simulate as rock
+    from .coupled import simulate_coupled
 
     up, dn = rocking_model.uplift_limits
-    a = plate.acc_abs
-    uplift = bool(a.max() > up or a.min() < -dn or plate.acc_abs_max > max(up, dn))
-    rocking = None
-    if uplift:
-        dt = float(plate.t[1] - plate.t[0])
-        rocking = rock(rocking_model, motions.record(a, dt, label="isolated plate"), t_end=float(plate.t[-1]))
+    dt = float(plate.t[1] - plate.t[0])
+    coupled = simulate_coupled(plate.isolator, rocking_model, plate.motion, u0=float(plate.u[0]),
+                               v0=float(plate.v[0]), t_end=float(plate.t[-1]), dt_out=dt, rtol=rtol)
+    one_way = None
+    if coupled.uplift:
+        one_way = rock(rocking_model, motions.record(plate.acc_abs, dt, label="isolated plate"),
+                       t_end=float(plate.t[-1]))
     fixed = rock(rocking_model, plate.motion) if compare_fixed and plate.motion.kind != "none" else None
-    return StatueOnPlate(plate=plate, limit_pos=up, limit_neg=dn, uplift=uplift, rocking=rocking, fixed_rocking=fixed)
+    return StatueOnPlate(plate=plate, limit_pos=up, limit_neg=dn, rocking=coupled, one_way=one_way,
+                         fixed_rocking=fixed)

@@ -225,10 +225,15 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
                 s = 1.0 if d > 0.0 else -1.0
         else:
             v = v_end
-    while k_out < n_out:
+    while k_out < n_out:       # samples at t_end itself (or after the plate came to rest for good)
+        tk = k_out * dt_out
         out_u[k_out] = u
-        out_v[k_out] = 0.0
-        out_a[k_out] = 0.0 if s == 0.0 else -(om2 * u + s * mug)
+        out_v[k_out] = 0.0 if s == 0.0 else v
+        if s == 0.0:
+            K.segment(tk, kind, M, samples, seg)
+            out_a[k_out] = K._acc(tk, seg)
+        else:
+            out_a[k_out] = -(om2 * u + s * mug)
         k_out += 1
     stats[I_UMAX] = umax
     stats[I_AMAX] = amax
@@ -331,6 +336,10 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         t_piece_end = K.segment(t, kind, M, samples, seg)
         if s == 0.0:
             a0, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, 1.0, u_y, n)
+            if a0 == 0.0:
+                # at rest with no net force (u, z fixed while v = 0): the force's slope
+                # -f'(t) decides which way the plate starts
+                a0 = -(seg[1] + seg[3] * seg[4] * math.cos(seg[4] * (t - seg[5]) + seg[6]))
             if a0 != 0.0:
                 s = 1.0 if a0 > 0.0 else -1.0
                 u_r = u
