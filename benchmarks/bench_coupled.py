@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
+from bench_isolator import timed
 from test_isolator_coupled import BLOCK, reference
 
 from statue2model.dynamics import motions
@@ -35,13 +34,6 @@ from statue2model.isolator.device import Isolator
 G = 9.81
 
 
-def timed(fn, repeat=3):
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t)
-    return best, out
 
 
 def error(vals, ref):

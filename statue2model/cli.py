@@ -6,7 +6,8 @@
     statue2model rock PARAMS.json --motion SPEC [model options] [--t-end S] [--json OUT]
     statue2model spectrum | variability | sweep | identify | motion ...   (see --help of each)
     statue2model slice [MESH] --scale 1:2 [--board 9mm] ... --out DIR
-    statue2model isolator design|plates|simulate ...
+    statue2model isolator design|plates|simulate|identify ...
+    statue2model crosscheck MESH_OR_PARAMS --motion SPEC [--isolator DESIGN.json] --out DIR
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
 exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
@@ -59,11 +60,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "the plot (OUT.png) and the rose table (OUT_rose.csv) are written beside it")
     p.set_defaults(func=_cmd_props)
 
-    from . import cli_dynamics, cli_fabrication, cli_isolator
+    from . import cli_crosscheck, cli_dynamics, cli_fabrication, cli_isolator
 
     cli_dynamics.add_parsers(sub)
     cli_fabrication.add_parsers(sub)
     cli_isolator.add_parsers(sub)
+    cli_crosscheck.add_parsers(sub)
     return parser
 
 

@@ -1,0 +1,85 @@
+"""The cross-check report: DIR/crosscheck.json (a list ``cases``) and overlay plots.
+
+crosscheck.json: {"cases": [{name, quantity, value_2d, value_3d, rel_error, target,
+met, kind, unit, note}, ...], "summary": {n_cases, n_met, unmet: [...]}, "runs":
+{3D run details}, "scene", "settings", "contact"}. One PNG per time history,
+2D (line) and 3D (dashed) overlaid; files are written atomically.
+
+Example
+-------
+>>> from statue2model.crosscheck.runs import Case, Comparison
+>>> import tempfile, json, numpy as np, pathlib
+>>> d = pathlib.Path(tempfile.mkdtemp())
+>>> c = Comparison(cases=(Case.relative("q", "s", 1.0, 1.001, 0.01),),
+...                histories={"q": {"t2": np.arange(3.0), "y2": np.zeros(3), "t3": np.arange(3.0),
+...                                 "y3": np.zeros(3), "label": "theta (rad)"}})
+>>> paths = write_report(c, d)
+>>> json.loads((d / "crosscheck.json").read_text())["cases"][0]["met"]
+True
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from ..files import atomic_write, prepare_dir, write_json
+
+
+def _slug(name: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_")[:60] or "case"
+
+
+def summary(cases) -> dict:
+    unmet = [c.name for c in cases if not c.met]
+    return {"n_cases": len(cases), "n_met": len(cases) - len(unmet), "unmet": unmet}
+
+
+def write_report(comparison, out_dir, extra: dict | None = None) -> dict[str, Path]:
+    """Write crosscheck.json and one overlay PNG per history into ``out_dir``."""
+    out = prepare_dir(out_dir)
+    paths = {}
+    for name, h in comparison.histories.items():
+        paths[name] = plot_overlay(name, h, out / f"{_slug(name)}.png")
+    data = {"cases": [c.to_dict() for c in comparison.cases], "summary": summary(comparison.cases),
+            "plots": {k: v.name for k, v in paths.items()}, "runs": comparison.runs}
+    data.update(extra or {})
+    paths["json"] = write_json(out / "crosscheck.json", data)
+    return paths
+
+
+def plot_overlay(title: str, h: dict, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.plot(h["t2"], h["y2"], lw=1.4, label="2D model")
+    ax.plot(h["t3"], h["y3"], lw=1.1, ls="--", label="3D PyBullet")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(h.get("label", ""))
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best")
+    fig.tight_layout()
+
+    def save(p):
+        fig.savefig(p, dpi=110, format="png")
+
+    try:
+        return atomic_write(path, save)
+    finally:
+        plt.close(fig)
+
+
+def table(cases) -> str:
+    """The cases as a readable table."""
+    lines = [f"{'case':58s} {'2D':>12s} {'3D':>12s} {'error':>9s} {'target':>8s}  met"]
+    for c in cases:
+        def fmt(v):
+            return "-" if v is None else f"{v:.6g}"
+        err = "-" if c.kind == "equal" else (f"{c.rel_error * 100:.2f}%" if c.rel_error < 1e3 else "inf")
+        tgt = "same" if c.kind == "equal" else (f"{c.target * 100:g}%" if c.kind == "relative" else f"{c.target:g}{c.unit}")
+        lines.append(f"{c.name[:58]:58s} {fmt(c.value_2d):>12s} {fmt(c.value_3d):>12s} {err:>9s} {tgt:>8s}  "
+                     f"{'yes' if c.met else 'NO'}")
+    return "\n".join(lines)

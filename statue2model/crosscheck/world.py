@@ -1,0 +1,165 @@
+"""A PyBullet world in DIRECT mode, and the ground motion applied as a gravity tilt.
+
+Ground motion (why a gravity tilt is exact). Every scene here has a rigid ground
+(the floor, or the isolator's bottom plate) that translates with the prescribed
+acceleration u_g''(t) along +x. Written in the ground's own frame, which
+translates without rotating, Newton's law of every body gains the inertial
+force -m u_g''(t) x, i.e. gravity becomes (-u_g''(t), 0, -g). Contacts,
+friction and restitution depend only on relative velocities, which are the same
+in both frames. So the motion *relative to the ground* is identical, with no
+table body, no kinematic driving and no integration of u_g'' into a displacement
+(which would add drift). The engine advances velocities with the force of the
+step, so the step's gravity uses the mean of u_g'' over the step (Simpson's rule
+on t, t + dt/2, t + dt): the ground-velocity change per step is then exact for a
+motion polynomial of degree <= 3 between steps. ``tests/test_crosscheck.py``
+checks this against a driven heavy table.
+
+Units: SI (m, s, kg, m/s^2).
+
+Example
+-------
+>>> from statue2model.crosscheck.world import SimSettings, World
+>>> with World(SimSettings(dt=1e-3)) as w:
+...     w.set_ground_acc(0.0, 0.0)
+...     w.client >= 0
+True
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from typing_extensions import Self
+
+from ..errors import InputError
+
+G = 9.81
+
+
+@dataclass(frozen=True)
+class SimSettings:
+    """Engine settings of one run (SI units).
+
+    dt                 : fixed time step, s (PyBullet's default 1/240 s is far too coarse for impacts)
+    solver_iterations  : sequential-impulse iterations per step (numSolverIterations)
+    erp, contact_erp   : error reduction of joints / contacts (penetration recovery per step)
+    split_impulse      : separate penetration recovery from the velocity solve (no energy added)
+    restitution_threshold : restitutionVelocityThreshold, m/s (restitution is applied only above it)
+    maximal_coordinates : rigid bodies (btRigidBody) instead of one-link multibodies
+    g                  : gravity, m/s^2
+    """
+
+    dt: float = 1.0 / 2000.0
+    solver_iterations: int = 50
+    erp: float = 0.2
+    contact_erp: float = 0.2
+    split_impulse: bool = True
+    restitution_threshold: float = 0.0
+    maximal_coordinates: bool = False
+    floor: str = "box"
+    sat: bool = False
+    g: float = G
+
+    def __post_init__(self):
+        if not (isinstance(self.dt, (int, float)) and math.isfinite(self.dt) and 1e-6 <= self.dt <= 0.05):
+            raise InputError(f"time step dt must be in [1e-6, 0.05] s, got {self.dt!r}")
+        if not (isinstance(self.solver_iterations, int) and 1 <= self.solver_iterations <= 10_000):
+            raise InputError(f"solver iterations must be an integer in [1, 10000], got {self.solver_iterations!r}")
+        for name in ("erp", "contact_erp"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and 0 <= v <= 1):
+                raise InputError(f"{name} must be in [0, 1], got {v!r}")
+        if not (math.isfinite(self.restitution_threshold) and self.restitution_threshold >= 0):
+            raise InputError(f"restitution threshold must be >= 0 m/s, got {self.restitution_threshold!r}")
+        if not (math.isfinite(self.g) and self.g > 0):
+            raise InputError(f"g must be positive, got {self.g!r}")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+class World:
+    """One DIRECT PyBullet client (no GUI, no rendering), closed on exit.
+
+    ``set_ground_acc(a0, a1)`` sets gravity to (-a, 0, -g) with a the ground
+    acceleration (m/s^2, along +x) averaged over the coming step; ``step()``
+    advances one ``settings.dt``.
+    """
+
+    def __init__(self, settings: SimSettings | None = None):
+        self.settings = SimSettings() if settings is None else settings
+        self.client = -1
+        self.p = None
+
+    def __enter__(self) -> Self:
+        import pybullet
+
+        self.p = pybullet
+        self.client = pybullet.connect(pybullet.DIRECT)
+        if self.client < 0:
+            raise RuntimeError("could not start a PyBullet DIRECT client")
+        s = self.settings
+        pybullet.setPhysicsEngineParameter(
+            fixedTimeStep=s.dt, numSubSteps=0, numSolverIterations=s.solver_iterations, erp=s.erp,
+            contactERP=s.contact_erp, frictionERP=s.erp, useSplitImpulse=int(s.split_impulse),
+            restitutionVelocityThreshold=s.restitution_threshold, deterministicOverlappingPairs=1,
+            enableSAT=int(s.sat),
+            physicsClientId=self.client)
+        pybullet.setGravity(0.0, 0.0, -s.g, physicsClientId=self.client)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.client >= 0:
+            self.p.disconnect(physicsClientId=self.client)
+            self.client = -1
+
+    # -- helpers bound to this client -------------------------------------------
+    def call(self, name: str, *args, **kw):
+        """pybullet.<name>(*args, **kw) on this client."""
+        return getattr(self.p, name)(*args, physicsClientId=self.client, **kw)
+
+    def set_ground_acc(self, acc: float, lateral: float = 0.0) -> None:
+        """Gravity (-acc, -lateral, -g): the ground accelerates by (acc, lateral) m/s^2."""
+        self.p.setGravity(-float(acc), -float(lateral), -self.settings.g, physicsClientId=self.client)
+
+    def step(self) -> None:
+        self.p.stepSimulation(physicsClientId=self.client)
+
+    def plane(self, friction: float, restitution: float = 0.0) -> int:
+        """The rigid floor z = 0: a static plane, or a large thin box (settings.floor == "box")."""
+        if self.settings.floor == "box":
+            shape = self.call("createCollisionShape", self.p.GEOM_BOX, halfExtents=[20.0, 20.0, 0.1])
+            body = self.call("createMultiBody", 0.0, shape, basePosition=[0.0, 0.0, -0.1])
+        else:
+            shape = self.call("createCollisionShape", self.p.GEOM_PLANE)
+            body = self.call("createMultiBody", 0.0, shape)
+        self.call("changeDynamics", body, -1, lateralFriction=friction, restitution=restitution,
+                  rollingFriction=0.0, spinningFriction=0.0)
+        return body
+
+
+def step_mean_acc(motion, t0: float, dt: float, n: int) -> np.ndarray:
+    """Mean ground acceleration over each of the n steps [t0 + k dt, t0 + (k+1) dt]
+    (Simpson's rule; m/s^2). Zero once the motion has ended."""
+    t = t0 + dt * np.arange(n)
+    if motion.kind == "none":
+        return np.zeros(n)
+    a0 = motion.acc(t)
+    am = motion.acc(t + 0.5 * dt)
+    a1 = motion.acc(np.minimum(t + dt, motion.end) - 1e-12 * dt)
+    a1 = np.where(t + dt <= motion.end, a1, motion.acc(t + dt))
+    return (a0 + 4.0 * am + a1) / 6.0
+
+
+def quat_from_matrix(R: np.ndarray) -> list[float]:
+    """PyBullet quaternion (x, y, z, w) of a proper rotation matrix."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat().tolist()
+
+
+def matrix_from_quat(q) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_quat(np.asarray(q, dtype=float)).as_matrix()
