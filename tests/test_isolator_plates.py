@@ -292,8 +292,8 @@ def test_write_plates(tmp_path):
         assert radii == [round(g.fuse_seat_radius * 1e3, 6)] + [round(g.opening_radius * 1e3, 6)] * 4
         points = [e for e in msp.query("POINT") if e.dxf.layer == DRILL]
         flip = -1 if which == "top" else 1                   # the top plate seen from its carved face
-        assert sorted((p.dxf.location.x, p.dxf.location.y) for p in points) == pytest.approx(
-            sorted((flip * x * 1e3, y * 1e3) for x, y in g.groove_centres))
+        assert np.array(sorted((p.dxf.location.x, p.dxf.location.y) for p in points)) == pytest.approx(
+            np.array(sorted((flip * x * 1e3, y * 1e3) for x, y in g.groove_centres)))
         holes = [e for e in msp.query("CIRCLE") if e.dxf.layer == DRILL]
         if which == "bottom":
             assert len(holes) == 1 and holes[0].dxf.radius == pytest.approx(11.0)
