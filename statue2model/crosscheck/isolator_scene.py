@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import InputError
 from .contact import ContactSettings, rolling_for_mu
 from .statue_scene import StatueScene, add_statue, inertia_frame
-from .world import SimSettings, World, matrix_from_quat, quat_from_matrix, step_mean_acc
+from .world import SimSettings, World, matrix_from_quat, quat_from_matrix, real_time_factor, step_mean_acc
 
 STEEL = 7850.0  # kg/m^3, the balls
 MOUNTS = ("contact", "fixed", "rigid")
@@ -266,7 +266,7 @@ class Isolator3DResult:
 
     @property
     def real_time_factor(self) -> float:
-        return self.steps * self.settings.dt / self.wall_time if self.wall_time > 0 else float("inf")
+        return real_time_factor(self.steps, self.settings.dt, self.wall_time)
 
     @property
     def outcome(self) -> str:

@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry.rocking_params import RockingParams
 from .contact import ContactSettings
-from .world import SimSettings, World, matrix_from_quat, quat_from_matrix, step_mean_acc
+from .world import SimSettings, World, matrix_from_quat, quat_from_matrix, real_time_factor, step_mean_acc
 
 UPLIFT_ANGLE = 1e-5
 FLIGHT_HEIGHT = 1e-4
@@ -237,7 +237,7 @@ class Statue3DResult:
     @property
     def real_time_factor(self) -> float:
         """Simulated seconds per wall-clock second."""
-        return self.steps * self.settings.dt / self.wall_time if self.wall_time > 0 else float("inf")
+        return real_time_factor(self.steps, self.settings.dt, self.wall_time)
 
     @property
     def outcome(self) -> str:

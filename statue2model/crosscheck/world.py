@@ -37,6 +37,11 @@ from ..errors import InputError
 G = 9.81
 
 
+def real_time_factor(steps: int, dt: float, wall_time: float) -> float:
+    """Simulated seconds per wall-clock second of a run of ``steps`` steps of ``dt`` s."""
+    return steps * dt / wall_time if wall_time > 0 else float("inf")
+
+
 @dataclass(frozen=True)
 class SimSettings:
     """Engine settings of one run (SI units).

@@ -42,6 +42,16 @@ def _grow(a, n):
     return b
 
 
+@njit(cache=True)
+def _push_peak(pk_t, pk_u, n, t, u):
+    """Append the peak (t, u) at index n, growing the arrays; returns them and n + 1."""
+    pk_t = _grow(pk_t, n)
+    pk_u = _grow(pk_u, n)
+    pk_t[n] = t
+    pk_u[n] = u
+    return pk_t, pk_u, n + 1
+
+
 # ---------------------------------------------------------------- Coulomb, exact
 @njit(cache=True)
 def _coulomb_coeffs(ta, ua, va, s, seg, om, mug, out):
@@ -212,11 +222,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
         u = u_end
         if t_rev <= tb and t_rev < np.inf:
             v = 0.0
-            pk_t = _grow(pk_t, n_pk)
-            pk_u = _grow(pk_u, n_pk)
-            pk_t[n_pk] = t
-            pk_u[n_pk] = u
-            n_pk += 1
+            pk_t, pk_u, n_pk = _push_peak(pk_t, pk_u, n_pk, t, u)
             K.segment(t, kind, M, samples, seg)
             d = -om2 * u - K._acc(t, seg)
             if abs(d) <= mug * (1.0 + 1e-12):
@@ -399,11 +405,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             z_e = z_map(z_r, um - u_r, s, u_y, n)
             u = um
             v = 0.0
-            pk_t = _grow(pk_t, n_pk)
-            pk_u = _grow(pk_u, n_pk)
-            pk_t[n_pk] = t
-            pk_u[n_pk] = u
-            n_pk += 1
+            pk_t, pk_u, n_pk = _push_peak(pk_t, pk_u, n_pk, t, u)
             umax = max(umax, abs(u))
             u_r = u
             z_r = z_e
