@@ -42,6 +42,28 @@ def _model_options(p: argparse.ArgumentParser) -> None:
                    "rock, 1e-7 for sweeps)")
 
 
+def _executor_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("parallel runs (default: the threads of this process)")
+    x = g.add_mutually_exclusive_group()
+    x.add_argument("--workers", type=int, metavar="N", help="run on N local worker processes, one core each")
+    x.add_argument("--scheduler", metavar="ADDRESS", help="run on the workers of a Dask cluster, e.g. "
+                   "tcp://10.0.0.5:8786 (start `dask scheduler`, then `dask worker ADDRESS` on each machine)")
+
+
+def _executor(args):
+    """The executor asked for by --workers / --scheduler (a context manager that
+    closes it), or a null context yielding None (this process's threads)."""
+    import contextlib
+
+    if args.workers is None and args.scheduler is None:
+        return contextlib.nullcontext(None)
+    from .executors import make_executor
+
+    ex = make_executor(scheduler=args.scheduler, workers=args.workers)
+    print(f"running on {ex.describe()}")
+    return ex
+
+
 def _restitution(text: str | None, side: str):
     if text is None:
         return None
@@ -191,9 +213,11 @@ def cmd_spectrum(args) -> int:
     freqs = _grid(args.freq, "--freq")
     amps = _grid(args.amp, "--amp", accel=True)
     out = _out(args, f"spectrum_{args.pulse}.json")
-    t0 = time.perf_counter()
-    sp = stability_spectrum(model, freqs, amps, pulse=args.pulse, rtol=args.rtol or 1e-7, progress=True)
-    wall = time.perf_counter() - t0
+    with _executor(args) as ex:
+        t0 = time.perf_counter()
+        sp = stability_spectrum(model, freqs, amps, pulse=args.pulse, rtol=args.rtol or 1e-7, progress=True,
+                                executor=ex)
+        wall = time.perf_counter() - t0
     for name, n in sp.counts().items():
         print(f"{name:<16} {n:>7}")
     print(f"{sp.codes.size} runs ({sp.n_integrated} integrated) in {wall:.2f} s")
@@ -229,7 +253,9 @@ def cmd_variability(args) -> int:
         raise InputError("variability needs a ground motion (a record or a pulse), not free rocking")
     pgas = _grid(args.pga, "--pga", accel=True)
     out = _out(args, "variability.json")
-    _write_sweep(variability(model, motion, pgas, rtol=args.rtol or 1e-7, progress=True), out)
+    with _executor(args) as ex:
+        sw = variability(model, motion, pgas, rtol=args.rtol or 1e-7, progress=True, executor=ex)
+    _write_sweep(sw, out)
     return 0
 
 
@@ -247,7 +273,9 @@ def cmd_sweep(args) -> int:
         side = args.param[-1] if args.param != "theta" else "R"
         values = values * (model.params.delta_L if side == "L" else model.params.delta_R)
     out = _out(args, f"sweep_{args.param}.json")
-    _write_sweep(parameter_sweep(model, motion, args.param, values, rtol=args.rtol or 1e-7, progress=True), out)
+    with _executor(args) as ex:
+        sw = parameter_sweep(model, motion, args.param, values, rtol=args.rtol or 1e-7, progress=True, executor=ex)
+    _write_sweep(sw, out)
     return 0
 
 
@@ -317,6 +345,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--amp", default="0.01g:1.5g:100", metavar="A0:A1:N",
                    help="amplitudes, m/s^2 or with g (default 0.01g:1.5g:100)")
     p.add_argument("--json", metavar="OUT", help="output JSON (default: spectrum_<pulse>.json beside PARAMS.json)")
+    _executor_options(p)
     p.set_defaults(func=cmd_spectrum)
 
     p = sub.add_parser("variability", help="maximum rotation of a record scaled over a PGA range",
@@ -325,6 +354,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--motion", required=True, metavar="SPEC", help=SPEC_HELP)
     p.add_argument("--pga", default="0.02g:1g:50", metavar="P0:P1:N", help="PGA values (default 0.02g:1g:50)")
     p.add_argument("--json", metavar="OUT", help="output JSON (default: variability.json beside PARAMS.json)")
+    _executor_options(p)
     p.set_defaults(func=cmd_variability)
 
     p = sub.add_parser("sweep", help="uncertainty sweep of one model parameter",
@@ -337,6 +367,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--values", required=True, metavar="V0:V1:N", help="values (START:STOP:N or a comma list)")
     p.add_argument("--over-delta", action="store_true", help="theta values are fractions of delta of that side")
     p.add_argument("--json", metavar="OUT", help="output JSON (default: sweep_<param>.json beside PARAMS.json)")
+    _executor_options(p)
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("identify", help="e_L, e_R from a free-rocking record (eq. 43)",

@@ -1,10 +1,15 @@
-"""Many runs of the rocking model at once (statistics only), in parallel threads.
+"""Many runs of the rocking model at once (statistics only), in parallel threads
+of this process or on the workers of an :class:`~statue2model.executors.Executor`.
 
 Each row i is one run: model vector ``P[i]``, motion ``kinds[i]``, ``M[i]``
 (all rows share one record's ``samples`` and the restitution tables of one
 model), end time ``t_end[i]``. Rows whose motion never exceeds the uplift
 limits are not integrated at all. Returns the statistics matrix (n, N_S) of
 :mod:`statue2model.dynamics.kernel` (indices ``kernel.S_*``).
+
+Rows are independent and each is integrated deterministically, so the matrix is
+bit-identical whether the rows run in numba's threads here or in blocks on an
+executor's workers.
 """
 from __future__ import annotations
 
@@ -16,9 +21,15 @@ from .model import RockingModel
 
 def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarray, samples: np.ndarray,
               t_end: np.ndarray, rtol: float = 1e-8, quiet: np.ndarray | None = None,
-              progress: str | None = None, chunk: int = 500, max_steps: int = 20_000_000) -> np.ndarray:
+              progress: str | None = None, chunk: int = 500, max_steps: int = 20_000_000,
+              executor=None) -> np.ndarray:
     """Run every row; ``quiet[i]`` True marks rows known not to move (skipped).
-    ``progress``: a label to show a progress bar (tqdm, on stderr), or None."""
+    ``progress``: a label to show a progress bar (tqdm, on stderr), or None.
+
+    ``executor``: None runs the rows here, ``chunk`` rows at a time, each block in
+    numba's parallel threads; an :class:`~statue2model.executors.Executor` runs
+    blocks of rows (:func:`~statue2model.executors.chunks`, about 4 per worker)
+    on its workers, one numba thread each (``chunk`` is then unused). Same result."""
     n = P.shape[0]
     S = np.zeros((n, K.N_S))
     S[:, K.S_T_UPLIFT] = S[:, K.S_T_OVERTURN] = S[:, K.S_T_REST] = np.nan
@@ -31,6 +42,15 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     kinds = np.ascontiguousarray(kinds, dtype=np.int64)
     t_end = np.ascontiguousarray(np.broadcast_to(t_end, (n,)), dtype=float)
     samples = np.ascontiguousarray(samples, dtype=float)
+    if executor is not None:
+        from ..executors import chunks
+
+        blocks = [todo[c] for c in chunks(todo.size, executor)]
+        tasks = [(P[idx], eLw, eLe, eRw, eRe, kinds[idx], M[idx], samples, t_end[idx], float(rtol), int(max_steps))
+                 for idx in blocks]
+        for idx, Sc in zip(blocks, executor.map(_run_rows, tasks, desc=progress)):
+            S[idx] = Sc
+        return _checked(S)
     _threading_layer()
     bar = None
     if progress:
@@ -48,9 +68,24 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
             bar.update(idx.size)
     if bar is not None:
         bar.close()
+    return _checked(S)
+
+
+def _run_rows(task: tuple) -> np.ndarray:
+    """One block of rows on a worker: ``task`` = (P, eLw, eLe, eRw, eRe, kinds, M,
+    samples, t_end, rtol, max_steps) of those rows (shapes as in :func:`run_batch`);
+    returns their statistics (rows, N_S). Module level so that it pickles."""
+    P, eLw, eLe, eRw, eRe, kinds, M, samples, t_end, rtol, max_steps = task
+    _threading_layer()
+    Sc = np.zeros((P.shape[0], K.N_S))
+    K.simulate_batch(P, eLw, eLe, eRw, eRe, kinds, M, samples, 0.0, 0.0, t_end, rtol, max_steps, Sc)
+    return Sc
+
+
+def _checked(S: np.ndarray) -> np.ndarray:
     bad = S[:, K.S_STATUS] != K.STATUS_OK
     if np.any(bad):
-        raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {n} runs")
+        raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {S.shape[0]} runs")
     return S
 
 

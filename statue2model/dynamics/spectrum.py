@@ -88,9 +88,11 @@ class StabilitySpectrum:
 
 
 def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", rtol: float = 1e-7,
-                       free_time: float = FREE_TIME, progress: bool = False) -> StabilitySpectrum:
+                       free_time: float = FREE_TIME, progress: bool = False, executor=None) -> StabilitySpectrum:
     """Run one pulse (``cosine`` or ``sine``, amplitude > 0 toward +x) for every
-    (freq, amp) pair; ``free_time`` s of free motion follow each pulse."""
+    (freq, amp) pair; ``free_time`` s of free motion follow each pulse.
+    ``executor``: None runs in this process (numba threads), or an
+    :class:`~statue2model.executors.Executor` (same result, see :func:`run_batch`)."""
     if pulse not in PULSES:
         raise InputError(f"pulse must be one of {', '.join(PULSES)}, got {pulse!r}")
     freqs = np.asarray(freqs, dtype=float).ravel()
@@ -113,7 +115,7 @@ def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", 
     lim_up, lim_dn = model.uplift_limits
     quiet = (A.ravel() <= lim_up) & (A.ravel() <= lim_dn)  # a full cycle reaches +amp and -amp
     S = run_batch(model, P, kinds, M, np.zeros(2), M[:, K.MT1] + free_time, rtol=rtol, quiet=quiet,
-                  progress="spectrum" if progress else None)
+                  progress="spectrum" if progress else None, executor=executor)
     codes = outcome_codes(S, model.kind == "imperfect").reshape(F.shape)
     tmd = np.maximum(S[:, K.S_QMAX_L] / model.params.delta_L, S[:, K.S_QMAX_R] / model.params.delta_R)
     return StabilitySpectrum(model, pulse, freqs, amps, codes, tmd.reshape(F.shape),

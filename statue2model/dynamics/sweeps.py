@@ -87,8 +87,10 @@ def _result(name, values, S, model, motion, codes) -> SweepResult:
 
 
 def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1e-7,
-                free_time: float = FREE_TIME, progress: bool = False) -> SweepResult:
-    """|theta|max/delta of ``motion`` scaled to each PGA in ``pgas`` (m/s^2)."""
+                free_time: float = FREE_TIME, progress: bool = False, executor=None) -> SweepResult:
+    """|theta|max/delta of ``motion`` scaled to each PGA in ``pgas`` (m/s^2).
+    ``executor``: None runs in this process (numba threads), or an
+    :class:`~statue2model.executors.Executor` (same result)."""
     pgas = np.asarray(pgas, dtype=float).ravel()
     if pgas.size == 0 or not np.all(np.isfinite(pgas)) or np.any(pgas < 0):
         raise InputError("PGA values must be finite and >= 0 (m/s^2)")
@@ -104,7 +106,7 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
     quiet = (gain * hi <= lim_up) & (-gain * lo <= lim_dn)
     P = np.tile(model.kernel_vector(early_exit=True), (n, 1))
     S = run_batch(model, P, np.full(n, kind), M, samples, np.full(n, motion.end + free_time), rtol=rtol,
-                  quiet=quiet, progress="variability" if progress else None)
+                  quiet=quiet, progress="variability" if progress else None, executor=executor)
     return _result("pga_m_s2", pgas, S, model, motion, outcome_codes(S, model.kind == "imperfect"))
 
 
@@ -120,10 +122,27 @@ def _models(model: RockingModel, name: str, values) -> list[RockingModel]:
     return out
 
 
+def _simulate_row(task: tuple) -> np.ndarray:
+    """One run of the restitution sweep: ``task`` = (model, motion, t_end s, rtol);
+    returns its statistics row (N_S,) (the entries :func:`_result` reads).
+    Module level so that an executor can pickle it."""
+    m, motion, t_end, rtol = task
+    r = simulate(m, motion, t_end=t_end, rtol=rtol, max_records=1)
+    row = np.zeros(K.N_S)
+    row[K.S_QMAX_L], row[K.S_QMAX_R] = r.theta_max_L, r.theta_max_R
+    row[K.S_OVERTURNED] = r.overturned
+    row[K.S_IMP_BEFORE_OT] = r.impacts_before_overturn or 0
+    row[K.S_N_IMP] = r.n_impacts
+    row[K.S_MOVED] = r.uplift_time is not None
+    row[K.S_FULL_UPLIFT] = r.full_uplift
+    return row
+
+
 def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values, rtol: float = 1e-7,
-                    free_time: float = FREE_TIME, progress: bool = False) -> SweepResult:
+                    free_time: float = FREE_TIME, progress: bool = False, executor=None) -> SweepResult:
     """Run ``motion`` once per value of parameter ``name`` (one of SWEEPABLE;
-    "alpha", "theta", "e" set both sides)."""
+    "alpha", "theta", "e" set both sides). ``executor``: None runs in this
+    process, or an :class:`~statue2model.executors.Executor` (same result)."""
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise InputError(f"sweep values of {name} must be finite numbers")
@@ -132,22 +151,19 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     t_end = motion.end + free_time
     if name.startswith("e"):
         # restitution tables are shared by a batch: run one by one
-        S = np.zeros((n, K.N_S))
-        for i, m in enumerate(models):
-            r = simulate(m, motion, t_end=t_end, rtol=rtol, max_records=1)
-            S[i, K.S_QMAX_L], S[i, K.S_QMAX_R] = r.theta_max_L, r.theta_max_R
-            S[i, K.S_OVERTURNED] = r.overturned
-            S[i, K.S_IMP_BEFORE_OT] = r.impacts_before_overturn or 0
-            S[i, K.S_N_IMP] = r.n_impacts
-            S[i, K.S_MOVED] = r.uplift_time is not None
-            S[i, K.S_FULL_UPLIFT] = r.full_uplift
+        tasks = [(m, motion, t_end, rtol) for m in models]
+        if executor is None:
+            rows = [_simulate_row(task) for task in tasks]
+        else:
+            rows = executor.map(_simulate_row, tasks, desc=f"sweep {name}" if progress else None)
+        S = np.stack(rows) if rows else np.zeros((0, K.N_S))
     else:
         kind, M0, samples = motion.kernel_args()
         P = np.stack([m.kernel_vector(early_exit=True) for m in models])
         hi, lo = motion.extremes()
         quiet = np.array([hi <= m.uplift_limits[0] and -lo <= m.uplift_limits[1] for m in models])
         S = run_batch(model, P, np.full(n, kind), np.tile(M0, (n, 1)), samples, np.full(n, t_end), rtol=rtol,
-                      quiet=quiet, progress=f"sweep {name}" if progress else None)
+                      quiet=quiet, progress=f"sweep {name}" if progress else None, executor=executor)
     codes = outcome_codes(S, any(m.kind == "imperfect" for m in models))
     return _result(name, values, S, model, motion, codes)
 
