@@ -8,6 +8,9 @@
     statue2model slice [MESH] --scale 1:2 [--board 9mm] ... --out DIR
     statue2model isolator design|plates|simulate|identify ...
     statue2model crosscheck MESH_OR_PARAMS --motion SPEC [--isolator DESIGN.json] --out DIR
+    statue2model run [MESH|FOLDER] [--config project.toml] [--out DIR] [--stages LIST] [--force]
+                     [--workers N | --scheduler ADDRESS]      every stage, cached, with an HTML report
+    statue2model config [--out project.toml]                  the project file with every default
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
 exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
@@ -60,12 +63,13 @@ def build_parser() -> argparse.ArgumentParser:
                    "the plot (OUT.png) and the rose table (OUT_rose.csv) are written beside it")
     p.set_defaults(func=_cmd_props)
 
-    from . import cli_crosscheck, cli_dynamics, cli_fabrication, cli_isolator
+    from . import cli_crosscheck, cli_dynamics, cli_fabrication, cli_isolator, cli_run
 
     cli_dynamics.add_parsers(sub)
     cli_fabrication.add_parsers(sub)
     cli_isolator.add_parsers(sub)
     cli_crosscheck.add_parsers(sub)
+    cli_run.add_parsers(sub)
     return parser
 
 

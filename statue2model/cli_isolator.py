@@ -138,35 +138,12 @@ def _cmd_plates(args) -> int:
     from .files import read_json
     from .isolator.plates import PlateGeometry, write_plates
 
-    d = read_json(args.design)
-    try:
-        fuse = d.get("fuse") or {}
-        geom = PlateGeometry(
-            side=float(d["side"]), thickness=float(d["thickness"]), R=float(d["R"]), depth=float(d["depth"]),
-            groove_centres=tuple(tuple(c) for c in d["groove_centres"]), ball_radius=float(d["r"]),
-            **_fuse_geometry(fuse, d),
-        )
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{args.design} is not an isolator design ({exc})") from None
+    geom = PlateGeometry.from_design(read_json(args.design), str(args.design))
     if args.segments < 16 or args.segments > 4096:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
     paths = write_plates(geom, Path(args.out), segments=args.segments)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return 0
-
-
-def _fuse_geometry(fuse: dict, d: dict) -> dict:
-    """Fuse seats between the grooves (on the diagonals, halfway to the centre)."""
-    if not fuse:
-        return {}
-    rf = float(fuse["ball_radius"])
-    centres = [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]]
-    z = float(fuse["seat_depth"])
-    hole = max(2.4 * rf, 2 * rf + 0.002)
-    seat = (2 * rf * z - z * z) ** 0.5
-    return {"fuse_centres": tuple(centres), "fuse_ball_radius": rf, "fuse_seat_depth": z,
-            "fuse_hole_diameter": hole, "fuse_hole_depth": min(max(2.2 * rf, 0.003), float(d["thickness"]) - 0.006),
-            "fuse_hole_offset": seat + hole / 2 + 0.006}
 
 
 def _cmd_simulate(args) -> int:

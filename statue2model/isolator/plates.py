@@ -171,6 +171,17 @@ class PlateGeometry:
     fuse_hole_depth: float = 0.0
     fuse_hole_offset: float = 0.0
 
+    @classmethod
+    def from_design(cls, d: dict, where: str = "design") -> PlateGeometry:
+        """From the JSON of ``statue2model isolator design`` (a dict); fuse seats, if the
+        design has a fuse, sit between the grooves (on the diagonals, halfway to the centre)."""
+        try:
+            return cls(side=float(d["side"]), thickness=float(d["thickness"]), R=float(d["R"]),
+                       depth=float(d["depth"]), groove_centres=tuple(tuple(c) for c in d["groove_centres"]),
+                       ball_radius=float(d["r"]), **_fuse_geometry(d.get("fuse") or {}, d))
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise InputError(f"{where} is not an isolator design ({exc})") from None
+
     def __post_init__(self):
         for name in ("side", "thickness", "R", "depth", "ball_radius", "fuse_ball_radius",
                      "fuse_seat_depth", "fuse_hole_diameter", "fuse_hole_depth", "fuse_hole_offset"):
@@ -557,3 +568,17 @@ def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str,
     paths["section_png"], paths["section_svg"] = _plot_section(
         geom, out / "plates_section.png", out / "plates_section.svg")
     return paths
+
+
+def _fuse_geometry(fuse: dict, d: dict) -> dict:
+    """Fuse seats between the grooves (on the diagonals, halfway to the centre), m."""
+    if not fuse:
+        return {}
+    rf = float(fuse["ball_radius"])
+    centres = [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]]
+    z = float(fuse["seat_depth"])
+    hole = max(2.4 * rf, 2 * rf + 0.002)
+    seat = (2 * rf * z - z * z) ** 0.5
+    return {"fuse_centres": tuple(centres), "fuse_ball_radius": rf, "fuse_seat_depth": z,
+            "fuse_hole_diameter": hole, "fuse_hole_depth": min(max(2.2 * rf, 0.003), float(d["thickness"]) - 0.006),
+            "fuse_hole_offset": seat + hole / 2 + 0.006}

@@ -55,7 +55,7 @@ def plot_time_history(result, path) -> Path:
     return _save(fig, path)
 
 
-def plot_spectrum(sp, path) -> Path:
+def plot_spectrum(sp, path, title: str | None = None) -> Path:
     """Outcome map over (frequency, amplitude/g), thesis Fig. 65-68 style."""
     plt = _pyplot()
     from matplotlib.colors import BoundaryNorm, ListedColormap
@@ -72,7 +72,7 @@ def plot_spectrum(sp, path) -> Path:
     ax.axhline(min(lim_up, lim_dn) / g, color="k", lw=0.6, ls=":")
     ax.set_xlabel("pulse frequency [Hz]")
     ax.set_ylabel("pulse amplitude / g")
-    ax.set_title(f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs)")
+    ax.set_title(title or f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs)")
     ax.legend(handles=[Patch(fc=c, ec="0.5", label=n) for c, n in zip(OUTCOME_COLOURS, OUTCOMES)],
               loc="upper left", fontsize=8, framealpha=0.9)
     fig.tight_layout()

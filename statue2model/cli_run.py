@@ -1,0 +1,111 @@
+"""Command line of the whole pipeline: ``statue2model run`` and ``statue2model config``.
+
+    statue2model run [MESH | FOLDER] [--config project.toml] [--out DIR] [--stages a,b]
+                     [--force] [--workers N | --scheduler ADDRESS]
+    statue2model config [--out project.toml]       the project file with every default
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from .errors import InputError
+
+
+def add_parsers(sub) -> None:
+    p = sub.add_parser(
+        "run", help="scan -> parameters, prototype, isolator, 2D analyses, 3D cross-check and an HTML report",
+        description="Run every stage on a scan (default: the bundled meshes/dancing_girl.ply), or on every scan "
+        "of a folder as one sweep. Stages whose inputs did not change are taken from the output folder "
+        "(content hashes); an interrupted run resumes where it stopped.")
+    p.add_argument("mesh", nargs="?", metavar="MESH|FOLDER", help="a scan, or a folder of scans (one sweep)")
+    p.add_argument("--config", metavar="TOML", help="project file (see `statue2model config`); default: the "
+                   "thesis' choices")
+    p.add_argument("--out", metavar="DIR", help="output folder (default: outputs/<scan or folder name>)")
+    p.add_argument("--stages", metavar="LIST", help="comma list of params, prototype, isolator, dynamics, "
+                   "crosscheck (default: every enabled stage); the stages they read are run or taken from the cache")
+    p.add_argument("--force", action="store_true", help="recompute every stage asked for, cached or not")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, metavar="N", help="local worker processes for the sweeps "
+                   "(default: [run] workers, else one per core)")
+    g.add_argument("--scheduler", metavar="ADDRESS", help="run the sweeps on a Dask cluster (tcp://host:8786)")
+    p.set_defaults(func=_cmd_run)
+
+    c = sub.add_parser("config", help="write the project file with every key at its default (the thesis' choices)")
+    c.add_argument("--out", metavar="TOML", default="project.toml", help="default project.toml; - prints it")
+    c.set_defaults(func=_cmd_config)
+
+
+def _executor(args, cfg):
+    from .executors import make_executor
+
+    scheduler = args.scheduler or cfg.run.scheduler
+    workers = args.workers if args.workers is not None else cfg.run.workers
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    return make_executor(scheduler=scheduler if args.workers is None else None, workers=workers)
+
+
+def _cmd_run(args) -> int:
+    from .paths import default_scan
+    from .pipeline.config import load_config
+    from .pipeline.run import run_collection, run_project
+    from .pipeline.stages import check_stage_names
+
+    cfg = load_config(args.config)
+    target = Path(args.mesh) if args.mesh else default_scan()
+    if not target.exists():
+        raise InputError(f"scan or folder not found: {target}")
+    stages = check_stage_names([s.strip() for s in args.stages.split(",") if s.strip()]) if args.stages else None
+    out = Path(args.out) if args.out else Path("outputs") / (target.name if target.is_dir() else target.stem)
+    t0 = time.perf_counter()
+    with _executor(args, cfg) as ex:
+        print(f"statue2model run: {target} -> {out}/ (sweeps on {ex.describe()})", flush=True)
+        if target.is_dir():
+            data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex)
+            print(_collection_table(data))
+            print(f"\n{len(data['scans'])} scans in {time.perf_counter() - t0:.1f} s; wrote {out}/collection.json, "
+                  f"collection.csv and one folder (with report.html) per scan")
+            errors = [r for r in data["scans"] if "error" in r]
+            if errors:
+                raise InputError(f"{len(errors)} scan(s) failed: " + "; ".join(f"{r['scan']}: {r['error']}"
+                                                                              for r in errors))
+            return 0
+        res = run_project(target, out, cfg, stages=stages, force=args.force, executor=ex,
+                          say=lambda m: print(m, flush=True))
+    print("\nSummary")
+    w = max(len(n) for n in res.stages)
+    for name, status, t in res.summary_rows():
+        print(f"  {name:<{w}}  {status:<8} {t}")
+    print(f"\nwrote {out}/config.toml (resolved configuration), run.json and report.html "
+          f"in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
+def _collection_table(data) -> str:
+    rows = data["table"]
+    cols = [c for c in rows[0] if c != "error"] if rows else []
+
+    def cell(v):
+        return "-" if v is None else (f"{v:.4g}" if isinstance(v, float) else str(v))
+
+    width = {c: max(len(c), *(len(cell(r.get(c))) for r in rows)) for c in cols}
+    lines = ["  ".join(f"{c:>{width[c]}}" for c in cols)]
+    lines += ["  ".join(f"{cell(r.get(c)):>{width[c]}}" for c in cols) for r in rows]
+    return "\n".join(lines)
+
+
+def _cmd_config(args) -> int:
+    from .files import atomic_write
+    from .pipeline.config import default_toml
+
+    text = default_toml()
+    if args.out == "-":
+        print(text, end="")
+        return 0
+    out = Path(args.out)
+    if out.exists():
+        raise InputError(f"{out} exists; give another --out (nothing was overwritten)")
+    atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
+    print(f"wrote {out}: edit it, then run `statue2model run MESH --config {out}`")
+    return 0

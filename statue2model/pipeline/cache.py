@@ -1,0 +1,132 @@
+"""Content-hash caching of pipeline stages, and folders that are complete or absent.
+
+A stage's *key* is the SHA-256 of everything its result depends on: the stage's
+name, the package's source code, the scan file's bytes, the configuration
+sections it reads and the keys of the stages it reads from. A stage folder is
+complete when its manifest ``stage.json`` exists and holds the same key; then the
+stage is not recomputed (``--force`` recomputes it anyway).
+
+A stage is computed in a hidden sibling folder (``.NAME.partial-PID``) and swapped
+into place only once its manifest is written, so an interrupted run (Ctrl-C, a
+crash, a killed worker) leaves either the previous complete folder or nothing:
+never a folder that looks complete. The next run removes stale partial folders
+and resumes with the first stage that is not complete.
+
+Example
+-------
+>>> import tempfile, pathlib
+>>> out = pathlib.Path(tempfile.mkdtemp())
+>>> key = stage_key("demo", {"x": 1})
+>>> def work(d):
+...     (d / "result.txt").write_text("42")
+...     return {"summary": {"answer": 42}}
+>>> m = run_stage(out / "demo", key, work)
+>>> m["summary"], m["cached"]
+({'answer': 42}, False)
+>>> run_stage(out / "demo", key, work)["cached"]            # same inputs: not recomputed
+True
+>>> run_stage(out / "demo", stage_key("demo", {"x": 2}), work)["cached"]
+False
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import time
+from collections.abc import Callable
+from functools import lru_cache
+from pathlib import Path
+
+from ..errors import InputError
+from ..files import read_json, write_json
+
+MANIFEST = "stage.json"
+PACKAGE_DIR = Path(__file__).resolve().parent.parent
+
+
+def file_hash(path: str | os.PathLike, chunk: int = 1 << 20) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        while block := f.read(chunk):
+            h.update(block)
+    return h.hexdigest()
+
+
+@lru_cache(maxsize=1)
+def code_hash() -> str:
+    """SHA-256 over the package's Python sources: a code change invalidates every stage."""
+    h = hashlib.sha256()
+    for path in sorted(PACKAGE_DIR.rglob("*.py")):
+        h.update(str(path.relative_to(PACKAGE_DIR)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def stage_key(name: str, inputs: dict) -> str:
+    """Key of stage ``name`` with ``inputs`` (JSON-able: config sections, file
+    hashes, upstream keys) and the package's code."""
+    blob = json.dumps({"stage": name, "code": code_hash(), "inputs": inputs}, sort_keys=True, default=str)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def completed(stage_dir: Path, key: str) -> dict | None:
+    """The manifest of a complete stage folder with this key, else None."""
+    manifest = Path(stage_dir) / MANIFEST
+    if not manifest.is_file():
+        return None
+    try:
+        data = read_json(manifest)
+    except (InputError, OSError):  # an unreadable manifest is no manifest
+        return None
+    return data if isinstance(data, dict) and data.get("key") == key else None
+
+
+def clean_partials(out: Path) -> list[Path]:
+    """Remove hidden partial folders left by interrupted runs in ``out``."""
+    removed = []
+    if Path(out).is_dir():
+        for p in Path(out).iterdir():
+            if p.is_dir() and p.name.startswith(".") and ".partial-" in p.name:
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+    return removed
+
+
+def swap_in(tmp: Path, out: Path) -> None:
+    """Replace folder ``out`` by ``tmp`` (two renames; the old one is removed after)."""
+    old = None
+    if out.exists():
+        old = out.with_name(f".{out.name}.old-{os.getpid()}")
+        os.replace(out, old)
+    os.replace(tmp, out)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def run_stage(stage_dir: Path, key: str, work: Callable[[Path], dict], force: bool = False) -> dict:
+    """Run ``work(tmp_dir) -> manifest dict`` unless ``stage_dir`` is complete with
+    ``key``; returns the manifest, with ``cached`` (bool) and ``seconds`` (of the
+    computation, or of the cached one)."""
+    stage_dir = Path(stage_dir)
+    if not force:
+        done = completed(stage_dir, key)
+        if done is not None:
+            return {**done, "cached": True}
+    stage_dir.parent.mkdir(parents=True, exist_ok=True)
+    tmp = stage_dir.with_name(f".{stage_dir.name}.partial-{os.getpid()}")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    t0 = time.perf_counter()
+    try:
+        manifest = dict(work(tmp) or {})
+        manifest.update(key=key, stage=stage_dir.name, seconds=time.perf_counter() - t0,
+                        finished=time.strftime("%Y-%m-%dT%H:%M:%S"))
+        write_json(tmp / MANIFEST, manifest)
+        swap_in(tmp, stage_dir)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return {**manifest, "cached": False}

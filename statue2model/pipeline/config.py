@@ -1,0 +1,403 @@
+"""The project file: every choice of a ``statue2model run``, in one TOML file.
+
+Sections and keys (SI units: metres, kilograms, seconds, m/s^2; a string may carry
+a unit instead: ``"9mm"``, ``"0.075g"``; ``"auto"`` leaves a choice to the program):
+
+[scan]       units, up, height, density, mass, direction, base_tol      (``props``)
+[prototype]  enabled, scale, board, glue, policy, tool, compensate, tolerance, rod,
+             clearance, wall, sheet, margin, edge, feed, pass_depth, board_density,
+             glue_density, rod_density, front, previews                 (``slice``)
+[model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol   (the 2D rocking model)
+[isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
+[dynamics]   enabled, pulse, freq, amp, motion, pga, isolated           (spectra, variability,
+                                                                         time histories)
+[crosscheck] enabled, quick, motion, dt, iterations, grid, pulse_freq, isolator
+[run]        workers, scheduler                                         (where sweeps run;
+                                                                         never changes a result)
+
+The defaults are the thesis' choices: a 1:2 prototype of 9 mm OSB boards (620 kg/m^3)
+glued with 0.5 mm films, a 3 mm cutter, 8 mm steel alignment rods, 2500 x 1250 mm
+panels (ch. 6.2.2); marble (2650 kg/m^3); the classical rocking model with the
+angular-momentum restitution (eq. 15) until a prototype test identifies alpha and
+theta (then ``kind = "imperfect"``; the thesis' statue: alpha_L 0.159, alpha_R 0.175,
+Table 24); one-cosine pulse spectra (Fig. 65-68); an isolator with the measured
+rolling friction 0.0073 (Table 25), designed on the EC8 type 1 spectrum, and the
+thesis' fuse released at 0.075 g (ch. 5.3).
+
+Example
+-------
+>>> cfg = load_config(None)                       # the defaults
+>>> cfg.prototype.scale, cfg.prototype.board, cfg.isolator.mu
+(2.0, 0.009, 0.0073)
+>>> import tempfile, pathlib
+>>> p = pathlib.Path(tempfile.mkdtemp()) / "project.toml"
+>>> _ = p.write_text('[prototype]\\nscale = "1:4"\\nboard = "12mm"\\n[dynamics]\\npga = "0.05g:0.4g:8"\\n')
+>>> cfg = load_config(p)
+>>> cfg.prototype.scale, cfg.prototype.board, cfg.dynamics.pga
+(4.0, 0.012, '0.05g:0.4g:8')
+>>> load_config(p).to_toml() == load_config_text(cfg.to_toml(), "resolved").to_toml()   # round trip
+True
+>>> _ = p.write_text('[prototype]\\nbord = 0.009\\n')
+>>> load_config(p)
+Traceback (most recent call last):
+...
+statue2model.errors.InputError: ...project.toml: unknown key 'bord' in [prototype] (did you mean 'board'?)
+"""
+from __future__ import annotations
+
+import argparse
+import difflib
+import math
+import sys
+from dataclasses import asdict, dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..argtypes import length, scale_ratio, sheet_size
+from ..errors import InputError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+AUTO = "auto"
+
+
+@dataclass(frozen=True)
+class ScanConfig:
+    """How the scan is read (see ``statue2model props``). None = auto."""
+
+    units: str = "auto"                 # m | mm | cm | in | auto
+    up: str = "auto"                    # x | y | z | -x | -y | -z | auto
+    height: float | None = None         # rescale to this real height, m
+    density: float = 2650.0             # kg/m^3 (marble); ignored when mass is given
+    mass: float | None = None           # measured mass, kg
+    direction: float | None = None      # excitation direction, deg from +x toward +y; None = weakest
+    base_tol: float | None = None       # contact tolerance, m
+
+
+@dataclass(frozen=True)
+class PrototypeConfig:
+    """The stacked-board prototype (see ``statue2model slice``)."""
+
+    enabled: bool = True
+    scale: float = 2.0                  # lambda of a 1:lambda prototype
+    board: float = 0.009                # m
+    glue: float = 0.0005                # m
+    policy: str = "mid"                 # mid | envelope | core
+    tool: float = 0.003                 # cutter diameter, m
+    compensate: bool = False
+    tolerance: float = 5e-5             # chordal tolerance, m
+    rod: float = 0.008                  # m
+    clearance: float = 0.0002           # m
+    wall: float = 0.005                 # m
+    sheet: tuple[float, float] = (2.5, 1.25)   # panel W x H, m
+    margin: float = 0.002               # m
+    edge: float = 0.01                  # m
+    feed: float = 2000.0 / 60000.0      # cutting feed, m/s (2000 mm/min)
+    pass_depth: float | None = None     # m; None = the cutter diameter
+    board_density: float = 620.0        # kg/m^3 (OSB)
+    glue_density: float = 1100.0        # kg/m^3
+    rod_density: float = 7850.0         # kg/m^3 (steel)
+    front: float | None = None          # deg; None = the scan's front
+    previews: bool = True
+
+
+@dataclass(frozen=True)
+class ModelConfig:
+    """The 2D rocking model used by every analysis (MODEL.md section 2)."""
+
+    kind: str = "housner"               # housner | imperfect
+    alpha_L: float = 1.0                # reduced uplift accelerations (imperfect)
+    alpha_R: float = 1.0
+    theta_L: float | None = None        # rolling-transition rotation, rad; None = 0.07 delta_L
+    theta_R: float | None = None
+    e_L: float | None = None            # restitution; None = angular momentum (eq. 15)
+    e_R: float | None = None
+    rtol: float = 1e-7
+
+
+@dataclass(frozen=True)
+class IsolatorConfig:
+    """Rolling-ball isolator design (see ``statue2model isolator design``)."""
+
+    enabled: bool = True
+    mu: float = 0.0073                  # rolling friction (Table 25)
+    spectrum: str | None = "ec8:ag=0.25g,ground=C,type=1"
+    motion: str | None = None           # design on a ground motion instead of a spectrum
+    grooves: int | None = None          # 3 | 4 | None = the lighter passing design
+    thickness: float = 0.03             # plate thickness, m
+    target: float | None = None         # stricter plate acceleration limit, m/s^2
+    fuse_release: float | None = 0.075 * 9.81   # m/s^2; None = no fuse
+    segments: int = 256                 # groove tessellation of the plate solids
+
+
+@dataclass(frozen=True)
+class DynamicsConfig:
+    """2D analyses, on a fixed base and on the isolator."""
+
+    enabled: bool = True
+    pulse: str = "cosine"               # cosine | sine (stability spectra)
+    freq: str = "0.5:10:40"             # pulse frequencies START:STOP:N, Hz
+    amp: str = "0.02g:1g:40"            # pulse amplitudes START:STOP:N
+    motion: str = "synthetic:duration=20,pga=0.4g,seed=1"    # time histories, variability
+    pga: str = "0.05g:1.2g:24"          # variability: the motion scaled to these PGAs
+    isolated: bool = True               # also on the isolator (needs [isolator] enabled)
+
+
+@dataclass(frozen=True)
+class CrosscheckConfig:
+    """3D PyBullet cross-check (see ``statue2model crosscheck``)."""
+
+    enabled: bool = True
+    quick: bool = False
+    motion: str = "synthetic:duration=8,pga=0.2g,seed=1"
+    dt: float = 5e-4                    # s
+    iterations: int = 50
+    grid: float = 0.004                 # groove lattice spacing on the sphere, m; 0 = the CNC mesh
+    pulse_freq: float = 1.5             # Hz
+    isolator: bool = True               # also the statue on the isolator
+
+
+@dataclass(frozen=True)
+class RunConfig:
+    """Where the sweeps run; results do not depend on it."""
+
+    workers: int | None = None          # local processes; None = one per core
+    scheduler: str | None = None        # Dask scheduler address (tcp://host:8786)
+
+
+SECTIONS = {"scan": ScanConfig, "prototype": PrototypeConfig, "model": ModelConfig, "isolator": IsolatorConfig,
+            "dynamics": DynamicsConfig, "crosscheck": CrosscheckConfig, "run": RunConfig}
+
+# how a value is read: the converter of each key that is not a plain number/bool/str
+_LENGTHS = {("scan", "height"), ("scan", "base_tol"), ("prototype", "board"), ("prototype", "glue"),
+            ("prototype", "tool"), ("prototype", "tolerance"), ("prototype", "rod"), ("prototype", "clearance"),
+            ("prototype", "wall"), ("prototype", "margin"), ("prototype", "edge"), ("prototype", "pass_depth"),
+            ("isolator", "thickness"), ("crosscheck", "grid")}
+_ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
+_CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
+            ("scan", "up"): ("auto", "x", "y", "z", "-x", "-y", "-z"),
+            ("prototype", "policy"): ("mid", "envelope", "core"),
+            ("model", "kind"): ("housner", "imperfect"),
+            ("dynamics", "pulse"): ("cosine", "sine")}
+
+
+@dataclass(frozen=True)
+class ProjectConfig:
+    """All sections; immutable. ``source`` is the file it was read from (None: defaults)."""
+
+    scan: ScanConfig = field(default_factory=ScanConfig)
+    prototype: PrototypeConfig = field(default_factory=PrototypeConfig)
+    model: ModelConfig = field(default_factory=ModelConfig)
+    isolator: IsolatorConfig = field(default_factory=IsolatorConfig)
+    dynamics: DynamicsConfig = field(default_factory=DynamicsConfig)
+    crosscheck: CrosscheckConfig = field(default_factory=CrosscheckConfig)
+    run: RunConfig = field(default_factory=RunConfig)
+    source: str | None = None
+
+    def section(self, name: str) -> dict:
+        """One section as a plain dict (None kept), for content hashes."""
+        return asdict(getattr(self, name))
+
+    def to_dict(self) -> dict:
+        return {name: self.section(name) for name in SECTIONS}
+
+    def to_toml(self) -> str:
+        """The resolved configuration: every key, None written as "auto"."""
+        import tomli_w
+
+        def clean(v):
+            if v is None:
+                return AUTO
+            if isinstance(v, tuple):
+                return list(v)
+            return v
+
+        data = {name: {k: clean(v) for k, v in sec.items()} for name, sec in self.to_dict().items()}
+        return tomli_w.dumps(data)
+
+    def with_section(self, name: str, **changes) -> ProjectConfig:
+        return replace(self, **{name: replace(getattr(self, name), **changes)})
+
+
+def _convert(sec: str, key: str, value, default, where: str):
+    """One TOML value -> the field's type, or an InputError naming it."""
+    name = f"{where}: [{sec}] {key}"
+    if isinstance(value, str) and value.strip().lower() in (AUTO, "none"):
+        if (sec, key) in _CHOICES:
+            return value.strip().lower()
+        return None
+    try:
+        if (sec, key) in _CHOICES:
+            v = str(value).strip().lower()
+            if v not in _CHOICES[sec, key]:
+                raise ValueError(f"must be one of {', '.join(_CHOICES[sec, key])}")
+            return v
+        if (sec, key) in _LENGTHS:
+            v = length(value) if isinstance(value, str) else float(value)
+        elif (sec, key) in _ACCELS:
+            from ..dynamics.motions import parse_accel
+
+            v = parse_accel(value, name) if isinstance(value, str) else float(value)
+        elif key == "scale":
+            v = scale_ratio(value) if isinstance(value, str) else float(value)
+        elif key == "sheet":
+            v = sheet_size(value) if isinstance(value, str) else tuple(float(x) for x in value)
+            if len(v) != 2:
+                raise ValueError("must be [W, H] in m or 'WxHmm'")
+            return v
+        elif key == "feed" and isinstance(value, str):
+            t = value.strip().lower().replace(" ", "")
+            if not t.endswith("mm/min"):
+                raise ValueError("give m/s or 'N mm/min'")
+            v = float(t[:-6]) / 60000.0
+        elif isinstance(default, bool):
+            if not isinstance(value, bool):
+                raise ValueError("must be true or false")
+            return value
+        elif isinstance(default, int) or key in ("grooves", "workers", "iterations", "segments"):
+            if isinstance(value, bool) or not float(value).is_integer():
+                raise ValueError("must be a whole number")
+            return int(value)
+        elif isinstance(default, str) or key in ("spectrum", "motion", "scheduler"):
+            if not isinstance(value, str):
+                raise ValueError("must be a string")
+            return value
+        else:
+            if isinstance(value, bool):
+                raise ValueError("must be a number")
+            v = float(value)
+    except (ValueError, TypeError, argparse.ArgumentTypeError, InputError) as exc:
+        msg = str(exc).split(": ")[-1] if isinstance(exc, InputError) else str(exc)
+        raise InputError(f"{name} = {value!r}: {msg}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} = {value!r}: must be finite")
+    return v
+
+
+def load_config_text(text: str, where: str = "project file") -> ProjectConfig:
+    """Parse TOML text (unknown sections or keys are errors, with a suggestion)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{where} is not valid TOML: {exc}") from None
+    kw = {}
+    for sec, table in data.items():
+        if sec not in SECTIONS:
+            near = difflib.get_close_matches(sec, SECTIONS, 1)
+            hint = f" (did you mean [{near[0]}]?)" if near else f" (sections: {', '.join(SECTIONS)})"
+            raise InputError(f"{where}: unknown section [{sec}]{hint}")
+        if not isinstance(table, dict):
+            raise InputError(f"{where}: {sec} must be a [section]")
+        cls = SECTIONS[sec]
+        defaults = {f.name: f.default for f in fields(cls)}
+        values = {}
+        for key, value in table.items():
+            if key not in defaults:
+                near = difflib.get_close_matches(key, defaults, 1)
+                hint = f" (did you mean '{near[0]}'?)" if near else ""
+                raise InputError(f"{where}: unknown key '{key}' in [{sec}]{hint}")
+            values[key] = _convert(sec, key, value, defaults[key], where)
+        kw[sec] = cls(**values)
+    cfg = ProjectConfig(**kw, source=where)
+    validate(cfg, where)
+    return cfg
+
+
+def load_config(path: str | Path | None) -> ProjectConfig:
+    """The project file at ``path`` over the defaults (None: the defaults alone)."""
+    if path is None:
+        return ProjectConfig()
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"project file not found: {path}")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read project file {path}: {exc}") from None
+    return replace(load_config_text(text, str(path)), source=str(path))
+
+
+def grid(text: str, what: str, accel: bool = False) -> np.ndarray:
+    """'START:STOP:N' -> N values from START to STOP inclusive (accelerations may
+    carry a g suffix)."""
+    from ..dynamics.motions import parse_accel
+
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise InputError(f"{what}: expected START:STOP:N, got {text!r}")
+    try:
+        a, b = ((parse_accel(s, what) if accel else float(s)) for s in parts[:2])
+        n = int(parts[2])
+    except ValueError:
+        raise InputError(f"{what}: expected START:STOP:N with numbers, got {text!r}") from None
+    if not (1 <= n <= 1_000_000) or not (math.isfinite(a) and math.isfinite(b)):
+        raise InputError(f"{what}: N must lie in 1..1e6 and the ends be finite, got {text!r}")
+    return np.linspace(a, b, n)
+
+
+def validate(cfg: ProjectConfig, where: str = "project file") -> None:
+    """Check what can be checked before any work starts (grids, motions, spectra,
+    ranges), so a typo fails in a second, not after minutes."""
+    from ..dynamics.motions import parse_spec
+    from ..isolator.design_spectrum import parse_spectrum
+
+    def bad(msg):
+        raise InputError(f"{where}: {msg}")
+
+    s, p, m, i, d, c, r = (cfg.scan, cfg.prototype, cfg.model, cfg.isolator, cfg.dynamics, cfg.crosscheck, cfg.run)
+    for name, v in (("[scan] density", s.density), ("[scan] mass", s.mass), ("[scan] height", s.height)):
+        if v is not None and not v > 0:
+            bad(f"{name} must be positive, got {v}")
+    if not 1 <= p.scale <= 100:
+        bad(f"[prototype] scale must be 1:1 .. 1:100, got 1:{p.scale:g}")
+    for name in ("board", "tool", "rod", "tolerance", "feed", "board_density"):
+        if not getattr(p, name) > 0:
+            bad(f"[prototype] {name} must be positive, got {getattr(p, name)}")
+    if m.kind == "housner" and (m.alpha_L != 1 or m.alpha_R != 1):
+        bad("[model] alpha_L/alpha_R belong to kind = \"imperfect\"")
+    for name in ("alpha_L", "alpha_R"):
+        if not 0 < getattr(m, name) <= 1:
+            bad(f"[model] {name} must be in (0, 1], got {getattr(m, name)}")
+    for name in ("e_L", "e_R"):
+        v = getattr(m, name)
+        if v is not None and not 0 <= v <= 1:
+            bad(f"[model] {name} must be in [0, 1], got {v}")
+    if not 0 < m.rtol < 1e-2:
+        bad(f"[model] rtol must be in (0, 0.01), got {m.rtol}")
+    if not 0 <= i.mu < 0.5:
+        bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
+    if i.enabled and (i.spectrum is None) == (i.motion is None):
+        bad("[isolator] give exactly one of spectrum and motion")
+    if i.spectrum:
+        parse_spectrum(i.spectrum)
+    if i.motion:
+        parse_spec(i.motion)
+    if i.grooves not in (None, 3, 4):
+        bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
+    if not 16 <= i.segments <= 4096:
+        bad(f"[isolator] segments must be in 16..4096, got {i.segments}")
+    freqs = grid(d.freq, f"{where}: [dynamics] freq")
+    amps = grid(d.amp, f"{where}: [dynamics] amp", accel=True)
+    pgas = grid(d.pga, f"{where}: [dynamics] pga", accel=True)
+    if np.any(freqs <= 0) or np.any(amps < 0) or np.any(pgas < 0):
+        bad("[dynamics] frequencies must be > 0 and amplitudes, PGAs >= 0")
+    for name, spec in (("[dynamics] motion", d.motion), ("[crosscheck] motion", c.motion)):
+        motion, theta0 = parse_spec(spec)
+        if motion.kind == "none" or theta0 != 0:
+            bad(f"{name} must be a ground motion, got {spec!r}")
+    if not 1e-5 <= c.dt <= 5e-3:
+        bad(f"[crosscheck] dt must be in 1e-5..5e-3 s, got {c.dt}")
+    if not (c.grid == 0 or 0.0005 <= c.grid <= 0.05):
+        bad(f"[crosscheck] grid must be 0 or in 0.5..50 mm, got {c.grid}")
+    if r.workers is not None and r.workers < 1:
+        bad(f"[run] workers must be >= 1, got {r.workers}")
+
+
+def default_toml() -> str:
+    """The project file with every key at its default, and this module's notes on top."""
+    head = "\n".join("# " + line if line else "#" for line in __doc__.split("Example")[0].strip().splitlines())
+    return head + "\n\n" + ProjectConfig().to_toml()

@@ -1,0 +1,211 @@
+"""One command from scan to report: run the stages in order, cached, with progress.
+
+    OUT/config.toml        the resolved configuration (every key; repeat the run with it)
+    OUT/params/ OUT/prototype/ OUT/isolator/ OUT/dynamics/ OUT/crosscheck/
+                           one folder per stage, each with its manifest stage.json
+    OUT/run.json           stages (status, seconds, cached, key) and their headline numbers
+    OUT/report.html        the self-contained report
+
+A stage whose inputs (scan bytes, the configuration sections it reads, the stages
+it reads, the package's code) did not change is taken from its folder; ``force``
+recomputes. Stages not asked for are taken from their folders when complete, and
+computed when a stage that was asked for needs them.
+
+A folder of scans (:func:`run_collection`) runs each scan as one task of an
+executor: local processes, or a Dask cluster; the numbers do not depend on which.
+
+Example
+-------
+>>> import tempfile, pathlib
+>>> from statue2model.paths import default_scan
+>>> out = pathlib.Path(tempfile.mkdtemp()) / "girl"
+>>> res = run_project(default_scan(), out, stages=["params"], report=False, say=lambda m: None)
+>>> res.stages["params"]["status"], round(res.stages["params"]["data"]["a_R"], 4)
+('done', 2.7101)
+>>> run_project(default_scan(), out, stages=["params"], report=False, say=lambda m: None).stages["params"]["status"]
+'cached'
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .. import __version__
+from ..errors import InputError
+from ..files import atomic_write, prepare_dir, write_json
+from .cache import clean_partials, file_hash, run_stage, stage_key
+from .config import ProjectConfig
+from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
+
+MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """``stages``: name -> manifest with ``status`` (done, cached, skipped, disabled,
+    failed) and ``seconds``; ``report``: path of report.html (or None)."""
+
+    mesh: Path
+    out: Path
+    config: ProjectConfig
+    stages: dict = field(default_factory=dict)
+    report: Path | None = None
+    seconds: float = 0.0
+
+    def summary_rows(self) -> list[tuple[str, str, str]]:
+        rows = []
+        for name, m in self.stages.items():
+            t = m.get("seconds")
+            rows.append((name, m["status"], "" if t is None else f"{t:.1f} s"))
+        return rows
+
+
+def _needed(asked: list[str], cfg: ProjectConfig) -> list[str]:
+    """The stages to run for ``asked``: those and what they read, in pipeline order."""
+    need = set()
+
+    def add(n):
+        if n in need:
+            return
+        need.add(n)
+        for dep in DEPENDS[n][0]:
+            add(dep)
+
+    for n in asked:
+        add(n)
+    return [n for n in STAGES if n in need]
+
+
+def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None = None, *,
+                stages: list[str] | None = None, force: bool = False, executor=None, report: bool = True,
+                say=print) -> RunResult:
+    """Run ``stages`` (default: all enabled) on ``mesh`` into folder ``out``."""
+    cfg = ProjectConfig() if config is None else config
+    mesh = Path(mesh)
+    if not mesh.is_file():
+        raise InputError(f"scan not found: {mesh}")
+    out = prepare_dir(out)
+    clean_partials(out)
+    asked = check_stage_names(stages) if stages else [n for n in STAGES if enabled(n, cfg)]
+    order = _needed(asked, cfg)
+    write_config(cfg, out / "config.toml", mesh)
+    mesh_hash = file_hash(mesh)
+    t_run = time.perf_counter()
+    keys, dirs, manifests, results = {}, {}, {}, {}
+    n = len(order)
+    for i, name in enumerate(order, 1):
+        deps, sections = DEPENDS[name]
+        if not enabled(name, cfg):
+            results[name] = {"status": "disabled", "summary": {}, "text": [f"[{name}] enabled = false"]}
+            say(f"[{i}/{n}] {name:<10} disabled in the configuration")
+            continue
+        missing = [dep for dep in deps if dep not in keys]
+        if missing:
+            results[name] = {"status": "skipped", "summary": {}, "text": [f"needs {', '.join(missing)}"]}
+            say(f"[{i}/{n}] {name:<10} skipped: needs {', '.join(missing)}")
+            continue
+        inputs = {"mesh": mesh_hash, "config": {s: cfg.section(s) for s in sections},
+                  "upstream": {dep: keys[dep] for dep in deps}}
+        key = stage_key(name, inputs)
+        ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests))
+        say(f"[{i}/{n}] {name:<10} ...")
+        t0 = time.perf_counter()
+        man = run_stage(out / name, key, lambda d, f=STAGES[name], c=ctx: f(c, d), force=force)
+        status = "cached" if man["cached"] else "done"
+        say(f"[{i}/{n}] {name:<10} {status} in {time.perf_counter() - t0:.1f} s"
+            + (f" (computed in {man['seconds']:.1f} s earlier)" if man["cached"] else ""))
+        for k, v in man.get("summary", {}).items():
+            say(f"        {k}: {v}")
+        keys[name], dirs[name], manifests[name] = key, out / name, man
+        results[name] = {**man, "status": status}
+    results = {name: results.get(name, {"status": "not run", "summary": {}}) for name in STAGES}
+    res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run)
+    write_json(out / "run.json", {"schema": "statue2model.run/1", "version": __version__, "mesh": str(mesh),
+                                  "mesh_sha256": mesh_hash, "seconds": res.seconds, "stages": results})
+    if report:
+        from .report import write_html
+
+        res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=res.seconds,
+                        report=write_html(res))
+    return res
+
+
+def write_config(cfg: ProjectConfig, path: Path, mesh: Path | None = None) -> Path:
+    head = (f"# statue2model {__version__}: the resolved configuration of this run"
+            + (f" on {mesh}" if mesh else "") + f".\n# Repeat it with: statue2model run {mesh or 'MESH'} "
+            f"--config {path.name}\n\n")
+    return atomic_write(path, lambda p: p.write_text(head + cfg.to_toml(), encoding="utf-8"))
+
+
+# --- a folder of scans ----------------------------------------------------------------------------
+def scans_in(folder: str | Path) -> list[Path]:
+    """The scans in a folder (by suffix), sorted by name; an error if there is none."""
+    folder = Path(folder)
+    scans = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in MESH_SUFFIXES)
+    if not scans:
+        raise InputError(f"no scans ({', '.join(MESH_SUFFIXES)}) in folder {folder}")
+    return scans
+
+
+def _scan_task(task) -> dict:
+    """One scan of a collection (module level: runs in worker processes or on Dask workers)."""
+    mesh, out, cfg, stages, force = task
+    try:
+        res = run_project(mesh, out, cfg, stages=stages, force=force, executor=None, report=True,
+                          say=lambda m: None)
+    except InputError as exc:
+        return {"scan": Path(mesh).name, "error": str(exc)}
+    return {"scan": Path(mesh).name, "out": str(res.out), "report": str(res.report) if res.report else None,
+            "status": {k: v["status"] for k, v in res.stages.items()},
+            "data": {k: v.get("data", {}) for k, v in res.stages.items()}}
+
+
+COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]", 1.0),
+                      ("params", "b_L", "b_L [m]", 1.0), ("params", "b_R", "b_R [m]", 1.0),
+                      ("params", "a_min", "weakest uplift [g]", 1 / 9.81),
+                      ("params", "weakest_deg", "weakest direction [deg]", 1.0),
+                      ("dynamics", "spectrum_overturn_fraction_fixed", "pulses overturning, fixed", 1.0),
+                      ("dynamics", "spectrum_overturn_fraction_isolated", "pulses overturning, isolated", 1.0),
+                      ("dynamics", "first_overturn_pga_fixed", "first overturning PGA fixed [g]", 1 / 9.81),
+                      ("dynamics", "first_overturn_pga_isolated", "first overturning PGA isolated [g]", 1 / 9.81),
+                      ("isolator", "R", "isolator R [m]", 1.0), ("isolator", "T", "isolator T [s]", 1.0),
+                      ("isolator", "passed", "isolator passes", None))
+
+
+def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | None = None, *,
+                   stages: list[str] | None = None, force: bool = False, executor=None, say=print) -> dict:
+    """Every scan of ``folder`` as one sweep: OUT/<scan name>/ per scan (its own
+    cached stages and report), OUT/collection.json and collection.csv."""
+    cfg = ProjectConfig() if config is None else config
+    scans = scans_in(folder)
+    out = prepare_dir(out)
+    names = [s.stem for s in scans]
+    if len(set(names)) != len(names):
+        raise InputError(f"two scans in {folder} share a name ({', '.join(names)}); rename one")
+    write_config(cfg, out / "config.toml")
+    tasks = [(s, out / s.stem, cfg, stages, force) for s in scans]
+    say(f"{len(scans)} scans in {folder} on {executor.describe() if executor is not None else 'this process'}")
+    t0 = time.perf_counter()
+    rows = executor.map(_scan_task, tasks, desc="scans") if executor is not None else [_scan_task(t) for t in tasks]
+    wall = time.perf_counter() - t0
+    table = []
+    for r in rows:
+        row = {"scan": r["scan"]}
+        if "error" in r:
+            row["error"] = r["error"]
+        for stage, key, label, factor in COLLECTION_COLUMNS:
+            v = r.get("data", {}).get(stage, {}).get(key)
+            row[label] = v if (v is None or factor is None) else v * factor
+        table.append(row)
+    data = {"schema": "statue2model.collection/1", "folder": str(folder), "scans": rows, "table": table,
+            "seconds": wall, "executor": executor.describe() if executor is not None else "this process"}
+    write_json(out / "collection.json", data)
+    cols = ["scan"] + [c[2] for c in COLLECTION_COLUMNS]
+
+    def cell(v):
+        return "" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v))
+
+    csv = ",".join(cols) + "\n" + "".join(",".join(cell(row.get(c)) for c in cols) + "\n" for row in table)
+    atomic_write(out / "collection.csv", lambda p: p.write_text(csv))
+    return data

@@ -1,0 +1,391 @@
+"""The stages of a run, scan to report; each a plain function ``stage(ctx, d) -> manifest``.
+
+``ctx`` (:class:`Context`) holds the scan, the configuration, the executor for
+sweeps and the folders of the stages already done; ``d`` is the (temporary) folder
+the stage writes into. The returned manifest is what the summary and the report
+show of the stage (all JSON):
+
+    summary  {label: value}          the stage's headline numbers
+    tables   [{title, columns, rows, status_column}]
+    figures  [{path (relative to the stage folder), caption}]
+    text     [paragraph, ...]
+    data     {...}                   numbers later stages or the collection table read
+
+Stage        reads                      writes (in its folder)
+params       [scan]                     props.json, props_rose.csv, props.png
+prototype    [scan] [prototype]         layers/, sheets/ (CNC DXF + previews), bom.csv, assembly.txt,
+                                        prototype.stl/.json, slice.json, layers.png
+isolator     params, [model] [isolator] design.json, design.txt, plates/ (STL, 3MF, DXF, section)
+dynamics     params, isolator,          spectrum_fixed|isolated.json/.png, variability.json/.png,
+             [model] [dynamics]         history.json/.png
+crosscheck   params, isolator,          crosscheck.json, overlay plots
+             [scan] [crosscheck]
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..files import atomic_write, read_json, write_json
+from .config import ProjectConfig, grid
+
+G = 9.81
+
+
+@dataclass(frozen=True)
+class Context:
+    """What every stage may read. ``dirs``: stage name -> its complete folder;
+    ``manifests``: stage name -> its manifest."""
+
+    mesh: Path
+    config: ProjectConfig
+    executor: object = None
+    dirs: dict = field(default_factory=dict)
+    manifests: dict = field(default_factory=dict)
+
+    def load_body(self):
+        from ..geometry.body import load_body
+
+        s = self.config.scan
+        return load_body(self.mesh, units=s.units, up=s.up, height=s.height,
+                         density=None if s.mass is not None else s.density, mass=s.mass, base_tol=s.base_tol)
+
+    def params(self):
+        from ..geometry.rocking_params import RockingParams
+
+        return RockingParams.from_dict(read_json(self.dirs["params"] / "props.json"))
+
+    def model(self):
+        from ..dynamics.model import RockingModel
+
+        m, p = self.config.model, self.params()
+        if m.kind == "housner":
+            return RockingModel.housner(p, m.e_L, m.e_R)
+        return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R)
+
+    def design(self) -> dict | None:
+        """The isolator design (dict) if the isolator stage ran and its design passed."""
+        man = self.manifests.get("isolator")
+        if not man or not man.get("data", {}).get("passed"):
+            return None
+        return read_json(self.dirs["isolator"] / "design.json")
+
+
+def _fig(path: str, caption: str) -> dict:
+    return {"path": path, "caption": caption}
+
+
+def _fmt(x, nd=4):
+    return "-" if x is None or (isinstance(x, float) and not np.isfinite(x)) else f"{x:.{nd}g}"
+
+
+# --- params ---------------------------------------------------------------------------------------
+def params_stage(ctx: Context, d: Path) -> dict:
+    from ..props import props_dict
+    from ..report.plots import plot_footprint_and_rose
+
+    body = ctx.load_body()
+    p = body.rocking(ctx.config.scan.direction)
+    rose = body.rose()
+    write_json(d / "props.json", props_dict(body, p, rose))
+    atomic_write(d / "props_rose.csv", lambda f: f.write_text(rose.to_csv()))
+    plot_footprint_and_rose(body, p, rose, d / "props.png")
+    mp = body.mass
+    rows = [["h (height of G)", _fmt(p.h), "", "m"], ["I_G (about G)", _fmt(p.I_G, 5), "", "kg m^2"],
+            ["b (G to pivot, in plan)", _fmt(p.b_L), _fmt(p.b_R), "m"],
+            ["delta = atan(b/h)", _fmt(p.delta_L), _fmt(p.delta_R), "rad"],
+            ["p (frequency parameter)", _fmt(p.p_L), _fmt(p.p_R), "rad/s"],
+            ["a = g b/h (uplift)", f"{p.a_L:.4f} ({p.a_L / p.g:.3f} g)", f"{p.a_R:.4f} ({p.a_R / p.g:.3f} g)", "m/s^2"],
+            ["e (eq. 15)", _fmt(p.e_L), _fmt(p.e_R), "-"]]
+    summary = {"mass": f"{mp.mass:.4g} kg", "height": f"{body.height:.4f} m", "volume": f"{mp.volume:.5g} m^3",
+               "direction": f"{p.direction_deg:.2f} deg", "h": f"{p.h:.4f} m", "b_L / b_R": f"{p.b_L:.4f} / {p.b_R:.4f} m",
+               "uplift a_R": f"{p.a_R:.4f} m/s^2 ({p.a_R / p.g:.3f} g)",
+               "weakest direction": f"{rose.weakest_deg:.2f} deg ({rose.a_min / p.g:.3f} g)"}
+    text = [(f"Scan {Path(body.source).name}: units {body.units}, up {body.up}, scale x{body.scale:g}, "
+            f"density {mp.density:.1f} kg/m^3.")] + [f"warning: {w}" for w in body.warnings]
+    return {"summary": summary, "text": text,
+            "tables": [{"title": f"Rocking parameters along {p.direction_deg:.2f} deg",
+                        "columns": ["quantity", "left (L)", "right (R)", "unit"], "rows": rows}],
+            "figures": [_fig("props.png", "Footprint (contact polygons, hull, centre of mass, pivots) and the "
+                                          "vulnerability rose: uplift acceleration against the excitation direction")],
+            "data": {"m": mp.mass, "h": p.h, "b_L": p.b_L, "b_R": p.b_R, "I_G": p.I_G, "a_L": p.a_L, "a_R": p.a_R,
+                     "direction_deg": p.direction_deg, "weakest_deg": rose.weakest_deg, "a_min": rose.a_min,
+                     "height": body.height, "volume": mp.volume}}
+
+
+# --- prototype ------------------------------------------------------------------------------------
+def prototype_stage(ctx: Context, d: Path) -> dict:
+    from ..fabrication.output import write_slice
+    from ..fabrication.slicing import slice_body
+    from ..fabrication.spec import SliceSpec
+    from ..report.pipeline_plots import plot_layers
+
+    c = ctx.config.prototype
+    spec = SliceSpec(scale=c.scale, board=c.board, glue=c.glue, tool=c.tool, rod=c.rod, clearance=c.clearance,
+                     wall=c.wall, sheet=tuple(c.sheet), margin=c.margin, edge=c.edge, policy=c.policy,
+                     compensate=c.compensate, tolerance=c.tolerance, feed=c.feed, pass_depth=c.pass_depth,
+                     osb_density=c.board_density, glue_density=c.glue_density, rod_density=c.rod_density)
+    res = slice_body(ctx.load_body(), spec, direction_deg=ctx.config.scan.direction, front_deg=c.front)
+    write_slice(res, d, previews=c.previews)
+    plot_layers(res, d / "layers.png")
+    cmp_, pp, sp = res.comparison, res.proto_params, res.scan_params
+    rows = [["volume, dm^3", f"{res.proto_mass.volume * 1e3:.3f}", f"{res.scan_mass.volume * 1e3:.3f}",
+             f"{cmp_.volume * 100:+.2f} %"],
+            ["h, m", f"{pp.h:.4f}", f"{sp.h:.4f}", f"{cmp_.h * 100:+.2f} %"],
+            ["b_L, m", f"{pp.b_L:.4f}", f"{sp.b_L:.4f}", f"{cmp_.b_L * 100:+.2f} %"],
+            ["b_R, m", f"{pp.b_R:.4f}", f"{sp.b_R:.4f}", f"{cmp_.b_R * 100:+.2f} %"],
+            ["I_G / m, m^2", f"{pp.I_G / pp.m:.5f}", f"{sp.I_G / sp.m:.5f}", f"{cmp_.I_G_per_mass * 100:+.2f} %"],
+            ["a_R, g", f"{pp.a_R / G:.4f}", f"{sp.a_R / G:.4f}", f"{cmp_.a_R * 100:+.2f} %"],
+            ["centre of mass offset", "", "", f"{cmp_.com_offset * 100:.2f} % of h"]]
+    figs = [_fig("layers.png", "Boards in plan (colour: layer) with the rod holes, and the stack in elevation")]
+    if c.previews:
+        for k in range(res.nesting.n_sheets):
+            figs.append(_fig(f"sheets/sheet_{k + 1:02d}.png", f"Sheet {k + 1} of {res.nesting.n_sheets}: nested "
+                                                              "parts, rod holes and engraved labels"))
+    summary = {"scale": f"1:{spec.scale:g}", "layers": f"{res.n_layers} x {spec.board * 1000:g} mm "
+               f"(+{spec.glue * 1000:g} mm glue)", "parts / sheets": f"{len(res.parts)} / {res.nesting.n_sheets}",
+               "prototype mass": f"{res.proto_mass.mass:.2f} kg",
+               "largest parameter error": f"{max(abs(cmp_.h), abs(cmp_.b_L), abs(cmp_.b_R), abs(cmp_.a_R)) * 100:.2f} %"}
+    text = [(f"{res.n_layers} boards, {len(res.rods.rods)} alignment rods, material use "
+            f"{res.nesting.material_use * 100:.1f} %. CNC files: layers/*.dxf (one per layer), sheets/*.dxf "
+            "(nested panels, mm, R2010), bom.csv, assembly.txt.")]
+    if res.warnings:
+        text.append(f"{len(res.warnings)} tool warning(s), all in slice.json: " + "; ".join(res.warnings[:3])
+                    + ("; ..." if len(res.warnings) > 3 else ""))
+    return {"summary": summary, "text": text, "figures": figs,
+            "tables": [{"title": "Prototype as built against the scaled scan",
+                        "columns": ["quantity", "as built", "scaled scan", "error"], "rows": rows}],
+            "data": {"n_layers": res.n_layers, "n_sheets": res.nesting.n_sheets, "proto_mass": res.proto_mass.mass}}
+
+
+# --- isolator -------------------------------------------------------------------------------------
+def isolator_stage(ctx: Context, d: Path) -> dict:
+    from ..dynamics.motions import parse_spec
+    from ..isolator.design import design
+    from ..isolator.design_spectrum import parse_spectrum
+    from ..isolator.plates import PlateGeometry, write_plates
+
+    c, m = ctx.config.isolator, ctx.config.model
+    alpha = (m.alpha_L, m.alpha_R) if m.kind == "imperfect" else (1.0, 1.0)
+    res = design(ctx.params(), mu=c.mu, spectrum=parse_spectrum(c.spectrum) if c.spectrum else None,
+                 motion=parse_spec(c.motion)[0] if c.motion else None, target=c.target, alpha=alpha,
+                 n_grooves=c.grooves, thickness=c.thickness, fuse_release=c.fuse_release)
+    dd = res.to_dict()
+    write_json(d / "design.json", dd)
+    atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
+    figs, text = [], []
+    if res.passed:
+        write_plates(PlateGeometry.from_design(dd), d / "plates", segments=c.segments)
+        figs.append(_fig("plates/plates_section.png", "Section through the bottom and top plates, a groove and "
+                                                      "its ball (dimensions in mm)"))
+        text.append("CNC files: plates/bottom_plate.dxf, plates/top_plate.dxf (outline CUT_OUTSIDE, groove "
+                    "openings POCKET, centres DRILL), solids as STL and 3MF.")
+    else:
+        failed = [ck.name for ck in res.checks if ck.required and not ck.passed]
+        text.append(f"No design meets every required check ({'; '.join(failed)}): no plates were written, and "
+                    "the analyses on the isolator are skipped.")
+    rows = [[ck.name, _fmt(ck.value), _fmt(ck.limit), "pass" if ck.passed else ("fail" if ck.required else "note"),
+             ck.why] for ck in res.checks]
+    summary = {"design": "PASS" if res.passed else "FAIL",
+               "grooves / balls": f"R {res.R:.3f} m, r {res.r * 1000:.1f} mm, {res.n_grooves} grooves",
+               "period T": f"{res.T:.2f} s",
+               "plate": f"{res.side * 1000:.0f} x {res.side * 1000:.0f} x {res.thickness * 1000:.0f} mm",
+               "plate acceleration": f"{res.a_design:.4f} m/s^2 (limit {res.a_lim:.4f})",
+               "displacement": f"{res.d_design * 1000:.1f} mm (allowed {res.d_max * 1000:.1f})"}
+    return {"summary": summary, "text": text + list(res.notes), "figures": figs,
+            "tables": [{"title": "Design checks", "columns": ["check", "value", "limit", "result", "why"],
+                        "rows": rows, "status_column": 3}],
+            "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
+                     "side": res.side, "n_grooves": res.n_grooves, "a_design": res.a_design}}
+
+
+# --- dynamics -------------------------------------------------------------------------------------
+def _spectrum_rows(sp, label):
+    from ..dynamics.batch import OUTCOMES
+
+    n = sp.codes.size
+    ot = sp.codes >= 3
+    amin = sp.min_overturning_amp()
+    lowest = np.nanmin(amin) if np.any(np.isfinite(amin)) else None
+    return [label, f"{np.sum(sp.codes >= 1) / n * 100:.1f} %", f"{ot.sum() / n * 100:.1f} %",
+            "-" if lowest is None else f"{lowest / G:.3f} g",
+            ", ".join(f"{OUTCOMES[k]} {int(np.sum(sp.codes == k))}" for k in range(len(OUTCOMES)) if np.any(sp.codes == k))]
+
+
+def _first_overturn(sw) -> float | None:
+    i = np.flatnonzero(sw.overturned)
+    return float(sw.values[i[0]]) if i.size else None
+
+
+def dynamics_stage(ctx: Context, d: Path) -> dict:
+    from ..dynamics.engine import simulate as rock
+    from ..dynamics.motions import parse_spec
+    from ..dynamics.spectrum import stability_spectrum
+    from ..dynamics.sweeps import variability
+    from ..isolator.coupled import simulate_coupled
+    from ..isolator.device import Isolator
+    from ..isolator.dynamics import simulate as plate_run
+    from ..isolator.sweeps import isolated_spectrum, isolated_variability
+    from ..report.dynamics_plots import plot_spectrum
+    from ..report.pipeline_plots import plot_history_pair, plot_variability_pair
+
+    c = ctx.config.dynamics
+    model = ctx.model()
+    rtol = ctx.config.model.rtol
+    freqs, amps = grid(c.freq, "[dynamics] freq"), grid(c.amp, "[dynamics] amp", accel=True)
+    pgas = grid(c.pga, "[dynamics] pga", accel=True)
+    motion = parse_spec(c.motion)[0]
+    ex = {"executor": ctx.executor} if ctx.executor is not None else {}
+    design = ctx.design() if c.isolated else None
+    iso = Isolator(R=design["R"], r=design["r"], M=design["M"], mu=design["mu"]) if design else None
+
+    figs, tables, text, data = [], [], [], {}
+    sp = stability_spectrum(model, freqs, amps, pulse=c.pulse, rtol=rtol, **ex)
+    write_json(d / "spectrum_fixed.json", sp.to_dict())
+    plot_spectrum(sp, d / "spectrum_fixed.png", f"fixed base: one-{c.pulse} pulses ({sp.codes.size} runs)")
+    figs.append(_fig("spectrum_fixed.png", f"Stability spectrum on a fixed base: one-{c.pulse} pulses, "
+                                           f"{sp.codes.size} runs"))
+    spec_rows = [_spectrum_rows(sp, "fixed base")]
+    if iso is not None:
+        spi = isolated_spectrum(iso, model, freqs, amps, pulse=c.pulse, executor=ctx.executor)
+        write_json(d / "spectrum_isolated.json", spi.to_dict())
+        plot_spectrum(spi, d / "spectrum_isolated.png",
+                      f"on the isolator (T = {design['T']:.2f} s): one-{c.pulse} pulses ({spi.codes.size} runs)")
+        figs.append(_fig("spectrum_isolated.png", f"Stability spectrum of the statue on the isolator (coupled plate "
+                                                  f"+ statue), the same {spi.codes.size} pulses"))
+        spec_rows.append(_spectrum_rows(spi, "on the isolator"))
+        data["spectrum_overturn_fraction_isolated"] = float(np.mean(spi.codes >= 3))
+    data["spectrum_overturn_fraction_fixed"] = float(np.mean(sp.codes >= 3))
+    tables.append({"title": f"Stability spectra: {freqs[0]:g}-{freqs[-1]:g} Hz x {amps[0] / G:.3g}-{amps[-1] / G:.3g} g",
+                   "columns": ["base", "moves", "overturns", "lowest overturning amplitude", "outcomes"],
+                   "rows": spec_rows})
+
+    sw = variability(model, motion, pgas, rtol=rtol, **ex)
+    swi = acc_i = None
+    if iso is not None:
+        swi, acc_i = isolated_variability(iso, model, motion, pgas, executor=ctx.executor)
+    write_json(d / "variability.json", {"fixed": sw.to_dict(), "isolated": None if swi is None else
+                                        {**swi.to_dict(), "plate_acc_abs_max": acc_i}})
+    plot_variability_pair(sw, swi, acc_i, d / "variability.png")
+    figs.append(_fig("variability.png", f"Variability: {motion.label} scaled to {pgas.size} PGAs, fixed base "
+                                        "and on the isolator"))
+    ot_f, ot_i = _first_overturn(sw), (_first_overturn(swi) if swi is not None else None)
+    var_rows = [["fixed base", "none" if ot_f is None else f"{ot_f / G:.3f} g",
+                 f"{sw.summary()['p50']:.3f}", f"{sw.summary()['max']:.3f}"]]
+    if swi is not None:
+        var_rows.append(["on the isolator", "none" if ot_i is None else f"{ot_i / G:.3f} g",
+                         f"{swi.summary()['p50']:.3f}", f"{swi.summary()['max']:.3f}"])
+    tables.append({"title": f"Variability over PGA {pgas[0] / G:.3g}-{pgas[-1] / G:.3g} g",
+                   "columns": ["base", "first overturning PGA", "median |theta|max/delta", "max |theta|max/delta"],
+                   "rows": var_rows})
+    data.update(first_overturn_pga_fixed=ot_f, first_overturn_pga_isolated=ot_i)
+
+    fixed = rock(model, motion, rtol=1e-8, dt_out=0.005)
+    plate = coupled = None
+    hist = {"fixed": fixed.to_dict()}
+    hrows = [["fixed base", fixed.outcome, f"{fixed.theta_max_over_delta:.4f}", f"{motion.pga / G:.3f} g", "-"]]
+    if iso is not None:
+        plate = plate_run(iso, motion, dt_out=0.005)
+        coupled = simulate_coupled(iso, model, motion, t_end=float(plate.t[-1]), dt_out=0.005)
+        hist["isolated"] = coupled.to_dict()
+        hrows.append(["on the isolator", coupled.outcome, f"{coupled.theta_max_over_delta:.4f}",
+                      f"{coupled.acc_abs_max / G:.3f} g", f"{coupled.efficiency:.3f}"])
+        data.update(efficiency=coupled.efficiency, outcome_isolated=coupled.outcome)
+    data.update(outcome_fixed=fixed.outcome, theta_max_over_delta_fixed=fixed.theta_max_over_delta)
+    write_json(d / "history.json", hist)
+    plot_history_pair(fixed, plate, coupled, d / "history.png")
+    figs.append(_fig("history.png", f"Time history under {motion.label}: rotation on a fixed base and on the "
+                                    "isolator; ground and plate accelerations"))
+    tables.append({"title": f"Time history: {motion.label}",
+                   "columns": ["base", "outcome", "|theta|max/delta", "peak acceleration felt", "efficiency"],
+                   "rows": hrows})
+    if c.isolated and iso is None:
+        text.append("The analyses on the isolator were skipped: no passing isolator design "
+                    "(see the isolator section, or enable [isolator]).")
+    lim_up, lim_dn = model.uplift_limits
+    text.insert(0, f"Rocking model: {model.kind}; the statue lifts at +{lim_up / G:.4f} g / -{lim_dn / G:.4f} g.")
+    summary = {"spectrum overturns (fixed)": f"{data['spectrum_overturn_fraction_fixed'] * 100:.1f} % of pulses",
+               "first overturning PGA (fixed)": var_rows[0][1],
+               f"{motion.label} (fixed)": f"{fixed.outcome}, |theta|max/delta {fixed.theta_max_over_delta:.3f}"}
+    if iso is not None:
+        summary["spectrum overturns (isolated)"] = f"{data['spectrum_overturn_fraction_isolated'] * 100:.1f} % of pulses"
+        summary["first overturning PGA (isolated)"] = var_rows[1][1]
+        summary[f"{motion.label} (isolated)"] = f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}"
+    return {"summary": summary, "text": text, "tables": tables, "figures": figs, "data": data}
+
+
+def _error_and_target(cd: dict) -> tuple[str, str]:
+    """A case's error and target, as percentages for relative cases."""
+    err, target = cd.get("rel_error"), cd.get("target")
+    if cd.get("kind") == "relative":
+        return ("-" if err is None else f"{err * 100:.1f} %", "-" if target is None else f"{target * 100:.0f} %")
+    return _fmt(err), _fmt(target)
+
+
+# --- crosscheck -----------------------------------------------------------------------------------
+def crosscheck_stage(ctx: Context, d: Path) -> dict:
+    from ..crosscheck.contact import ContactSettings
+    from ..crosscheck.isolator_scene import IsolatorScene
+    from ..crosscheck.report import summary as cc_summary
+    from ..crosscheck.report import write_report
+    from ..crosscheck.runs import compare
+    from ..crosscheck.statue_scene import StatueScene
+    from ..crosscheck.world import SimSettings
+    from ..dynamics.motions import parse_spec
+
+    c = ctx.config.crosscheck
+    motion = parse_spec(c.motion)[0]
+    scene = StatueScene.from_body(ctx.load_body(), ctx.config.scan.direction)
+    design = ctx.design() if c.isolator else None
+    iso = IsolatorScene.from_design(design, statue=scene, grid=c.grid or None) if design else None
+    settings, contact = SimSettings(dt=c.dt, solver_iterations=c.iterations), ContactSettings()
+    comp = compare(scene, motion, iso_scene=iso, settings=settings, contact=contact, pulse_freq=c.pulse_freq,
+                   quick=c.quick)
+    paths = write_report(comp, d, {"scene": {"name": scene.name, "params": scene.params.to_dict()},
+                                   "settings": settings.to_dict(), "contact": contact.to_dict(),
+                                   "motion": motion.to_dict()})
+    rows = []
+    for case in comp.cases:
+        cd = case.to_dict()
+        rows.append([cd["name"], cd.get("unit", ""), _fmt(cd.get("value_2d")), _fmt(cd.get("value_3d")),
+                     *_error_and_target(cd), "pass" if cd.get("met") else "fail"])
+    s = cc_summary(comp.cases)
+    figs = [_fig(p.name, f"2D (reduced model) and 3D (PyBullet) time histories: {name}")
+            for name, p in paths.items() if name != "json"]
+    text = [("Each case compares one quantity of the 2D model with the 3D contact simulation of the same scene; "
+            "a case meets its target when the difference is within the stated tolerance.")]
+    if s["unmet"]:
+        text.append("Cases outside their target: " + "; ".join(map(str, s["unmet"])))
+    if c.isolator and design is None:
+        text.append("The isolator scenes were skipped: no passing isolator design.")
+    return {"summary": {"2D/3D agreement": f"{s['n_met']} of {s['n_cases']} cases within target"},
+            "text": text, "figures": figs,
+            "tables": [{"title": "2D model against 3D physics", "columns": ["case", "unit", "2D", "3D", "error",
+                                                                            "target", "met"],
+                        "rows": rows, "status_column": 6}],
+            "data": {"n_cases": s["n_cases"], "n_met": s["n_met"]}}
+
+
+STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isolator_stage,
+          "dynamics": dynamics_stage, "crosscheck": crosscheck_stage}
+# stage -> (stages it reads, config sections it reads)
+DEPENDS = {"params": ((), ("scan",)), "prototype": ((), ("scan", "prototype")),
+           "isolator": (("params",), ("model", "isolator")),
+           "dynamics": (("params", "isolator"), ("model", "dynamics")),
+           "crosscheck": (("params", "isolator"), ("scan", "crosscheck"))}
+
+
+def enabled(name: str, cfg: ProjectConfig) -> bool:
+    sec = {"prototype": cfg.prototype, "isolator": cfg.isolator, "dynamics": cfg.dynamics,
+           "crosscheck": cfg.crosscheck}.get(name)
+    return True if sec is None else bool(sec.enabled)
+
+
+def check_stage_names(names) -> list[str]:
+    bad = [n for n in names if n not in STAGES]
+    if bad:
+        raise InputError(f"unknown stage(s) {', '.join(bad)}; stages are {', '.join(STAGES)}")
+    return list(names)

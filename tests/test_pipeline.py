@@ -1,0 +1,314 @@
+"""statue2model run: project file, content-hash cache, interruption and resume, the
+report in a headless browser, and a folder of scans on local processes and on a
+local Dask cluster with the same numbers."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from statue2model.cli import main
+from statue2model.errors import InputError
+from statue2model.paths import MESHES_DIR, default_scan
+from statue2model.pipeline import cache
+from statue2model.pipeline.config import (
+    ProjectConfig,
+    default_toml,
+    load_config,
+    load_config_text,
+)
+from statue2model.pipeline.run import run_collection, run_project
+
+SMALL = """
+[prototype]
+scale = "1:6"
+previews = false
+[dynamics]
+freq = "0.5:4:4"
+amp = "0.1g:1g:4"
+pga = "0.2g:1.2g:4"
+motion = "synthetic:duration=6,pga=0.4g,seed=2"
+[crosscheck]
+quick = true
+motion = "sine:amp=0.4g,freq=2"
+"""
+
+
+def small_toml(extra: str = "") -> str:
+    """SMALL with the sections of ``extra`` merged over it."""
+    import tomli_w
+    import tomllib
+
+    base = tomllib.loads(SMALL)
+    for sec, table in tomllib.loads(extra).items():
+        base.setdefault(sec, {}).update(table)
+    return tomli_w.dumps(base)
+
+
+def small_config(extra: str = "") -> ProjectConfig:
+    return load_config_text(small_toml(extra), "test.toml")
+
+
+def quiet(msg):
+    pass
+
+
+# --- project file -------------------------------------------------------------------------------
+def test_defaults_are_the_thesis_choices():
+    cfg = load_config(None)
+    assert (cfg.prototype.scale, cfg.prototype.board, cfg.prototype.glue, cfg.prototype.tool) == (2.0, 0.009, 0.0005, 0.003)
+    assert (cfg.prototype.board_density, cfg.prototype.rod_density) == (620.0, 7850.0)
+    assert cfg.isolator.mu == 0.0073 and cfg.isolator.fuse_release == pytest.approx(0.075 * 9.81)
+    assert cfg.scan.density == 2650.0 and cfg.model.kind == "housner"
+
+
+def test_default_file_round_trips(tmp_path):
+    p = tmp_path / "project.toml"
+    assert main(["config", "--out", str(p)]) == 0
+    assert load_config(p).to_dict() == ProjectConfig().to_dict()
+    assert p.read_text().startswith("# The project file")
+    assert main(["config", "--out", str(p)]) == 2           # never overwrites
+    cfg = small_config('[model]\nkind = "imperfect"\nalpha_L = 0.159\nalpha_R = 0.175\ntheta_L = 4.55e-3\n')
+    again = load_config_text(cfg.to_toml(), "resolved")
+    assert again.to_dict() == cfg.to_dict()
+    assert default_toml().count("[") >= 7
+
+
+@pytest.mark.parametrize("text, words", [
+    ("[prototype]\nbord = 0.009\n", "unknown key 'bord' in [prototype] (did you mean 'board'?)"),
+    ("[protoype]\nscale = 2\n", "unknown section [protoype] (did you mean [prototype]?)"),
+    ("[prototype]\nboard = \"9 furlongs\"\n", "[prototype] board"),
+    ("[prototype]\nscale = \"1:0\"\n", "[prototype] scale"),
+    ("[model]\nalpha_L = 0.5\n", "belong to kind = \"imperfect\""),
+    ("[model]\nkind = \"imperfect\"\nalpha_L = 1.5\n", "alpha_L must be in (0, 1]"),
+    ("[dynamics]\nfreq = \"1:2\"\n", "[dynamics] freq"),
+    ("[dynamics]\nmotion = \"earthquake\"\n", "earthquake"),
+    ("[isolator]\nspectrum = \"ec8:ag=0.25g,ground=S1\"\n", "S1"),
+    ("[isolator]\nmu = 0.7\n", "mu must be in [0, 0.5)"),
+    ("[run]\nworkers = 0\n", "workers must be >= 1"),
+    ("[scan]\nunits = \"furlong\"\n", "[scan] units"),
+    ("[prototype]\ncompensate = 1\n", "true or false"),
+    ("scan = 3\n", "must be a [section]"),
+    ("[scan\n", "not valid TOML"),
+])
+def test_bad_project_files_name_the_problem(text, words):
+    with pytest.raises(InputError) as exc:
+        load_config_text(text, "p.toml")
+    assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_units_in_values():
+    cfg = load_config_text('[prototype]\nboard = "12mm"\nsheet = "2440x1220mm"\nfeed = "3000 mm/min"\n'
+                           '[isolator]\nfuse_release = "0.1g"\ngrooves = 3\nthickness = "25mm"\n', "p")
+    assert cfg.prototype.board == pytest.approx(0.012)
+    assert cfg.prototype.sheet == pytest.approx((2.44, 1.22))
+    assert cfg.prototype.feed == pytest.approx(0.05)
+    assert cfg.isolator.fuse_release == pytest.approx(0.981)
+    assert cfg.isolator.grooves == 3 and cfg.isolator.thickness == pytest.approx(0.025)
+    assert load_config_text('[isolator]\nfuse_release = "none"\n', "p").isolator.fuse_release is None
+
+
+# --- cache ----------------------------------------------------------------------------------------
+def test_interrupted_stage_leaves_nothing_that_looks_complete(tmp_path):
+    key = cache.stage_key("s", {"a": 1})
+
+    def ok(d):
+        (d / "x.txt").write_text("first")
+        return {"summary": {"x": 1}}
+
+    def interrupted(d):
+        (d / "x.txt").write_text("half")
+        raise KeyboardInterrupt
+
+    assert cache.run_stage(tmp_path / "s", key, ok)["cached"] is False
+    with pytest.raises(KeyboardInterrupt):
+        cache.run_stage(tmp_path / "s", cache.stage_key("s", {"a": 2}), interrupted)
+    assert (tmp_path / "s" / "x.txt").read_text() == "first"          # the previous complete result
+    assert cache.completed(tmp_path / "s", key) is not None
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+    with pytest.raises(KeyboardInterrupt):
+        cache.run_stage(tmp_path / "new", key, interrupted)
+    assert not (tmp_path / "new").exists()
+
+
+# --- one scan -------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "girl"
+    res = run_project(default_scan(), out, small_config(), say=quiet)
+    return res
+
+
+def test_run_writes_every_stage_report_and_resolved_config(small_run):
+    res = small_run
+    assert {k: v["status"] for k, v in res.stages.items()} == {
+        "params": "done", "prototype": "done", "isolator": "done", "dynamics": "done", "crosscheck": "done"}
+    out = res.out
+    props = json.loads((out / "params" / "props.json").read_text())
+    assert props["a_R"] == pytest.approx(2.7101, abs=1e-4)
+    assert min(p.name for p in (out / "prototype" / "layers").iterdir()) == "layer_001.dxf"
+    assert (out / "prototype" / "layers.png").is_file()
+    assert (out / "isolator" / "plates" / "bottom_plate.dxf").is_file()
+    design = json.loads((out / "isolator" / "design.json").read_text())
+    assert design["passed"] and design["mu"] == 0.0073
+    for name in ("spectrum_fixed", "spectrum_isolated", "variability", "history"):
+        assert (out / "dynamics" / f"{name}.json").is_file() and (out / "dynamics" / f"{name}.png").is_file()
+    cc = json.loads((out / "crosscheck" / "crosscheck.json").read_text())
+    assert cc["summary"]["n_cases"] == len(cc["cases"]) > 3
+    assert load_config(out / "config.toml").to_dict() == small_config().to_dict()
+    run = json.loads((out / "run.json").read_text())
+    assert run["stages"]["dynamics"]["status"] == "done"
+    page = res.report.read_text()
+    for title in ("Rocking parameters", "Prototype: layers and sheets", "Rolling-ball isolator",
+                  "2D analyses", "3D cross-check", "2D model against 3D physics", "Design checks"):
+        assert title in page
+
+
+def test_report_figures_load_in_headless_chromium(small_run):
+    from statue2model.report.browser import check_figures, find_chromium
+
+    if find_chromium() is None:
+        if os.environ.get("CI"):
+            pytest.fail("no headless browser: .ci/install installs chromium-headless-shell")
+        pytest.skip("no headless browser (apt-get install chromium-headless-shell)")
+    check = check_figures(small_run.report)
+    n_figs = sum(len(m.get("figures", [])) for m in small_run.stages.values())
+    assert check.ok, check
+    assert check.total == check.loaded == n_figs >= 8
+
+
+def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(small_run):
+    out = small_run.out
+    cfg = small_config()
+    again = run_project(default_scan(), out, cfg, stages=["isolator", "dynamics"], say=quiet, report=False)
+    assert [again.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached"] * 3
+    t_before = (out / "dynamics" / "stage.json").stat().st_mtime_ns
+    changed = small_config('[model]\nrtol = 1e-8\n')            # only the 2D analyses and the isolator read [model]
+    res = run_project(default_scan(), out, changed, stages=["dynamics"], say=quiet, report=False)
+    assert [res.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached", "done", "done"]
+    assert (out / "dynamics" / "stage.json").stat().st_mtime_ns != t_before
+    forced = run_project(default_scan(), out, changed, stages=["params"], force=True, say=quiet, report=False)
+    assert forced.stages["params"]["status"] == "done"
+    assert load_config(out / "config.toml").model.rtol == 1e-8
+
+
+def test_executors_give_identical_numbers(tmp_path):
+    from statue2model.executors import ProcessExecutor
+
+    cfg = small_config()
+    a = run_project(default_scan(), tmp_path / "a", cfg, stages=["dynamics"], say=quiet, report=False)
+    with ProcessExecutor(2) as ex:
+        b = run_project(default_scan(), tmp_path / "b", cfg, stages=["dynamics"], say=quiet, report=False, executor=ex)
+    assert a.stages["dynamics"]["data"] == b.stages["dynamics"]["data"]
+    for name in ("spectrum_fixed.json", "spectrum_isolated.json", "variability.json"):
+        ja = json.loads((tmp_path / "a" / "dynamics" / name).read_text())
+        jb = json.loads((tmp_path / "b" / "dynamics" / name).read_text())
+        assert ja == jb, name
+
+
+def test_ctrl_c_leaves_no_partial_stage_and_a_rerun_resumes(tmp_path):
+    """A real SIGINT to `statue2model run` while the 2D analyses run."""
+    out = tmp_path / "run"
+    project = tmp_path / "big.toml"
+    project.write_text('[dynamics]\nfreq = "0.3:10:120"\namp = "0.05g:1.5g:120"\npga = "0.05g:1.5g:200"\n'
+                       '[model]\nrtol = 1e-10\n')
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-m", "statue2model", "run", "--config", str(project), "--out", str(out),
+                             "--stages", "dynamics", "--workers", "1"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, env=env)
+    seen = []
+    t0 = time.time()
+    for line in proc.stdout:
+        seen.append(line)
+        if line.startswith("[3/3] dynamics") and "..." in line:
+            break
+        assert time.time() - t0 < 120, "".join(seen)
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGINT)
+    rest, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 130, "".join(seen) + rest
+    assert "interrupted" in rest and "Traceback" not in rest
+    assert cache.completed(out / "params", json.loads((out / "params" / "stage.json").read_text())["key"])
+    assert not (out / "dynamics").exists()
+    assert not [p for p in out.iterdir() if ".partial-" in p.name]
+    assert not (out / "report.html").exists()
+    r = run_project(default_scan(), out, load_config(project), stages=["isolator"], say=quiet, report=False)
+    assert [r.stages[n]["status"] for n in ("params", "isolator")] == ["cached", "cached"]
+
+
+def test_run_errors_are_one_line(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "none.ply"), "--out", str(tmp_path / "o")]) == 2
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[dynamics]\namp = \"lots\"\n")
+    assert main(["run", "--config", str(bad), "--out", str(tmp_path / "o")]) == 2
+    assert main(["run", "--stages", "params,slicing", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 3 and all(e.startswith("statue2model: error: ") for e in err)
+    assert "unknown stage(s) slicing" in err[2]
+    assert not (tmp_path / "o").exists()
+
+
+# --- a folder of scans ----------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def collection(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("scans")
+    for name in ("dancing_girl.ply", "maria_barjatinskaja.ply", "nefertiti_bust.obj"):
+        shutil.copy(MESHES_DIR / name, folder / name)
+    return folder
+
+
+COLLECTION_CFG = '[crosscheck]\nenabled = false\n[prototype]\nenabled = false\n'
+
+
+def _numbers(data):
+    return [{k: v for k, v in row.items()} for row in data["table"]]
+
+
+def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
+    from distributed import LocalCluster
+
+    from statue2model.executors import make_executor
+
+    cfg = small_config(COLLECTION_CFG)
+    with make_executor(workers=2) as ex:
+        local = run_collection(collection, tmp_path / "local", cfg, executor=ex, say=quiet)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            make_executor(scheduler=cluster.scheduler_address) as ex:
+        assert ex.name == "dask"
+        dask = run_collection(collection, tmp_path / "dask", cfg, executor=ex, say=quiet)
+    assert [r["scan"] for r in local["table"]] == ["dancing_girl.ply", "maria_barjatinskaja.ply", "nefertiti_bust.obj"]
+    assert _numbers(local) == _numbers(dask)
+    rows = {r["scan"]: r for r in local["table"]}
+    assert rows["dancing_girl.ply"]["weakest uplift [g]"] == pytest.approx(0.2763, abs=1e-3)
+    assert all(r["isolator passes"] for r in local["table"])
+    for sub in ("dancing_girl", "maria_barjatinskaja", "nefertiti_bust"):
+        assert (tmp_path / "local" / sub / "report.html").is_file()
+        a = json.loads((tmp_path / "local" / sub / "dynamics" / "spectrum_isolated.json").read_text())
+        b = json.loads((tmp_path / "dask" / sub / "dynamics" / "spectrum_isolated.json").read_text())
+        assert np.array_equal(a["codes"], b["codes"]) and a["theta_max_over_delta"] == b["theta_max_over_delta"]
+    csv = (tmp_path / "local" / "collection.csv").read_text().splitlines()
+    assert len(csv) == 4 and csv[0].startswith("scan,mass [kg]")
+    # a re-run takes every stage of every scan from the cache
+    again = run_collection(collection, tmp_path / "local", cfg, executor=None, say=quiet)
+    assert all({r["status"][s] for s in ("params", "isolator", "dynamics")} == {"cached"} for r in again["scans"])
+    assert _numbers(again) == _numbers(local)
+
+
+def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
+    cfgfile = tmp_path / "p.toml"
+    cfgfile.write_text(small_toml(COLLECTION_CFG))
+    assert main(["run", str(collection), "--config", str(cfgfile), "--out", str(tmp_path / "c"),
+                 "--stages", "params", "--workers", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "3 scans" in out and "nefertiti_bust.obj" in out
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert main(["run", str(empty), "--out", str(tmp_path / "e")]) == 2
+    assert "no scans" in capsys.readouterr().err
