@@ -312,3 +312,24 @@ def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
     empty.mkdir()
     assert main(["run", str(empty), "--out", str(tmp_path / "e")]) == 2
     assert "no scans" in capsys.readouterr().err
+
+
+def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_path):
+    from statue2model.dynamics import motions
+
+    folder = tmp_path / "project"
+    folder.mkdir()
+    motions.write_record_csv(folder / "record.csv", motions.synthetic_record(duration=4, pga=0.3 * 9.81, seed=3))
+    project = folder / "p.toml"
+    project.write_text(small_toml('[dynamics]\nmotion = "file:path=record.csv,pga=0.5g"\n'))
+    cfg = load_config(project)
+    assert cfg.dynamics.motion == f"file:path={(folder / 'record.csv').resolve()},pga=0.5g"
+    out = tmp_path / "out"
+    first = run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet, report=False)
+    assert load_config(out / "config.toml").dynamics.motion == cfg.dynamics.motion    # repeatable from anywhere
+    assert run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet,
+                       report=False).stages["dynamics"]["status"] == "cached"
+    motions.write_record_csv(folder / "record.csv", motions.synthetic_record(duration=4, pga=0.3 * 9.81, seed=4))
+    again = run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet, report=False)
+    assert [again.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached", "cached", "done"]
+    assert again.stages["dynamics"]["data"] != first.stages["dynamics"]["data"]

@@ -21,14 +21,13 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 import shutil
 import tempfile
 from pathlib import Path
 
 from .. import __version__
 from ..errors import InputError
-from ..files import atomic_write, prepare_dir, write_json
+from ..files import atomic_write, prepare_dir, swap_in, write_json
 from ..props import props_dict
 from .dxf import Drawing, write_dxf
 from .slicing import SliceResult
@@ -263,18 +262,8 @@ def write_slice(res: SliceResult, out: Path, previews: bool = True) -> Path:
         trimesh.Trimesh(v, f, process=False).export(tmp / "prototype.stl")
         write_json(tmp / "prototype.json", prototype_dict(res))
         write_json(tmp / "slice.json", slice_dict(res))
-        _swap_in(tmp, out)
+        swap_in(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out
-
-
-def _swap_in(tmp: Path, out: Path) -> None:
-    old = None
-    if out.exists():
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        os.replace(out, old)
-    os.replace(tmp, out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)

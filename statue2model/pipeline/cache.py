@@ -40,7 +40,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..errors import InputError
-from ..files import read_json, write_json
+from ..files import read_json, swap_in, write_json
 
 MANIFEST = "stage.json"
 PACKAGE_DIR = Path(__file__).resolve().parent.parent
@@ -93,17 +93,6 @@ def clean_partials(out: Path) -> list[Path]:
                 shutil.rmtree(p, ignore_errors=True)
                 removed.append(p)
     return removed
-
-
-def swap_in(tmp: Path, out: Path) -> None:
-    """Replace folder ``out`` by ``tmp`` (two renames; the old one is removed after)."""
-    old = None
-    if out.exists():
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        os.replace(out, old)
-    os.replace(tmp, out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
 
 
 def run_stage(stage_dir: Path, key: str, work: Callable[[Path], dict], force: bool = False) -> dict:

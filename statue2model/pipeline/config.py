@@ -278,8 +278,10 @@ def _convert(sec: str, key: str, value, default, where: str):
     return v
 
 
-def load_config_text(text: str, where: str = "project file") -> ProjectConfig:
-    """Parse TOML text (unknown sections or keys are errors, with a suggestion)."""
+def load_config_text(text: str, where: str = "project file", base_dir: Path | None = None) -> ProjectConfig:
+    """Parse TOML text (unknown sections or keys are errors, with a suggestion);
+    relative paths of ``file:`` motions are taken from ``base_dir`` (default: the
+    current folder) and stored absolute."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -301,6 +303,9 @@ def load_config_text(text: str, where: str = "project file") -> ProjectConfig:
                 hint = f" (did you mean '{near[0]}'?)" if near else ""
                 raise InputError(f"{where}: unknown key '{key}' in [{sec}]{hint}")
             values[key] = _convert(sec, key, value, defaults[key], where)
+        for key in ("motion",):
+            if key in values:
+                values[key] = _absolute_file_spec(values[key], Path(base_dir) if base_dir else Path.cwd())
         kw[sec] = cls(**values)
     cfg = ProjectConfig(**kw, source=where)
     validate(cfg, where)
@@ -318,7 +323,40 @@ def load_config(path: str | Path | None) -> ProjectConfig:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read project file {path}: {exc}") from None
-    return replace(load_config_text(text, str(path)), source=str(path))
+    return replace(load_config_text(text, str(path), base_dir=path.resolve().parent), source=str(path))
+
+
+MOTION_KEYS = (("isolator", "motion"), ("dynamics", "motion"), ("crosscheck", "motion"))
+
+
+def _absolute_file_spec(spec: str | None, base_dir: Path) -> str | None:
+    """A ``file:path=P,...`` motion with P made absolute (relative to ``base_dir``), so
+    the resolved configuration names the same record from any folder."""
+    if not spec or not spec.strip().lower().startswith("file:"):
+        return spec
+    kind, _, rest = spec.partition(":")
+    parts = []
+    for part in rest.split(","):
+        key, eq, value = part.partition("=")
+        if eq and key.strip().lower() == "path" and not Path(value.strip()).is_absolute():
+            part = f"path={(base_dir / value.strip()).resolve()}"
+        parts.append(part)
+    return f"{kind}:{','.join(parts)}"
+
+
+def motion_files(cfg: ProjectConfig, sections) -> dict:
+    """{path: SHA-256} of the motion records that ``sections`` of ``cfg`` read (for cache keys)."""
+    from .cache import file_hash
+
+    out = {}
+    for sec, key in MOTION_KEYS:
+        spec = getattr(getattr(cfg, sec), key) if sec in sections else None
+        if spec and spec.strip().lower().startswith("file:"):
+            for part in spec.partition(":")[2].split(","):
+                k, _, v = part.partition("=")
+                if k.strip().lower() == "path" and Path(v.strip()).is_file():
+                    out[v.strip()] = file_hash(v.strip())
+    return out
 
 
 def grid(text: str, what: str, accel: bool = False) -> np.ndarray:

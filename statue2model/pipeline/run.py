@@ -35,7 +35,7 @@ from .. import __version__
 from ..errors import InputError
 from ..files import atomic_write, prepare_dir, write_json
 from .cache import clean_partials, file_hash, run_stage, stage_key
-from .config import ProjectConfig
+from .config import ProjectConfig, motion_files
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
 
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
@@ -89,6 +89,8 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     clean_partials(out)
     asked = check_stage_names(stages) if stages else [n for n in STAGES if enabled(n, cfg)]
     order = _needed(asked, cfg)
+    for stale in ("report.html", "run.json"):     # written again at the end: never left from another run
+        (out / stale).unlink(missing_ok=True)
     write_config(cfg, out / "config.toml", mesh)
     mesh_hash = file_hash(mesh)
     t_run = time.perf_counter()
@@ -106,7 +108,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
             say(f"[{i}/{n}] {name:<10} skipped: needs {', '.join(missing)}")
             continue
         inputs = {"mesh": mesh_hash, "config": {s: cfg.section(s) for s in sections},
-                  "upstream": {dep: keys[dep] for dep in deps}}
+                  "files": motion_files(cfg, sections), "upstream": {dep: keys[dep] for dep in deps}}
         key = stage_key(name, inputs)
         ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests))
         say(f"[{i}/{n}] {name:<10} ...")
