@@ -39,11 +39,15 @@ def add_parsers(sub) -> None:
 def _executor(args, cfg):
     from .executors import make_executor
 
-    scheduler = args.scheduler or cfg.run.scheduler
-    workers = args.workers if args.workers is not None else cfg.run.workers
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
-    return make_executor(scheduler=scheduler if args.workers is None else None, workers=workers)
+    if args.scheduler:                       # the command line wins over [run]
+        return make_executor(scheduler=args.scheduler)
+    if args.workers is not None:
+        return make_executor(workers=args.workers)
+    if cfg.run.scheduler:
+        return make_executor(scheduler=cfg.run.scheduler)
+    return make_executor(workers=cfg.run.workers)
 
 
 def _cmd_run(args) -> int:

@@ -45,6 +45,8 @@ from __future__ import annotations
 
 import math
 import os
+import re
+import signal
 from collections.abc import Callable, Iterable
 
 import numpy as np
@@ -155,7 +157,9 @@ class SerialExecutor(Executor):
 
 
 def _init_process_worker() -> None:
-    """Initializer of each worker process: one numba and one BLAS thread per process."""
+    """Initializer of each worker process: one numba and one BLAS thread per process;
+    Ctrl-C is the parent's to handle (it cancels the pool), not the workers'."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     _single_numba_thread()
     _single_blas_thread()
 
@@ -203,10 +207,22 @@ class ProcessExecutor(Executor):
         except BaseException:
             for f in futures:
                 f.cancel()
+            self._abandon()
             raise
         finally:
             if bar is not None:
                 bar.close()
+
+    def _abandon(self) -> None:
+        """On an error or Ctrl-C: stop the workers now, without waiting for their tasks."""
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        procs = list(getattr(pool, "_processes", {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            if p.is_alive():
+                p.terminate()
 
     def close(self) -> None:
         if self._pool is not None:
@@ -299,8 +315,8 @@ def make_executor(scheduler: str | None = None, workers: int | None = None, time
     if scheduler is not None:
         if workers is not None:
             raise InputError("give either a Dask scheduler or a number of local workers, not both")
-        if not str(scheduler).strip():
-            raise InputError("the Dask scheduler address is empty (e.g. tcp://127.0.0.1:8786)")
+        if not re.fullmatch(r"(tcp|tls|ws|wss|ucx|inproc)://[^\s/:]+(:\d+)?/?|[^\s/:]+:\d+", str(scheduler).strip()):
+            raise InputError(f"not a Dask scheduler address: {scheduler!r} (e.g. tcp://127.0.0.1:8786)")
         return DaskExecutor(str(scheduler).strip(), timeout=timeout)
     return ProcessExecutor(None if workers is None else _check_workers(workers))
 

@@ -97,6 +97,13 @@ def test_default_file_round_trips(tmp_path):
     ("[prototype]\ncompensate = 1\n", "true or false"),
     ("scan = 3\n", "must be a [section]"),
     ("[scan\n", "not valid TOML"),
+    ("[prototype]\nscale = \"auto\"\n", "[prototype] scale = 'auto': needs a value (default 2.0)"),
+    ("[dynamics]\nenabled = \"auto\"\n", "needs a value (default true)"),
+    ("[model]\nkind = \"auto\"\n", "[model] kind"),
+    ("[isolator]\nthickness = \"-30mm\"\n", "[isolator] thickness"),
+    ("[model]\nkind = \"imperfect\"\nalpha_L = 0.5\nalpha_R = 0.5\ntheta_L = -1\n", "theta_L must be > 0"),
+    ("[crosscheck]\niterations = 0\n", "iterations must be >= 1"),
+    ("[dynamics]\nmotion = \"sine:amp=0,freq=2\"\n", "must be a ground motion"),
 ])
 def test_bad_project_files_name_the_problem(text, words):
     with pytest.raises(InputError) as exc:
@@ -184,6 +191,15 @@ def test_report_figures_load_in_headless_chromium(small_run):
     assert check.total == check.loaded == n_figs >= 8
 
 
+def test_stages_not_asked_for_are_taken_from_their_folders(small_run, tmp_path):
+    out = tmp_path / "copy"
+    shutil.copytree(small_run.out, out)
+    res = run_project(default_scan(), out, small_config(), stages=["params"], say=quiet)
+    assert {k: v["status"] for k, v in res.stages.items()} == {k: "cached" for k in res.stages}
+    page = res.report.read_text()
+    assert page.count("<img") == sum(len(m.get("figures", [])) for m in small_run.stages.values())
+
+
 def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(small_run):
     out = small_run.out
     cfg = small_config()
@@ -216,6 +232,8 @@ def test_executors_give_identical_numbers(tmp_path):
 def test_ctrl_c_leaves_no_partial_stage_and_a_rerun_resumes(tmp_path):
     """A real SIGINT to `statue2model run` while the 2D analyses run."""
     out = tmp_path / "run"
+    assert main(["run", "--stages", "params", "--out", str(out)]) == 0     # a complete earlier run
+    assert {"report.html", "run.json", "config.toml"} <= {p.name for p in out.iterdir()}
     project = tmp_path / "big.toml"
     project.write_text('[dynamics]\nfreq = "0.3:10:120"\namp = "0.05g:1.5g:120"\npga = "0.05g:1.5g:200"\n'
                        '[model]\nrtol = 1e-10\n')
@@ -238,7 +256,8 @@ def test_ctrl_c_leaves_no_partial_stage_and_a_rerun_resumes(tmp_path):
     assert cache.completed(out / "params", json.loads((out / "params" / "stage.json").read_text())["key"])
     assert not (out / "dynamics").exists()
     assert not [p for p in out.iterdir() if ".partial-" in p.name]
-    assert not (out / "report.html").exists()
+    for stale in ("report.html", "run.json", "config.toml"):   # nothing from the earlier run looks current
+        assert not (out / stale).exists(), stale
     r = run_project(default_scan(), out, load_config(project), stages=["isolator"], say=quiet, report=False)
     assert [r.stages[n]["status"] for n in ("params", "isolator")] == ["cached", "cached"]
 
@@ -333,3 +352,26 @@ def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_
     again = run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet, report=False)
     assert [again.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached", "cached", "done"]
     assert again.stages["dynamics"]["data"] != first.stages["dynamics"]["data"]
+
+
+def test_without_the_isolator_the_analyses_run_on_the_fixed_base(tmp_path):
+    cfg = small_config('[isolator]\nenabled = false\n[prototype]\nenabled = false\n[crosscheck]\nenabled = false\n')
+    res = run_project(default_scan(), tmp_path / "o", cfg, say=quiet)
+    assert {k: v["status"] for k, v in res.stages.items()} == {
+        "params": "done", "prototype": "disabled", "isolator": "disabled", "dynamics": "done", "crosscheck": "disabled"}
+    assert (tmp_path / "o" / "dynamics" / "spectrum_fixed.json").is_file()
+    assert not (tmp_path / "o" / "dynamics" / "spectrum_isolated.json").exists()
+    assert "no passing isolator design" in " ".join(res.stages["dynamics"]["text"])
+    with pytest.raises(InputError, match="disabled in the configuration"):
+        run_project(default_scan(), tmp_path / "o", cfg, stages=["isolator"], say=quiet)
+
+
+def test_scheduler_on_the_command_line_wins_and_bad_addresses_are_one_line(tmp_path, capsys):
+    cfgfile = tmp_path / "p.toml"
+    cfgfile.write_text("[run]\nworkers = 2\n")
+    for address in ("foo", "tcp://127.0.0.1:1"):
+        assert main(["run", "--config", str(cfgfile), "--scheduler", address, "--stages", "params",
+                     "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "not a Dask scheduler address: 'foo'" in err and "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in err
+    assert "Traceback" not in err and "not both" not in err

@@ -4,7 +4,8 @@ Every point is one coupled plate + statue run (:func:`~statue2model.isolator.cou
 simulate_coupled`: the plate alone first, the 2-DOF system only where the statue
 may lift), so the results sit beside the fixed-base ones of
 :mod:`statue2model.dynamics.spectrum` and :mod:`statue2model.dynamics.sweeps`
-with the same outcome classes. Points run through an executor
+with the same outcome classes (and code FAILED = -1 for a point the solver could not
+finish, counted apart). Points run through an executor
 (:mod:`statue2model.executors`), one frequency row or one PGA per task; ``None``
 runs them here, one after the other. The numbers do not depend on the executor.
 
@@ -36,8 +37,19 @@ from .device import Isolator
 _PULSE = {"cosine": motions.cosine_pulse, "sine": motions.sine_pulse}
 
 
+FAILED = -1          # outcome code of a point whose integration did not finish (a solver hard point)
+MAX_STEPS = 2_000_000
+
+
 def _one(iso: Isolator, model: RockingModel, motion, t_end: float, rtol: float) -> tuple:
-    r = simulate_coupled(iso, model, motion, t_end=t_end, dt_out=0.01, rtol=rtol)
+    """(code, theta_max/delta, theta_max_L, theta_max_R, overturned, n_impacts, a_abs max, u max);
+    a point the solver cannot finish in MAX_STEPS steps gets code FAILED and NaNs, so
+    one hard point does not stop a sweep."""
+    try:
+        r = simulate_coupled(iso, model, motion, t_end=t_end, dt_out=0.01, rtol=rtol, max_steps=MAX_STEPS)
+    except RuntimeError:
+        nan = float("nan")
+        return (FAILED, nan, nan, nan, False, 0, nan, nan)
     return (OUTCOMES.index(r.outcome), r.theta_max_over_delta, r.theta_max_L, r.theta_max_R, bool(r.overturned),
             int(r.n_impacts), r.acc_abs_max, r.u_max)
 

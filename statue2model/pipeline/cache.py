@@ -85,11 +85,12 @@ def completed(stage_dir: Path, key: str) -> dict | None:
 
 
 def clean_partials(out: Path) -> list[Path]:
-    """Remove hidden partial folders left by interrupted runs in ``out``."""
+    """Remove hidden partial (and replaced) folders left by interrupted runs in ``out``.
+    Two runs must not share one output folder at the same time."""
     removed = []
     if Path(out).is_dir():
         for p in Path(out).iterdir():
-            if p.is_dir() and p.name.startswith(".") and ".partial-" in p.name:
+            if p.is_dir() and p.name.startswith(".") and (".partial-" in p.name or ".old-" in p.name):
                 shutil.rmtree(p, ignore_errors=True)
                 removed.append(p)
     return removed

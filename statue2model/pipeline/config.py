@@ -223,13 +223,19 @@ class ProjectConfig:
         return replace(self, **{name: replace(getattr(self, name), **changes)})
 
 
-def _convert(sec: str, key: str, value, default, where: str):
+def _show(v) -> str:
+    return f'"{v}"' if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v)
+
+
+def _convert(sec: str, key: str, value, default, where: str, nullable: bool = False):
     """One TOML value -> the field's type, or an InputError naming it."""
     name = f"{where}: [{sec}] {key}"
     if isinstance(value, str) and value.strip().lower() in (AUTO, "none"):
-        if (sec, key) in _CHOICES:
-            return value.strip().lower()
-        return None
+        if (sec, key) in _CHOICES and AUTO in _CHOICES[sec, key]:
+            return AUTO
+        if nullable:
+            return None
+        raise InputError(f"{name} = {value!r}: needs a value (default {_show(default)})")
     try:
         if (sec, key) in _CHOICES:
             v = str(value).strip().lower()
@@ -296,13 +302,14 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
             raise InputError(f"{where}: {sec} must be a [section]")
         cls = SECTIONS[sec]
         defaults = {f.name: f.default for f in fields(cls)}
+        nullable = {f.name: "None" in str(f.type) for f in fields(cls)}
         values = {}
         for key, value in table.items():
             if key not in defaults:
                 near = difflib.get_close_matches(key, defaults, 1)
                 hint = f" (did you mean '{near[0]}'?)" if near else ""
                 raise InputError(f"{where}: unknown key '{key}' in [{sec}]{hint}")
-            values[key] = _convert(sec, key, value, defaults[key], where)
+            values[key] = _convert(sec, key, value, defaults[key], where, nullable[key])
         for key in ("motion",):
             if key in values:
                 values[key] = _absolute_file_spec(values[key], Path(base_dir) if base_dir else Path.cwd())
@@ -390,6 +397,13 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     for name, v in (("[scan] density", s.density), ("[scan] mass", s.mass), ("[scan] height", s.height)):
         if v is not None and not v > 0:
             bad(f"{name} must be positive, got {v}")
+    for name, v in (("[prototype] glue", p.glue), ("[prototype] clearance", p.clearance),
+                    ("[prototype] wall", p.wall), ("[prototype] margin", p.margin), ("[prototype] edge", p.edge),
+                    ("[prototype] glue_density", p.glue_density), ("[prototype] rod_density", p.rod_density)):
+        if v < 0:
+            bad(f"{name} must be >= 0, got {v}")
+    if min(p.sheet) <= 0 or (p.pass_depth is not None and p.pass_depth <= 0):
+        bad("[prototype] sheet sides and pass_depth must be positive")
     if not 1 <= p.scale <= 100:
         bad(f"[prototype] scale must be 1:1 .. 1:100, got 1:{p.scale:g}")
     for name in ("board", "tool", "rod", "tolerance", "feed", "board_density"):
@@ -404,16 +418,23 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         v = getattr(m, name)
         if v is not None and not 0 <= v <= 1:
             bad(f"[model] {name} must be in [0, 1], got {v}")
+    for name in ("theta_L", "theta_R"):
+        v = getattr(m, name)
+        if v is not None and not v > 0:
+            bad(f"[model] {name} must be > 0 rad, got {v}")
     if not 0 < m.rtol < 1e-2:
         bad(f"[model] rtol must be in (0, 0.01), got {m.rtol}")
     if not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):
         bad("[isolator] give exactly one of spectrum and motion")
-    if i.spectrum:
+    if i.enabled and i.spectrum:
         parse_spectrum(i.spectrum)
-    if i.motion:
+    if i.enabled and i.motion:
         parse_spec(i.motion)
+    for name, v in (("thickness", i.thickness), ("target", i.target), ("fuse_release", i.fuse_release)):
+        if v is not None and not v > 0:
+            bad(f"[isolator] {name} must be positive, got {v}")
     if i.grooves not in (None, 3, 4):
         bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
     if not 16 <= i.segments <= 4096:
@@ -423,10 +444,14 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     pgas = grid(d.pga, f"{where}: [dynamics] pga", accel=True)
     if np.any(freqs <= 0) or np.any(amps < 0) or np.any(pgas < 0):
         bad("[dynamics] frequencies must be > 0 and amplitudes, PGAs >= 0")
-    for name, spec in (("[dynamics] motion", d.motion), ("[crosscheck] motion", c.motion)):
+    for name, spec, on in (("[dynamics] motion", d.motion, d.enabled), ("[crosscheck] motion", c.motion, c.enabled)):
+        if not on:
+            continue
         motion, theta0 = parse_spec(spec)
-        if motion.kind == "none" or theta0 != 0:
-            bad(f"{name} must be a ground motion, got {spec!r}")
+        if motion.kind == "none" or theta0 != 0 or not motion.pga > 0:
+            bad(f"{name} must be a ground motion (not zero), got {spec!r}")
+    if c.iterations < 1 or not c.pulse_freq > 0:
+        bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
     if not 1e-5 <= c.dt <= 5e-3:
         bad(f"[crosscheck] dt must be in 1e-5..5e-3 s, got {c.dt}")
     if not (c.grid == 0 or 0.0005 <= c.grid <= 0.05):

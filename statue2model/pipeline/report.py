@@ -23,7 +23,7 @@ TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sh
           "crosscheck": "3D cross-check (PyBullet)"}
 HEADLINE = {"params": ("mass", "h", "b_L / b_R", "uplift a_R", "weakest direction"),
             "isolator": ("design", "period T"),
-            "dynamics": ("first overturning PGA (fixed)", "first overturning PGA (isolated)"),
+            "dynamics": ("lowest overturning PGA (fixed)", "lowest overturning PGA (isolated)"),
             "crosscheck": ("2D/3D agreement",)}
 STATUS = {"done": "done", "cached": "cached", "failed": "failed"}
 

@@ -34,7 +34,7 @@ from pathlib import Path
 from .. import __version__
 from ..errors import InputError
 from ..files import atomic_write, prepare_dir, write_json
-from .cache import clean_partials, file_hash, run_stage, stage_key
+from .cache import clean_partials, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, motion_files
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
 
@@ -69,7 +69,8 @@ def _needed(asked: list[str], cfg: ProjectConfig) -> list[str]:
         if n in need:
             return
         need.add(n)
-        for dep in DEPENDS[n][0]:
+        required, optional, _ = DEPENDS[n]
+        for dep in (*required, *(d for d in optional if enabled(d, cfg))):
             add(dep)
 
     for n in asked:
@@ -88,28 +89,39 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     out = prepare_dir(out)
     clean_partials(out)
     asked = check_stage_names(stages) if stages else [n for n in STAGES if enabled(n, cfg)]
+    off = [n for n in asked if not enabled(n, cfg)]
+    if off and stages:
+        raise InputError(f"stage(s) {', '.join(off)} asked for but disabled in the configuration "
+                         f"({', '.join(f'[{n}] enabled = false' for n in off)})")
     order = _needed(asked, cfg)
-    for stale in ("report.html", "run.json"):     # written again at the end: never left from another run
+    for stale in ("report.html", "run.json", "config.toml"):   # written again at the end, together
         (out / stale).unlink(missing_ok=True)
-    write_config(cfg, out / "config.toml", mesh)
     mesh_hash = file_hash(mesh)
     t_run = time.perf_counter()
     keys, dirs, manifests, results = {}, {}, {}, {}
     n = len(order)
-    for i, name in enumerate(order, 1):
-        deps, sections = DEPENDS[name]
+    for name in STAGES:
+        required, optional, sections = DEPENDS[name]
         if not enabled(name, cfg):
             results[name] = {"status": "disabled", "summary": {}, "text": [f"[{name}] enabled = false"]}
-            say(f"[{i}/{n}] {name:<10} disabled in the configuration")
             continue
-        missing = [dep for dep in deps if dep not in keys]
+        missing = [dep for dep in required if dep not in keys]
         if missing:
-            results[name] = {"status": "skipped", "summary": {}, "text": [f"needs {', '.join(missing)}"]}
-            say(f"[{i}/{n}] {name:<10} skipped: needs {', '.join(missing)}")
+            results[name] = {"status": "not run", "summary": {}}
             continue
         inputs = {"mesh": mesh_hash, "config": {s: cfg.section(s) for s in sections},
-                  "files": motion_files(cfg, sections), "upstream": {dep: keys[dep] for dep in deps}}
+                  "files": motion_files(cfg, sections),
+                  "upstream": {dep: keys.get(dep) for dep in (*required, *optional)}}
         key = stage_key(name, inputs)
+        if name not in order:           # not asked for: taken from its folder when complete
+            man = completed(out / name, key)
+            if man is not None:
+                keys[name], dirs[name], manifests[name] = key, out / name, man
+                results[name] = {**man, "status": "cached"}
+            else:
+                results[name] = {"status": "not run", "summary": {}}
+            continue
+        i = order.index(name) + 1
         ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests))
         say(f"[{i}/{n}] {name:<10} ...")
         t0 = time.perf_counter()
@@ -121,7 +133,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
             say(f"        {k}: {v}")
         keys[name], dirs[name], manifests[name] = key, out / name, man
         results[name] = {**man, "status": status}
-    results = {name: results.get(name, {"status": "not run", "summary": {}}) for name in STAGES}
+    write_config(cfg, out / "config.toml", mesh, out)
     res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run)
     write_json(out / "run.json", {"schema": "statue2model.run/1", "version": __version__, "mesh": str(mesh),
                                   "mesh_sha256": mesh_hash, "seconds": res.seconds, "stages": results})
@@ -133,10 +145,12 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     return res
 
 
-def write_config(cfg: ProjectConfig, path: Path, mesh: Path | None = None) -> Path:
-    head = (f"# statue2model {__version__}: the resolved configuration of this run"
-            + (f" on {mesh}" if mesh else "") + f".\n# Repeat it with: statue2model run {mesh or 'MESH'} "
-            f"--config {path.name}\n\n")
+def write_config(cfg: ProjectConfig, path: Path, mesh: Path | None = None, out: Path | None = None) -> Path:
+    """The resolved configuration, with the command that repeats the run (absolute paths)."""
+    again = (f"statue2model run {Path(mesh).resolve() if mesh else 'MESH'} --config {Path(path).resolve()}"
+             + (f" --out {Path(out).resolve()}" if out else ""))
+    head = (f"# statue2model {__version__}: the resolved configuration of this run.\n"
+            f"# Repeat it with: {again}\n\n")
     return atomic_write(path, lambda p: p.write_text(head + cfg.to_toml(), encoding="utf-8"))
 
 
@@ -169,8 +183,8 @@ COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]"
                       ("params", "weakest_deg", "weakest direction [deg]", 1.0),
                       ("dynamics", "spectrum_overturn_fraction_fixed", "pulses overturning, fixed", 1.0),
                       ("dynamics", "spectrum_overturn_fraction_isolated", "pulses overturning, isolated", 1.0),
-                      ("dynamics", "first_overturn_pga_fixed", "first overturning PGA fixed [g]", 1 / 9.81),
-                      ("dynamics", "first_overturn_pga_isolated", "first overturning PGA isolated [g]", 1 / 9.81),
+                      ("dynamics", "first_overturn_pga_fixed", "lowest overturning PGA fixed [g]", 1 / 9.81),
+                      ("dynamics", "first_overturn_pga_isolated", "lowest overturning PGA isolated [g]", 1 / 9.81),
                       ("isolator", "R", "isolator R [m]", 1.0), ("isolator", "T", "isolator T [s]", 1.0),
                       ("isolator", "passed", "isolator passes", None))
 
@@ -185,7 +199,6 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
     names = [s.stem for s in scans]
     if len(set(names)) != len(names):
         raise InputError(f"two scans in {folder} share a name ({', '.join(names)}); rename one")
-    write_config(cfg, out / "config.toml")
     tasks = [(s, out / s.stem, cfg, stages, force) for s in scans]
     say(f"{len(scans)} scans in {folder} on {executor.describe() if executor is not None else 'this process'}")
     t0 = time.perf_counter()
@@ -202,6 +215,7 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
         table.append(row)
     data = {"schema": "statue2model.collection/1", "folder": str(folder), "scans": rows, "table": table,
             "seconds": wall, "executor": executor.describe() if executor is not None else "this process"}
+    write_config(cfg, out / "config.toml", Path(folder), out)
     write_json(out / "collection.json", data)
     cols = ["scan"] + [c[2] for c in COLLECTION_COLUMNS]
 

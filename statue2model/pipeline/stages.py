@@ -212,7 +212,9 @@ def _spectrum_rows(sp, label):
     lowest = np.nanmin(amin) if np.any(np.isfinite(amin)) else None
     return [label, f"{np.sum(sp.codes >= 1) / n * 100:.1f} %", f"{ot.sum() / n * 100:.1f} %",
             "-" if lowest is None else f"{lowest / G:.3f} g",
-            ", ".join(f"{OUTCOMES[k]} {int(np.sum(sp.codes == k))}" for k in range(len(OUTCOMES)) if np.any(sp.codes == k))]
+            ", ".join([f"{OUTCOMES[k]} {int(np.sum(sp.codes == k))}" for k in range(len(OUTCOMES))
+                       if np.any(sp.codes == k)] + ([f"solver failed {int(np.sum(sp.codes < 0))}"]
+                                                    if np.any(sp.codes < 0) else []))]
 
 
 def _first_overturn(sw) -> float | None:
@@ -250,7 +252,7 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
                                            f"{sp.codes.size} runs"))
     spec_rows = [_spectrum_rows(sp, "fixed base")]
     if iso is not None:
-        spi = isolated_spectrum(iso, model, freqs, amps, pulse=c.pulse, executor=ctx.executor)
+        spi = isolated_spectrum(iso, model, freqs, amps, pulse=c.pulse, rtol=rtol, executor=ctx.executor)
         write_json(d / "spectrum_isolated.json", spi.to_dict())
         plot_spectrum(spi, d / "spectrum_isolated.png",
                       f"on the isolator (T = {design['T']:.2f} s): one-{c.pulse} pulses ({spi.codes.size} runs)")
@@ -266,7 +268,7 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     sw = variability(model, motion, pgas, rtol=rtol, **ex)
     swi = acc_i = None
     if iso is not None:
-        swi, acc_i = isolated_variability(iso, model, motion, pgas, executor=ctx.executor)
+        swi, acc_i = isolated_variability(iso, model, motion, pgas, rtol=rtol, executor=ctx.executor)
     write_json(d / "variability.json", {"fixed": sw.to_dict(), "isolated": None if swi is None else
                                         {**swi.to_dict(), "plate_acc_abs_max": acc_i}})
     plot_variability_pair(sw, swi, acc_i, d / "variability.png")
@@ -279,17 +281,17 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
         var_rows.append(["on the isolator", "none" if ot_i is None else f"{ot_i / G:.3f} g",
                          f"{swi.summary()['p50']:.3f}", f"{swi.summary()['max']:.3f}"])
     tables.append({"title": f"Variability over PGA {pgas[0] / G:.3g}-{pgas[-1] / G:.3g} g",
-                   "columns": ["base", "first overturning PGA", "median |theta|max/delta", "max |theta|max/delta"],
+                   "columns": ["base", "lowest overturning PGA of the grid", "median |theta|max/delta", "max |theta|max/delta"],
                    "rows": var_rows})
     data.update(first_overturn_pga_fixed=ot_f, first_overturn_pga_isolated=ot_i)
 
-    fixed = rock(model, motion, rtol=1e-8, dt_out=0.005)
+    fixed = rock(model, motion, rtol=rtol, dt_out=0.005)
     plate = coupled = None
     hist = {"fixed": fixed.to_dict()}
     hrows = [["fixed base", fixed.outcome, f"{fixed.theta_max_over_delta:.4f}", f"{motion.pga / G:.3f} g", "-"]]
     if iso is not None:
         plate = plate_run(iso, motion, dt_out=0.005)
-        coupled = simulate_coupled(iso, model, motion, t_end=float(plate.t[-1]), dt_out=0.005)
+        coupled = simulate_coupled(iso, model, motion, t_end=float(plate.t[-1]), dt_out=0.005, rtol=rtol)
         hist["isolated"] = coupled.to_dict()
         hrows.append(["on the isolator", coupled.outcome, f"{coupled.theta_max_over_delta:.4f}",
                       f"{coupled.acc_abs_max / G:.3f} g", f"{coupled.efficiency:.3f}"])
@@ -308,11 +310,11 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     lim_up, lim_dn = model.uplift_limits
     text.insert(0, f"Rocking model: {model.kind}; the statue lifts at +{lim_up / G:.4f} g / -{lim_dn / G:.4f} g.")
     summary = {"spectrum overturns (fixed)": f"{data['spectrum_overturn_fraction_fixed'] * 100:.1f} % of pulses",
-               "first overturning PGA (fixed)": var_rows[0][1],
-               f"{motion.label} (fixed)": f"{fixed.outcome}, |theta|max/delta {fixed.theta_max_over_delta:.3f}"}
+               "lowest overturning PGA (fixed)": var_rows[0][1],
+               f"{motion.label} (fixed)": f"{fixed.outcome}, |theta|max/delta {fixed.theta_max_over_delta:.3g}"}
     if iso is not None:
         summary["spectrum overturns (isolated)"] = f"{data['spectrum_overturn_fraction_isolated'] * 100:.1f} % of pulses"
-        summary["first overturning PGA (isolated)"] = var_rows[1][1]
+        summary["lowest overturning PGA (isolated)"] = var_rows[1][1]
         summary[f"{motion.label} (isolated)"] = f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}"
     return {"summary": summary, "text": text, "tables": tables, "figures": figs, "data": data}
 
@@ -371,11 +373,11 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
 
 STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isolator_stage,
           "dynamics": dynamics_stage, "crosscheck": crosscheck_stage}
-# stage -> (stages it reads, config sections it reads)
-DEPENDS = {"params": ((), ("scan",)), "prototype": ((), ("scan", "prototype")),
-           "isolator": (("params",), ("model", "isolator")),
-           "dynamics": (("params", "isolator"), ("model", "dynamics")),
-           "crosscheck": (("params", "isolator"), ("scan", "crosscheck"))}
+# stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
+DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),
+           "isolator": (("params",), (), ("model", "isolator")),
+           "dynamics": (("params",), ("isolator",), ("model", "dynamics")),
+           "crosscheck": (("params",), ("isolator",), ("scan", "crosscheck"))}
 
 
 def enabled(name: str, cfg: ProjectConfig) -> bool:
