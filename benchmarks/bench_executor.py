@@ -31,6 +31,7 @@ import time
 
 import numba
 import numpy as np
+from speedup_table import print_speedup_table
 
 from statue2model.dynamics import RockingModel
 from statue2model.dynamics.spectrum import stability_spectrum
@@ -112,18 +113,8 @@ def main() -> int:
             wall, sp = run(freqs, amps, args.rtol, ex, r)
         rows.append(("DaskExecutor (LocalCluster)", "dask", w, start, wall, sp))
 
-    one = {kind: wall for _, kind, w, _, wall, _ in rows if w == 1}
-    default = rows[0][4]
-    print()
-    print(f"| {'executor':<28} | {'workers':>7} | {'start s':>7} | {'wall s':>7} | {'speed-up':>8} | "
-          f"{'vs default':>10} | {'max |diff|':>10} |")
-    print(f"|{'-' * 30}|{'-' * 9}|{'-' * 9}|{'-' * 9}|{'-' * 10}|{'-' * 12}|{'-' * 12}|")
-    worst = 0.0
-    for name, kind, w, start, wall, sp in rows:
-        d = max_diff(sp, ref)
-        worst = max(worst, d)
-        print(f"| {name:<28} | {w:>7} | {start:>7.2f} | {wall:>7.2f} | {one[kind] / wall:>7.2f}x | "
-              f"{wall / default:>9.2f}x | {d:>10.3g} |")
+    worst = print_speedup_table(rows, ref, max_diff, base_wall=rows[0][4], vs_label="vs default",
+                                diff_label="max |diff|")
     print(f"\nbit-identical to the in-process result: {'yes' if worst == 0 else 'NO'}")
     print(f"load average before / after: {load0:.2f} / {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs "
           "(other jobs on the machine slow the 2-worker rows)")
