@@ -7,7 +7,6 @@ and writes OUT (JSON), OUT-derived CSV and PNG files beside it.
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from .argtypes import finite_float, positive_float
@@ -174,32 +173,9 @@ def cmd_rock(args) -> int:
 
 # --- spectrum -----------------------------------------------------------------------------
 def _grid(text: str, what: str, accel: bool = False):
-    import numpy as np
+    from .dynamics.sweeps import linspace_spec
 
-    from .dynamics.motions import parse_accel
-
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise InputError(f"{what}: expected START:STOP:N, got {text!r}")
-    conv = (lambda s: parse_accel(s, what)) if accel else (lambda s: _num(s, what))
-    a, b = conv(parts[0]), conv(parts[1])
-    try:
-        n = int(parts[2])
-    except ValueError:
-        raise InputError(f"{what}: N must be an integer, got {parts[2]!r}") from None
-    if n < 1 or n > 1_000_000:
-        raise InputError(f"{what}: N must lie in 1..1e6, got {n}")
-    return np.linspace(a, b, n)
-
-
-def _num(text: str, what: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise InputError(f"{what}: not a number: {text!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{what}: must be finite, got {text!r}")
-    return v
+    return linspace_spec(text, what, accel)
 
 
 def cmd_spectrum(args) -> int:

@@ -168,19 +168,25 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     return _result(name, values, S, model, motion, codes)
 
 
-def linspace_spec(text: str, what: str) -> np.ndarray:
-    """'START:STOP:N' -> N equally spaced values (inclusive); 'a,b,c' -> a list."""
+def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:
+    """'START:STOP:N' -> N equally spaced values (inclusive, N in 1..1e6); 'a,b,c' -> a
+    list. With ``accel``, values may carry a g suffix ('0.05g:1g:20'), returned in m/s^2."""
+    from .motions import parse_accel
+
+    conv = (lambda v: parse_accel(v, what)) if accel else float
+    text = str(text)
     try:
         if ":" in text:
             a, b, n = text.split(":")
             n = int(n)
-            if n < 1:
+            if not 1 <= n <= 1_000_000:
                 raise ValueError
-            out = np.linspace(float(a), float(b), n)
+            out = np.linspace(conv(a), conv(b), n)
         else:
-            out = np.array([float(x) for x in text.split(",") if x.strip()])
+            out = np.array([conv(x) for x in text.split(",") if x.strip()])
     except ValueError:
-        raise InputError(f"{what}: expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+        raise InputError(f"{what}: expected START:STOP:N (N in 1..1e6) or a comma list of numbers, "
+                         f"got {text!r}") from None
     if out.size == 0 or not np.all(np.isfinite(out)):
         raise InputError(f"{what}: values must be finite numbers, got {text!r}")
     return out

@@ -367,21 +367,10 @@ def motion_files(cfg: ProjectConfig, sections) -> dict:
 
 
 def grid(text: str, what: str, accel: bool = False) -> np.ndarray:
-    """'START:STOP:N' -> N values from START to STOP inclusive (accelerations may
-    carry a g suffix)."""
-    from ..dynamics.motions import parse_accel
+    """'START:STOP:N' (or 'a,b,c') -> the values (accelerations may carry a g suffix)."""
+    from ..dynamics.sweeps import linspace_spec
 
-    parts = str(text).split(":")
-    if len(parts) != 3:
-        raise InputError(f"{what}: expected START:STOP:N, got {text!r}")
-    try:
-        a, b = ((parse_accel(s, what) if accel else float(s)) for s in parts[:2])
-        n = int(parts[2])
-    except ValueError:
-        raise InputError(f"{what}: expected START:STOP:N with numbers, got {text!r}") from None
-    if not (1 <= n <= 1_000_000) or not (math.isfinite(a) and math.isfinite(b)):
-        raise InputError(f"{what}: N must lie in 1..1e6 and the ends be finite, got {text!r}")
-    return np.linspace(a, b, n)
+    return linspace_spec(text, what, accel)
 
 
 def validate(cfg: ProjectConfig, where: str = "project file") -> None:
