@@ -375,3 +375,20 @@ def test_scheduler_on_the_command_line_wins_and_bad_addresses_are_one_line(tmp_p
     err = capsys.readouterr().err
     assert "not a Dask scheduler address: 'foo'" in err and "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in err
     assert "Traceback" not in err and "not both" not in err
+
+
+def test_a_point_the_coupled_solver_cannot_finish_is_counted_not_fatal(monkeypatch):
+    from statue2model.dynamics import RockingModel, motions
+    from statue2model.geometry.rocking_params import RockingParams
+    from statue2model.isolator import sweeps
+    from statue2model.isolator.device import Isolator
+
+    statue = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
+    iso = Isolator(R=0.9, r=0.0095, M=statue.m + 15.0, mu=0.0073)
+    model = RockingModel.housner(statue)
+    monkeypatch.setattr(sweeps, "MAX_STEPS", 20)        # far too few steps for any run that moves
+    sp = sweeps.isolated_spectrum(iso, model, [1.0], [0.0, 1.0 * 9.81])
+    assert sp.codes.tolist() == [[0, sweeps.FAILED]] and np.isnan(sp.theta_max_over_delta[0, 1])
+    assert "solver failed" in sp.to_csv()
+    sw, acc = sweeps.isolated_variability(iso, model, motions.cosine_pulse(9.81, 1.0), [0.0, 9.81])
+    assert sw.to_dict()["outcome"] == ["no motion", "solver failed"] and np.isnan(acc[1])

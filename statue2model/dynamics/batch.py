@@ -111,3 +111,9 @@ def outcome_codes(S: np.ndarray, has_transition: bool) -> np.ndarray:
 
 
 OUTCOMES = ("no motion", "rolling", "rocking", "overturn mode 1", "overturn mode 2", "overturn mode 3")
+
+
+def outcome_label(code: int) -> str:
+    """The name of an outcome code; a negative code marks a run the solver could not
+    finish (isolated sweeps), "solver failed"."""
+    return OUTCOMES[int(code)] if code >= 0 else "solver failed"

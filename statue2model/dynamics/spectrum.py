@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import kernel as K
-from .batch import OUTCOMES, outcome_codes, run_batch
+from .batch import OUTCOMES, outcome_codes, outcome_label, run_batch
 from .engine import FREE_TIME
 from .model import RockingModel
 
@@ -54,7 +54,7 @@ class StabilitySpectrum:
     def outcome(self, freq: float, amp: float) -> str:
         i = int(np.argmin(np.abs(self.freqs - freq)))
         j = int(np.argmin(np.abs(self.amps - amp)))
-        return OUTCOMES[self.codes[i, j]]
+        return outcome_label(self.codes[i, j])
 
     def min_overturning_amp(self) -> np.ndarray:
         """Smallest amplitude of the grid that overturns, per frequency (nan if none)."""
@@ -82,7 +82,7 @@ class StabilitySpectrum:
         for i, f in enumerate(self.freqs):
             for j, a in enumerate(self.amps):
                 c = int(self.codes[i, j])
-                lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{OUTCOMES[c]},"
+                lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{outcome_label(c)},"
                              f"{self.theta_max_over_delta[i, j]:.6g},{int(self.n_impacts[i, j])}")
         return "\n".join(lines) + "\n"
 

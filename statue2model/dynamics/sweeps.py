@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import kernel as K
-from .batch import OUTCOMES, outcome_codes, run_batch
+from .batch import outcome_codes, outcome_label, run_batch
 from .engine import FREE_TIME, simulate
 from .model import RockingModel
 from .motions import GroundMotion
@@ -65,7 +65,7 @@ class SweepResult:
     def to_dict(self) -> dict:
         return {"name": self.name, "values": self.values, "theta_max_over_delta": self.theta_max_over_delta,
                 "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R,
-                "overturned": self.overturned, "outcome": [OUTCOMES[c] for c in self.codes],
+                "overturned": self.overturned, "outcome": [outcome_label(c) for c in self.codes],
                 "n_impacts": self.n_impacts, "summary": self.summary(),
                 "model": self.model.to_dict(), "motion": self.motion.to_dict()}
 
@@ -73,7 +73,7 @@ class SweepResult:
         lines = [f"{self.name},theta_max_over_delta,theta_max_L_rad,theta_max_R_rad,overturned,outcome,n_impacts"]
         for i in range(self.values.size):
             lines.append(f"{self.values[i]:.9g},{self.theta_max_over_delta[i]:.9g},{self.theta_max_L[i]:.9g},"
-                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{OUTCOMES[self.codes[i]]},"
+                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{outcome_label(self.codes[i])},"
                          f"{int(self.n_impacts[i])}")
         return "\n".join(lines) + "\n"
 
