@@ -74,11 +74,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_props(args) -> int:
+    from .files import prepare_dir
     from .geometry.body import load_body
     from .paths import default_scan
-    from .props import props_dict
-    from .files import atomic_write, prepare_dir, write_json
-    from .report.plots import plot_footprint_and_rose
+    from .props import write_props
     from .report.tables import props_table
 
     mesh = Path(args.mesh) if args.mesh else default_scan()
@@ -93,9 +92,7 @@ def _cmd_props(args) -> int:
     params = body.rocking(args.direction)
     rose = body.rose()
     print(props_table(body, params, rose))
-    write_json(out, props_dict(body, params, rose))
-    csv = atomic_write(out.with_name(out.stem + "_rose.csv"), lambda p: p.write_text(rose.to_csv()))
-    png = plot_footprint_and_rose(body, params, rose, out.with_suffix(".png"))
+    _, csv, png = write_props(out, body, params, rose)
     print(f"\nwrote {out}, {csv.name} and {png.name}")
     return 0
 

@@ -16,6 +16,8 @@ Example
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 from . import __version__
 
 
@@ -37,3 +39,16 @@ def props_dict(body, params, rose) -> dict:
     out["log"] = list(body.log)
     out["warnings"] = list(body.warnings)
     return out
+
+
+def write_props(out: Path, body, params, rose) -> tuple[Path, Path, Path]:
+    """Write the props record to ``out`` (JSON), the rose beside it (OUT_rose.csv) and
+    the footprint-and-rose plot (OUT.png), each atomically; returns the three paths."""
+    from .files import atomic_write, write_json
+    from .report.plots import plot_footprint_and_rose
+
+    out = Path(out)
+    write_json(out, props_dict(body, params, rose))
+    csv = atomic_write(out.with_name(out.stem + "_rose.csv"), lambda p: p.write_text(rose.to_csv()))
+    png = plot_footprint_and_rose(body, params, rose, out.with_suffix(".png"))
+    return out, csv, png

@@ -84,15 +84,12 @@ def _fmt(x, nd=4):
 
 # --- params ---------------------------------------------------------------------------------------
 def params_stage(ctx: Context, d: Path) -> dict:
-    from ..props import props_dict
-    from ..report.plots import plot_footprint_and_rose
+    from ..props import write_props
 
     body = ctx.load_body()
     p = body.rocking(ctx.config.scan.direction)
     rose = body.rose()
-    write_json(d / "props.json", props_dict(body, p, rose))
-    atomic_write(d / "props_rose.csv", lambda f: f.write_text(rose.to_csv()))
-    plot_footprint_and_rose(body, p, rose, d / "props.png")
+    write_props(d / "props.json", body, p, rose)
     mp = body.mass
     rows = [["h (height of G)", _fmt(p.h), "", "m"], ["I_G (about G)", _fmt(p.I_G, 5), "", "kg m^2"],
             ["b (G to pivot, in plan)", _fmt(p.b_L), _fmt(p.b_R), "m"],
