@@ -30,6 +30,7 @@ class EdgeTopology:
     boundary_edges     : (k, 2) directed edges (as they run in their face) used by one face only
     boundary_face      : (k,) the face of each boundary edge
     nonmanifold_face   : (j,) one face of each edge used by more than two faces
+    nonmanifold_edges  : (j, 2) the vertex pairs of those edges
     inconsistent_face  : (i,) one face of each shared edge that runs the same way in both faces
     face_component     : (f,) component label of each face (faces sharing an edge are joined)
     n_components       : number of connected components
@@ -38,6 +39,7 @@ class EdgeTopology:
     boundary_edges: np.ndarray
     boundary_face: np.ndarray
     nonmanifold_face: np.ndarray
+    nonmanifold_edges: np.ndarray
     inconsistent_face: np.ndarray
     face_component: np.ndarray
     n_components: int
@@ -63,20 +65,21 @@ class EdgeTopology:
         face_map = np.cumsum(face_keep) - 1
         labels = np.cumsum(keep) - 1
         b = face_keep[self.boundary_face]
+        nm = face_keep[self.nonmanifold_face]
         return EdgeTopology(
             boundary_edges=vertex_map[self.boundary_edges[b]],
             boundary_face=face_map[self.boundary_face[b]],
-            nonmanifold_face=face_map[self.nonmanifold_face[face_keep[self.nonmanifold_face]]],
+            nonmanifold_face=face_map[self.nonmanifold_face[nm]],
+            nonmanifold_edges=vertex_map[self.nonmanifold_edges[nm]],
             inconsistent_face=face_map[self.inconsistent_face[face_keep[self.inconsistent_face]]],
             face_component=labels[self.face_component[face_keep]],
             n_components=int(keep.sum()),
         )
 
 
-def edge_topology(faces: np.ndarray, n_vertices: int) -> EdgeTopology:
-    """Analyse the edges of ``faces`` ((f, 3) int indices into n_vertices vertices)."""
-    faces = np.asarray(faces, dtype=np.int64)
-    n_faces = len(faces)
+def _edge_groups(faces: np.ndarray, n_vertices: int):
+    """The 3 f directed edges (f, k) -> row 3 f + k, sorted by their undirected key:
+    (directed (3f, 2), order, sorted keys, start of each group, group sizes)."""
     directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
     lo = np.minimum(directed[:, 0], directed[:, 1])
     hi = np.maximum(directed[:, 0], directed[:, 1])
@@ -85,9 +88,18 @@ def edge_topology(faces: np.ndarray, n_vertices: int) -> EdgeTopology:
     sorted_key = key[order]
     starts = np.flatnonzero(np.r_[True, sorted_key[1:] != sorted_key[:-1]])
     counts = np.diff(np.r_[starts, len(sorted_key)])
+    return directed, order, sorted_key, starts, counts
+
+
+def edge_topology(faces: np.ndarray, n_vertices: int) -> EdgeTopology:
+    """Analyse the edges of ``faces`` ((f, 3) int indices into n_vertices vertices)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    n_faces = len(faces)
+    directed, order, sorted_key, starts, counts = _edge_groups(faces, n_vertices)
 
     boundary_index = order[starts[counts == 1]]
-    nonmanifold_face = order[starts[counts > 2]] // 3
+    nonmanifold_index = order[starts[counts > 2]]
+    nonmanifold_face = nonmanifold_index // 3
 
     # consecutive edges of one group join their faces (pairs for manifold edges)
     same_as_next = np.r_[sorted_key[1:] == sorted_key[:-1], False]
@@ -104,6 +116,7 @@ def edge_topology(faces: np.ndarray, n_vertices: int) -> EdgeTopology:
         boundary_edges=directed[boundary_index],
         boundary_face=boundary_index // 3,
         nonmanifold_face=nonmanifold_face,
+        nonmanifold_edges=directed[nonmanifold_index],
         inconsistent_face=inconsistent_face,
         face_component=labels,
         n_components=int(n_comp),
@@ -136,3 +149,195 @@ def boundary_loops(boundary_edges: np.ndarray) -> list[np.ndarray]:
             loop.append(nxt)
             current = nxt
     return loops
+
+
+def corner_fans(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(f, 3) fan label of every face corner: the corners of one vertex that are joined
+    across edges shared by exactly two faces get the same label."""
+    faces = np.asarray(faces, dtype=np.int64)
+    n_faces = len(faces)
+    directed, order, _, starts, counts = _edge_groups(faces, n_vertices)   # edge k of face f: corners k, k + 1
+    two = starts[counts == 2]
+    e1, e2 = order[two], order[two + 1]            # directed-edge indices of the two faces
+    f1, k1 = e1 // 3, e1 % 3
+    f2, k2 = e2 // 3, e2 % 3
+    # corner index = 3 * face + position; the edge's start and end corners in each face
+    s1, t1 = 3 * f1 + k1, 3 * f1 + (k1 + 1) % 3
+    s2, t2 = 3 * f2 + k2, 3 * f2 + (k2 + 1) % 3
+    same = directed[e1, 0] == directed[e2, 0]      # both run u -> w (inconsistent winding)
+    a = np.r_[s1, t1]
+    b = np.r_[np.where(same, s2, t2), np.where(same, t2, s2)]
+    n_corners = 3 * n_faces
+    graph = csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n_corners, n_corners))
+    _, labels = connected_components(graph, directed=False)
+    return labels.reshape(-1, 3)
+
+
+def nonmanifold_vertices(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """Indices of the vertices where the faces around a vertex do not form one fan.
+
+    Two sheets that meet at a single vertex (a pinch, an hourglass), or two holes
+    whose rims touch at a vertex, leave that vertex with two or more separate fans
+    of faces even when every edge is shared by at most two faces (see
+    :func:`corner_fans`).
+
+    >>> import numpy as np
+    >>> tets = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> hourglass = np.vstack([tets, np.where(tets == 0, 0, tets + 3)])  # two tetrahedra sharing vertex 0
+    >>> nonmanifold_vertices(hourglass, 7).tolist()
+    [0]
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    if len(faces) == 0:
+        return np.zeros(0, dtype=np.int64)
+    labels = corner_fans(faces, n_vertices).ravel()
+    n_corners = np.int64(labels.size)
+    pairs = np.unique(faces.ravel() * n_corners + labels)
+    fans = np.bincount(pairs // n_corners, minlength=n_vertices)
+    return np.flatnonzero(fans > 1)
+
+
+def split_nonmanifold_vertices(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """Give every fan of a non-manifold vertex its own copy of the vertex (MeshLab's
+    'split vertices on non-manifold vertex'): the sheets that met there part, at the
+    same place. Returns vertices, faces and the number of vertices split.
+
+    >>> import numpy as np
+    >>> tets = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> hourglass = np.vstack([tets, np.where(tets == 0, 0, tets + 3)])
+    >>> v, f, n = split_nonmanifold_vertices(np.zeros((7, 3)), hourglass)
+    >>> n, len(v), nonmanifold_vertices(f, len(v)).tolist()
+    (1, 8, [])
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    labels = corner_fans(faces, len(vertices)).ravel()
+    corner_vertex = faces.ravel()
+    n_corners = np.int64(labels.size)
+    pair_key = corner_vertex * n_corners + labels
+    uniq, inverse = np.unique(pair_key, return_inverse=True)
+    owner = uniq // n_corners
+    first = np.r_[True, owner[1:] != owner[:-1]]      # the first fan keeps the vertex's index
+    new_index = np.where(first, owner, len(vertices) + np.cumsum(~first) - 1)
+    n_split = int(np.unique(owner[~first]).size)
+    if n_split == 0:
+        return vertices, faces, 0
+    v = np.vstack([vertices, vertices[owner[~first]]])
+    return v, new_index[inverse.reshape(-1)].reshape(-1, 3), n_split
+
+
+def hole_loops(vertices: np.ndarray, faces: np.ndarray, topo: EdgeTopology) -> list[np.ndarray]:
+    """The holes of a consistently wound, edge-manifold mesh as closed vertex loops.
+
+    Unlike :func:`boundary_loops`, a vertex where holes touch (it has several fans of
+    faces and as many boundary edges leaving it) does not merge them: a boundary edge
+    u -> v arriving through one fan continues along the edge v -> x leaving through
+    another fan (the one across the gap), the nearest in angle when there are several.
+
+    >>> import trimesh
+    >>> s = trimesh.creation.icosphere(2)
+    >>> fan = np.flatnonzero((s.faces == 0).any(axis=1))
+    >>> apart = [fan[0]] + [k for k in fan[1:] if not (np.isin(s.faces[k], s.faces[fan[0]]).sum() == 2)][:1]
+    >>> f = np.delete(s.faces, apart, axis=0)         # two triangles that touch at vertex 0 only
+    >>> sorted(len(loop) for loop in hole_loops(s.vertices, f, edge_topology(f, len(s.vertices))))
+    [3, 3]
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    edges = topo.boundary_edges
+    if not len(edges):
+        return []
+    n_out = np.bincount(edges[:, 0], minlength=len(vertices))
+    multi = n_out[edges[:, 0]] > 1
+    succ = {}
+    # the common case: one boundary edge leaves the vertex
+    by_start = {}
+    for k, (a, b) in enumerate(edges.tolist()):
+        by_start.setdefault(a, []).append(k)
+    if multi.any():
+        labels = corner_fans(faces, len(vertices))
+        pos = lambda face, vert: int(np.flatnonzero(faces[face] == vert)[0])
+        fan_out = {k: labels[topo.boundary_face[k], pos(topo.boundary_face[k], edges[k, 0])]
+                   for k in np.flatnonzero(multi).tolist()}
+    for k, (u, v) in enumerate(edges.tolist()):
+        out = by_start.get(v, [])
+        if len(out) == 1:
+            succ[k] = out[0]
+            continue
+        if not out:
+            continue
+        fan_in = labels[topo.boundary_face[k], pos(topo.boundary_face[k], v)]
+        other = [j for j in out if fan_out[j] != fan_in] or out
+        du = vertices[u] - vertices[v]
+        cosines = [np.dot(du, vertices[edges[j, 1]] - vertices[v])
+                   / (np.linalg.norm(du) * np.linalg.norm(vertices[edges[j, 1]] - vertices[v]) + 1e-300)
+                   for j in other]
+        succ[k] = other[int(np.argmax(cosines))]
+    loops, seen = [], set()
+    for start in range(len(edges)):
+        if start in seen:
+            continue
+        loop, k = [], start
+        while k not in seen and k in succ:
+            seen.add(k)
+            loop.append(int(edges[k, 0]))
+            k = succ[k]
+        if k == start and len(loop) >= 3:
+            loops.append(np.array(loop, dtype=np.int64))
+    return loops
+
+
+def orient_faces(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, int]:
+    """Flip faces so that neighbours agree on their winding (every shared edge runs
+    opposite ways in its two faces), one component at a time, its first face kept.
+
+    Vectorised: a breadth-first tree over the faces (scipy), and the flip of each
+    face as the parity of 'same-direction' edges on its path to the root (pointer
+    jumping). Returns the faces and the number flipped. A surface that cannot be
+    oriented (a Moebius strip, a Klein bottle) still has inconsistent edges after
+    this; the caller checks.
+
+    >>> f = np.array([[0, 1, 2], [1, 2, 3]])          # the shared edge 1-2 runs the same way
+    >>> orient_faces(f, 4)[0].tolist()
+    [[0, 1, 2], [3, 2, 1]]
+    """
+    from scipy.sparse.csgraph import breadth_first_order
+
+    faces = np.asarray(faces, dtype=np.int64)
+    n_faces = len(faces)
+    directed, order, _, starts, counts = _edge_groups(faces, n_vertices)   # edge k of face f: corners k, k + 1
+    two = starts[counts == 2]
+    e1, e2 = order[two], order[two + 1]
+    fa, fb = e1 // 3, e2 // 3
+    same = (directed[e1, 0] == directed[e2, 0]).astype(np.int8)   # 1: the two faces disagree
+    ok = fa != fb
+    fa, fb, same = fa[ok], fb[ok], same[ok]
+    _, comp = connected_components(csr_matrix((np.ones(len(fa), dtype=np.int8), (fa, fb)),
+                                              shape=(n_faces, n_faces)), directed=False)
+    _, first = np.unique(comp, return_index=True)
+    root = n_faces                                    # a virtual root joined to each component's first face
+    ra = np.r_[fa, np.full(len(first), root)]
+    rb = np.r_[fb, first]
+    graph = csr_matrix((np.ones(len(ra), dtype=np.int8), (ra, rb)), shape=(n_faces + 1, n_faces + 1))
+    _, pred = breadth_first_order(graph, root, directed=False, return_predecessors=True)
+    pred = pred[:n_faces].astype(np.int64)
+    # parity of each tree edge (face, its predecessor)
+    pair_key = np.r_[fa * n_faces + fb, fb * n_faces + fa]
+    pair_same = np.r_[same, same]
+    srt = np.argsort(pair_key)
+    pair_key, pair_same = pair_key[srt], pair_same[srt]
+    is_child = pred >= 0
+    is_child &= pred != root
+    parity = np.zeros(n_faces, dtype=np.int8)
+    child = np.flatnonzero(is_child)
+    pos = np.searchsorted(pair_key, child * n_faces + pred[child])
+    parity[child] = pair_same[pos]
+    up = np.where(is_child, pred, np.arange(n_faces))
+    for _ in range(max(1, int(n_faces).bit_length())):
+        parity ^= parity[up]
+        nxt = up[up]
+        if np.array_equal(nxt, up):
+            break
+        up = nxt
+    flip = parity.astype(bool)
+    out = faces.copy()
+    out[flip] = out[flip][:, ::-1]
+    return out, int(flip.sum())
