@@ -2,7 +2,9 @@
 
 Top-level keys: the rocking parameters under their MODEL.md names (m, h, b_L,
 b_R, I_G, d_L, d_R, delta_L, delta_R, I_L, I_R, p_L, p_R, a_L, a_R, e_L, e_R,
-direction_deg, g), volume, mass, density, com, inertia, footprint, rose, and the
+direction_deg, g), volume, mass, density, com, inertia, footprint, base (contact
+tolerance, base roughness and warp, and b_L, b_R, a_min at half and double the
+tolerance), rose, and the
 provenance (source, kind, units, up, scale, height, log, warnings). SI units.
 
 Example
@@ -35,6 +37,8 @@ def props_dict(body, params, rose) -> dict:
     out.update(body.mass.to_dict())
     out.update(params.to_dict())
     out["footprint"] = body.footprint.to_dict()
+    if body.base is not None:
+        out["base"] = body.base.to_dict(body.mass.com, params.direction_deg, params.g)
     out["rose"] = rose.to_dict()
     out["log"] = list(body.log)
     out["warnings"] = list(body.warnings)

@@ -3,9 +3,11 @@
 The pipeline (each step's record ends up in ``Body.log``):
 
     read (scan.py) -> repair (repair.py) -> units (units.py) -> up axis
-    (orient.py) -> optional rescale to a known height -> level the base ->
-    base on z = 0, footprint hull centred on the z axis -> mass properties
-    (massprops.py) -> footprint (footprint.py) -> stability check
+    (orient.py) -> rest on the hull facet under G (base.py) -> optional rescale
+    to a known height -> base on z = 0 -> contact tolerance from the base's
+    resolution and roughness (base.py) -> footprint (footprint.py), hull centred
+    on the z axis -> mass properties (massprops.py) -> stability check ->
+    contact at half and double the tolerance (base.py)
 
 Mass properties are integrated once, in file units, and carried through the
 similarity transform exactly (volume x s^3, inertia x s^5, rotations R I R^T).
@@ -23,25 +25,22 @@ True
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
 from .footprint import Footprint, footprint
-from .massprops import MassProperties, check_density_mass, resolve_density, volume_integrals
-from .orient import BASE_BAND, UP_ROTATIONS, base_roughness, choose_up, face_area_vectors, level_base
+from .massprops import MassProperties, check_density_mass, density_warning, resolve_density, volume_integrals
+from .base import BASE_TOL, BaseContact, base_contact, base_surface, contact_tolerance
+from .orient import UP_ROTATIONS, choose_up, face_area_vectors, rest_plane
 from .repair import repair_mesh
 from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose, weakest_direction
 from .scan import read_scan
 from .units import resolve_units
 
-BASE_TOL = 1e-3
-"""Least contact tolerance as a fraction of the height: vertices this close to the
-base plane touch it (1.8 mm on a 1.8 m statue). A rough base (a reconstructed
-point cloud, a hand-held scan) widens it to three standard deviations of the
-base's heights, up to orient.BASE_BAND of the height."""
+__all__ = ["BASE_TOL", "Body", "body_from_mesh", "load_body"]
 
 
 @dataclass(frozen=True)
@@ -51,6 +50,8 @@ class Body:
     vertices, faces : the closed, outward-wound mesh, (n, 3) m and (f, 3)
     mass            : mass properties in this frame
     footprint       : contact region and its convex hull
+    base            : contact tolerance, base surface and the contact at half and
+                      double the tolerance (:class:`~statue2model.geometry.base.BaseContact`)
     units, up       : what the file was taken to be in ('m', '+y', ...)
     scale           : metres per file unit actually applied
     rotation        : (3, 3) and translation (3,): x_body = rotation @ (scale * x_file) + translation
@@ -70,6 +71,7 @@ class Body:
     translation: np.ndarray
     log: tuple[str, ...]
     warnings: tuple[str, ...]
+    base: BaseContact | None = None
 
     @property
     def height(self) -> float:
@@ -112,13 +114,14 @@ def body_from_mesh(
 
     rep = repair_mesh(vertices, faces)
     steps.extend(rep.log)
+    warnings.extend(rep.warnings)
     v, f = rep.vertices, rep.faces
     vol0, com0, inertia0 = volume_integrals(v, f)
 
     extent = float(np.ptp(v, axis=0).max())
     if height is not None:
-        choice = resolve_units("auto", extent)
-        s = choice.scale
+        choice = resolve_units("auto", extent) if _any_unit_fits(extent) else None
+        s = choice.scale if choice is not None else 1.0
         if units != "auto":
             steps.append(f"--units {units} not used: --height sets the scale")
     else:
@@ -128,36 +131,32 @@ def body_from_mesh(
 
     v1 = v * s
     com1 = com0 * s
-    av = face_area_vectors(v1, f)  # turned and scaled with the body below
+    av = face_area_vectors(v1, f)
     cand, up_note = choose_up(v1, f, av, com1, up)
     steps.append(up_note)
     R = UP_ROTATIONS[cand.up]
     v2 = v1 @ R.T
-    av = av @ R.T
-    if height is not None:
-        k = height / cand.height
-        s *= k
-        v2 = v2 * k
-        av = av * k**2
-        steps.append(f"rescaled to a height of {height:g} m (x {s:.6g} m per file unit)")
-
-    H = float(np.ptp(v2[:, 2]))
-    R_level, tilt = level_base(v2, f, av, H)
+    R_level, tilt = rest_plane(v2, f, R @ com1)
     if tilt > 0:
         v2 = v2 @ R_level.T
-        av = av @ R_level.T
         R = R_level @ R
-        steps.append(f"levelled the base (tilt {np.degrees(tilt):.3f} deg)")
+        steps.append(f"levelled onto the hull facet it rests on (tilt {np.degrees(tilt):.3f} deg)")
+    if height is not None:
+        k = height / float(np.ptp(v2[:, 2]))
+        s *= k
+        v2 = v2 * k
+        steps.append(f"rescaled to a height of {height:g} m (x {s:.6g} m per file unit)")
 
     shift = np.array([0.0, 0.0, -v2[:, 2].min()])
     v2 = v2 + shift
+    H = float(v2[:, 2].max())
+    surface = base_surface(v2, f, H)
     if base_tol is None:
-        rough = base_roughness(v2, f, av, H)
-        tol = min(max(BASE_TOL * H, 3.0 * rough), BASE_BAND * H)
-        if tol > BASE_TOL * H:
-            steps.append(f"rough base ({rough * 1000:.2f} mm rms): contact tolerance widened to {tol * 1000:.2f} mm")
+        tol, why = contact_tolerance(surface, H)
     else:
-        tol = base_tol
+        tol, why = base_tol, "given (--base-tol)"
+    steps.append(f"contact tolerance {tol * 1000:.3g} mm ({why}); base edge length {surface.edge * 1000:.3g} mm, "
+                 f"roughness {surface.roughness * 1000:.3g} mm rms, warp {surface.warp * 1000:.3g} mm")
     fp = footprint(v2, f, tol)
     hull_centre = _polygon_centroid(fp.hull)
     v2[:, :2] -= hull_centre
@@ -166,6 +165,9 @@ def body_from_mesh(
 
     volume = vol0 * s**3
     rho = resolve_density(volume, density, mass)
+    dw = density_warning(rho, mass=mass, volume=volume)
+    if dw:
+        warnings.append(dw)
     com = R @ (com0 * s) + shift
     inertia = rho * s**5 * (R @ inertia0 @ R.T)
     mp = MassProperties(volume=volume, mass=rho * volume, density=rho, com=com, inertia=inertia)
@@ -181,11 +183,22 @@ def body_from_mesh(
             f"the base touches the floor over only {fp.area * 1e4:.2f} cm^2 "
             f"of a {fp.hull_area * 1e4:.1f} cm^2 hull; check the contact tolerance ({tol * 1000:.2f} mm)"
         )
+    base = base_contact(v2, com, surface, tol, why, tilt)
+    bw = base.warning()
+    if bw:
+        warnings.append(bw)
     return Body(
         source=source, kind=kind, vertices=v2, faces=f, mass=mp, footprint=fp,
         units=("scaled to height" if height is not None else choice.units), up=cand.up, scale=s,
-        rotation=R, translation=shift, log=tuple(steps), warnings=tuple(warnings),
+        rotation=R, translation=shift, log=tuple(steps), warnings=tuple(warnings), base=base,
     )
+
+
+def _any_unit_fits(extent: float) -> bool:
+    """Whether some unit gives the file a plausible size (only a hint when --height is given)."""
+    from .units import PLAUSIBLE_SIZE, UNIT_SCALE
+
+    return any(PLAUSIBLE_SIZE[0] <= extent * k <= PLAUSIBLE_SIZE[1] for k in UNIT_SCALE.values())
 
 
 def _polygon_centroid(ring: np.ndarray) -> np.ndarray:
@@ -199,4 +212,6 @@ def _polygon_centroid(ring: np.ndarray) -> np.ndarray:
 def load_body(path: str | Path, **options) -> Body:
     """Read the scan at ``path`` and run the pipeline (options as :func:`body_from_mesh`)."""
     raw = read_scan(path)
-    return body_from_mesh(raw.vertices, raw.faces, source=str(path), kind=raw.kind, log=raw.log, **options)
+    body = body_from_mesh(raw.vertices, raw.faces, source=str(path), kind=raw.kind, log=raw.log, **options)
+    extra = tuple(w for w in getattr(raw, "warnings", ()) if w not in body.warnings)
+    return replace(body, warnings=extra + body.warnings) if extra else body

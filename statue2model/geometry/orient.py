@@ -6,9 +6,9 @@ the height of the lowest point, on faces facing down) is a candidate base. A
 candidate is *stable* when the centre of mass projects inside the convex hull
 of that region, and *flat* when the region covers a fair share of the body's
 plan. Among the flat stable candidates the tallest pose wins (statues are
-upright), ties going to +z, then +y. The base is then levelled: its
-area-weighted normal is turned to point exactly down (tilts of up to 10 degrees,
-e.g. a scan taken on a sloping turntable).
+upright), ties going to +z, then +y. A pose whose base is scanned off level
+(up to 10 degrees, e.g. on a sloping turntable) is judged, and then levelled,
+on the facet of the convex hull it rests on (:func:`rest_plane`).
 
 Frames: a Y-up file is turned by +90 degrees about x, (x, y, z) -> (x, -z, y);
 every rotation used is proper (det = +1), so nothing is mirrored.
@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import ConvexHull, QhullError
 
 from ..errors import InputError
 from .footprint import convex_hull_2d, hull_edge_distances, polygon_area
@@ -96,11 +97,13 @@ def _down_facing(area_vectors: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, 
 
 def evaluate_base(
     vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, com: np.ndarray, up: str,
-    extent: np.ndarray,
+    extent: np.ndarray, level: bool = False,
 ) -> BaseCandidate:
     """Score the pose in which file direction ``up`` points up (``extent``: the (3,)
-    bounding-box sizes of ``vertices``)."""
+    bounding-box sizes of ``vertices``); ``level``: first turn it onto its rest facet."""
     R = UP_ROTATIONS[up]
+    if level:
+        R = rest_plane(vertices @ R.T, faces, R @ com)[0] @ R
     z = vertices @ R[2]
     zmin = z.min()
     height = float(z.max() - zmin)
@@ -128,12 +131,17 @@ def choose_up(
             raise InputError(f"unknown up axis '{up}': use auto, x, y, z, -x, -y or -z")
         cand = evaluate_base(vertices, faces, area_vectors, com, key, extent)
         if not cand.stable:
+            cand = evaluate_base(vertices, faces, area_vectors, com, key, extent, level=True)
+        if not cand.stable:
             raise InputError(
                 f"with {key} up the body would not stand: its centre of mass lies "
                 f"{-cand.margin:.4g} file units outside its base"
             )
         return cand, f"up axis {key} as given"
     cands = [evaluate_base(vertices, faces, area_vectors, com, k, extent) for k in UP_ROTATIONS]
+    if not any(c.stable and c.flat_area > 0 for c in cands):   # a base scanned off level: judge it levelled
+        cands = [c if c.stable or c.flat_area <= 0 else
+                 evaluate_base(vertices, faces, area_vectors, com, c.up, extent, level=True) for c in cands]
     stable = [c for c in cands if c.stable and c.flat_area > 0]
     if not stable:
         raise InputError(
@@ -151,36 +159,74 @@ def choose_up(
     return chosen, note
 
 
-def base_faces(vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float) -> np.ndarray:
-    """Indices of the down-facing faces within BASE_BAND of the lowest point (z-up body)."""
+MAX_REST_TURN = np.radians(5.0)
+"""Rest facets are looked for within this angle of the base's own mean normal: a scan
+tilted on its turntable is levelled, a body that would tip over onto another part of
+itself is not (it does not stand)."""
+
+
+def base_normal(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray | None:
+    """Area-weighted mean outward normal (3,) of the down-facing faces within BASE_BAND
+    of the lowest point of a z-up body, or None when there are none."""
     z = vertices[:, 2]
-    low = z - z.min() <= BASE_BAND * height
-    idx, _ = _down_facing(area_vectors, np.array([0.0, 0.0, 1.0]))
-    return idx[low[faces[idx]].all(axis=1)]
+    low = z <= z.min() + BASE_BAND * float(np.ptp(z))
+    f = faces[low[faces].all(axis=1)]
+    if not len(f):
+        return None
+    av = face_area_vectors(vertices, f)
+    idx, _ = _down_facing(av, np.array([0.0, 0.0, 1.0]))
+    if not len(idx):
+        return None
+    n = av[idx].sum(axis=0)
+    return n / np.linalg.norm(n)
 
 
-def base_roughness(vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float) -> float:
-    """Standard deviation of the heights of the base's vertices (z-up, levelled body), length unit."""
-    sel = base_faces(vertices, faces, area_vectors, height)
-    if not len(sel):
-        return 0.0
-    return float(np.std(vertices[np.unique(faces[sel]), 2]))
+def rest_plane(vertices: np.ndarray, faces: np.ndarray, com: np.ndarray) -> tuple[np.ndarray, float]:
+    """Rotation (3, 3) that puts the body (z up, roughly on its base) on the hull facet
+    it rests on, and that facet's tilt from horizontal (rad; 0 and identity when no
+    facet qualifies).
 
-
-def level_base(
-    vertices: np.ndarray, faces: np.ndarray, area_vectors: np.ndarray, height: float
-) -> tuple[np.ndarray, float]:
-    """Rotation that makes the base (z-up body) exactly horizontal, and its tilt (rad).
-
-    The base normal is the area-weighted mean normal of the down-facing faces within
-    BASE_BAND of the lowest point. Tilts above 10 degrees are left alone (returns identity).
+    Candidates are the hull facets within MAX_REST_TURN of the base's mean normal
+    (:func:`base_normal`), itself within MAX_LEVEL_TILT of straight down. Of those, the
+    facet that contains the projection of G along its own normal is the stable one; if
+    several do, the one closest to horizontal; if none does (G above an edge of the
+    hull), the facet the vertical through G leaves the hull by.
     """
-    sel = base_faces(vertices, faces, area_vectors, height)
-    if not len(sel):
+    around = base_normal(vertices, faces)
+    if around is None or around[2] > -np.cos(MAX_LEVEL_TILT):
         return np.eye(3), 0.0
-    n = area_vectors[sel].sum(axis=0)
-    n /= np.linalg.norm(n)
-    tilt = float(np.arccos(np.clip(-n[2], -1.0, 1.0)))
-    if tilt == 0.0 or tilt > MAX_LEVEL_TILT:
+    z = vertices[:, 2]
+    # the bottom of the hull only: the points low enough to matter for a 10 deg tilt
+    span = float(np.ptp(vertices[:, :2], axis=0).max())
+    low = z <= z.min() + np.tan(MAX_LEVEL_TILT + MAX_REST_TURN) * span + 1e-12
+    # G joins the points: a base whose low points all lie in one plane still has a hull,
+    # and the facets through G face up, so they never compete with the base's
+    pts = np.vstack([vertices[low], com[None, :]])
+    try:
+        hull = ConvexHull(pts)
+    except (QhullError, ValueError):
         return np.eye(3), 0.0
-    return _rotation_between(n, np.array([0.0, 0.0, -1.0])), tilt
+    n, d = hull.equations[:, :3], hull.equations[:, 3]
+    down = (n @ around > np.cos(MAX_REST_TURN)) & (n[:, 2] < -np.cos(MAX_LEVEL_TILT + MAX_REST_TURN))
+    if not down.any():
+        return np.eye(3), 0.0
+    idx = np.flatnonzero(down)
+    tri = pts[hull.simplices[idx]]                     # (k, 3, 3)
+    nn = n[idx]
+    proj = com - (nn @ com + d[idx])[:, None] * nn      # G projected on each facet's plane
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    # qhull does not orient its simplices: inside means the three sides agree in sign
+    sides = np.column_stack([np.einsum("ij,ij->i", np.cross(p1 - p0, proj - p0), nn)
+                             for p0, p1 in ((a, b), (b, c), (c, a))])
+    eps = 1e-12 * span**2
+    inside = (sides >= -eps).all(axis=1) | (sides <= eps).all(axis=1)
+    if inside.any():
+        best = idx[inside][np.argmin(n[idx[inside], 2])]   # most nearly horizontal
+    else:
+        t = (n[idx] @ com + d[idx]) / n[idx, 2]           # exit of the downward vertical through G
+        best = idx[np.argmin(t)]
+    normal = n[best]
+    tilt = float(np.arccos(np.clip(-normal[2], -1.0, 1.0)))
+    if tilt <= 1e-12:
+        return np.eye(3), 0.0
+    return _rotation_between(normal, np.array([0.0, 0.0, -1.0])), tilt

@@ -31,7 +31,9 @@ def _pyplot():
 
 
 def plot_footprint_and_rose(body, params: RockingParams, rose: Rose, path: str | Path) -> Path:
-    """Footprint (contact region, hull, centre of mass, pivots) beside the vulnerability rose."""
+    """Footprint (contact faces, the points taken as contact, the contact hull at the
+    tolerance used and at half and double it, centre of mass, pivots) beside the
+    vulnerability rose."""
     plt = _pyplot()
     fig = plt.figure(figsize=(11, 5))
     ax = fig.add_subplot(1, 2, 1)
@@ -41,7 +43,17 @@ def plot_footprint_and_rose(body, params: RockingParams, rose: Rose, path: str |
         for h in holes:
             ax.fill(h[:, 0] * mm, h[:, 1] * mm, color="white", lw=0.5, ec="0.4")
     hull = np.vstack([body.footprint.hull, body.footprint.hull[:1]])
-    ax.plot(hull[:, 0] * mm, hull[:, 1] * mm, "k--", lw=1, label="convex hull")
+    tol = body.footprint.tol
+    ax.plot(hull[:, 0] * mm, hull[:, 1] * mm, "k--", lw=1, label=f"contact hull, tolerance {tol * mm:.2f} mm")
+    base = getattr(body, "base", None)
+    if base is not None:
+        touch = body.vertices[body.vertices[:, 2] <= tol, :2]
+        ax.plot(touch[:, 0] * mm, touch[:, 1] * mm, ".", ms=1.5, color="0.3", label="points taken as contact")
+        for case, style in ((base.cases[0], ":"), (base.cases[2], "-.")):
+            if len(case.hull) >= 3:
+                ring = np.vstack([case.hull, case.hull[:1]]) * mm
+                ax.plot(ring[:, 0], ring[:, 1], style, lw=1, color="tab:orange" if style == ":" else "tab:green",
+                        label=f"hull at {case.tol * mm:.2f} mm ({case.a_min / params.g:.3f} g)")
     c = body.mass.com[:2]
     ax.plot(c[0] * mm, c[1] * mm, "ro", label="centre of mass (projection)")
     x, _ = unit_vectors(params.direction_deg)
@@ -57,6 +69,8 @@ def plot_footprint_and_rose(body, params: RockingParams, rose: Rose, path: str |
     ax.set_title(
         f"Footprint, direction {params.direction_deg:.1f} deg\n"
         f"b_L = {params.b_L * mm:.1f} mm, b_R = {params.b_R * mm:.1f} mm, h = {params.h * mm:.1f} mm"
+        + ("\nUNCERTAIN BASE CONTACT: a_min moves {:.0%} at half / double tolerance".format(base.spread)
+           if base is not None and base.uncertain else "")
     )
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, fontsize=8)
 

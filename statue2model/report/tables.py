@@ -20,6 +20,19 @@ def format_table(rows, title: str | None = None) -> str:
     return "\n".join(lines)
 
 
+def base_table(body, params) -> str:
+    """Contact at half, nominal and double tolerance: b_L, b_R along the direction, a_min."""
+    base = body.base
+    rows = [("tolerance", "b_L", "b_R", "a_min", "")]
+    for k, r in enumerate(base.rows(body.mass.com, params.direction_deg, params.g)):
+        rows.append((f"{r['tol'] * 1000:.2f} mm", f"{r['b_L']:.4f} m", f"{r['b_R']:.4f} m", f"{r['a_min_g']:.3f} g",
+                     "used" if k == 1 else ""))
+    verdict = (f"a_min moves {base.spread:.0%} (limit {10:.0f} %): " + ("UNCERTAIN" if base.uncertain else "ok"))
+    s = base.surface
+    return format_table(rows, title=f"Base contact (tolerance from {base.why}; base roughness "
+                                     f"{s.roughness * 1000:.2f} mm rms, warp {s.warp * 1000:.2f} mm)") + "\n  " + verdict
+
+
 def props_table(body, params, rose) -> str:
     """The readable summary printed by ``statue2model props``."""
     mp = body.mass
@@ -56,6 +69,8 @@ def props_table(body, params, rose) -> str:
         ),
         f"Weakest direction: {rose.weakest_deg:.2f} deg, uplift at {rose.a_min:.4f} m/s^2 ({rose.a_min / g:.3f} g)",
     ]
+    if getattr(body, "base", None) is not None:
+        parts.append(base_table(body, params))
     if body.log:
         parts.append("Done to the scan:\n" + "\n".join(f"  - {s}" for s in body.log))
     if body.warnings:
