@@ -1,9 +1,10 @@
 """Reading scans: triangle meshes through trimesh, point clouds through open3d.
 
-Supported: meshes .stl .obj .ply .off .glb .gltf; point clouds .ply (vertices
-only) .pcd .xyz .xyzn .pts. A point cloud is turned into a closed surface by
-Poisson reconstruction (:mod:`statue2model.geometry.pointcloud`), which imports
-open3d only on that path.
+Supported: meshes .stl .obj .ply .off, glTF 2.0 .glb .gltf (read by
+:mod:`statue2model.geometry.gltf`, Draco-compressed or not); point clouds .ply
+(vertices only) .pcd .xyz .xyzn .pts, and glTF point primitives. A point cloud is
+turned into a closed surface by Poisson reconstruction
+(:mod:`statue2model.geometry.pointcloud`), which imports open3d only on that path.
 
 Example
 -------
@@ -17,13 +18,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+from .gltf import read_gltf
+
+if TYPE_CHECKING:
+    from .pointcloud import Reconstruction
 
 MESH_SUFFIXES = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
 CLOUD_SUFFIXES = {".pcd", ".xyz", ".xyzn", ".pts"}
+GLTF_SUFFIXES = {".glb", ".gltf"}
 
 
 @dataclass(frozen=True)
@@ -33,7 +40,9 @@ class RawScan:
     vertices : (n, 3) float
     faces    : (f, 3) int (a point cloud's reconstructed surface for kind 'point cloud')
     kind     : 'mesh' or 'point cloud'
-    log      : what was done while reading
+    log      : what was done while reading (warnings too, prefixed 'warning:')
+    warnings : what the user should check (the same lines without the prefix)
+    reconstruction : for a point cloud, the surface and its point-to-surface distances
     """
 
     path: Path
@@ -41,6 +50,8 @@ class RawScan:
     faces: np.ndarray
     kind: str
     log: tuple[str, ...]
+    warnings: tuple[str, ...] = ()
+    reconstruction: Reconstruction | None = None
 
 
 def _check_file(path: Path) -> None:
@@ -82,22 +93,31 @@ def _load_trimesh(path: Path):
     return vertices, faces
 
 
-def read_scan(path: str | Path, *, poisson_depth: int = 8) -> RawScan:
-    """Read a mesh or a point cloud file (see the module docstring for formats)."""
+def read_scan(path: str | Path, *, poisson_depth: int | None = None) -> RawScan:
+    """Read a mesh or a point cloud file (see the module docstring for formats).
+
+    poisson_depth : octree depth for a point cloud's surface (None: from the point spacing).
+    """
     path = Path(path)
     _check_file(path)
     suffix = path.suffix.lower()
+    log: list[str] = []
     if suffix in CLOUD_SUFFIXES:
         points = None
     else:
-        points, faces = _load_trimesh(path)
+        if suffix in GLTF_SUFFIXES:
+            geo = read_gltf(path)
+            points, faces = geo.vertices, geo.faces
+            log.extend(geo.log)
+        else:
+            points, faces = _load_trimesh(path)
         if faces is not None:
-            if len(points) == 0:
+            if len(points) == 0 or len(faces) == 0:
                 raise InputError(f"{path.name} has no vertices")
-            return RawScan(path, points, faces, "mesh", ())
-    from .pointcloud import read_points, reconstruct_surface
+            return RawScan(path, points, faces, "mesh", tuple(log))
+    from .pointcloud import read_points, reconstruct
 
     if points is None:
         points = read_points(path)
-    vertices, faces, note = reconstruct_surface(points, depth=poisson_depth)
-    return RawScan(path, vertices, faces, "point cloud", (note,))
+    rec = reconstruct(points, depth=poisson_depth)
+    return RawScan(path, rec.vertices, rec.faces, "point cloud", tuple(log) + rec.log, rec.warnings, rec)
