@@ -95,26 +95,22 @@ def _cmd_slice(args) -> int:
 
 
 def summary(res, out: Path) -> str:
+    from .fabrication.output import comparison_rows
+    from .fabrication.prototype import ERROR_LIMIT
+
     spec = res.spec
-    c = res.comparison
-    pp, sp = res.proto_params, res.scan_params
     lines = [
         f"{Path(res.source).name} at 1:{spec.scale:g}: {res.n_layers} layers, pitch {spec.pitch * 1000:g} mm "
         f"({spec.board * 1000:g} mm board + {spec.glue * 1000:g} mm glue), height {res.height * 1000:.1f} mm",
         f"parts {len(res.parts)}, rods {len(res.rods.rods)} in {len(res.rods.segments)} segments, "
         f"sheets {res.nesting.n_sheets} of {spec.sheet[0] * 1000:.0f} x {spec.sheet[1] * 1000:.0f} mm, "
-        f"material use {res.nesting.material_use * 100:.1f} %",
+        f"material use {res.nesting.material_use * 100:.1f} %, prototype mass {res.proto_mass.mass:.2f} kg",
         "",
-        f"{'prototype as built':<22}{'built':>12}{'scaled scan':>14}{'error':>10}",
-        f"{'volume, dm^3':<22}{res.proto_mass.volume * 1e3:>12.3f}{res.scan_mass.volume * 1e3:>14.3f}{c.volume * 100:>9.2f}%",
-        f"{'mass, kg':<22}{res.proto_mass.mass:>12.2f}{'':>14}{'':>10}",
-        f"{'h, m':<22}{pp.h:>12.4f}{sp.h:>14.4f}{c.h * 100:>9.2f}%",
-        f"{'b_L, m':<22}{pp.b_L:>12.4f}{sp.b_L:>14.4f}{c.b_L * 100:>9.2f}%",
-        f"{'b_R, m':<22}{pp.b_R:>12.4f}{sp.b_R:>14.4f}{c.b_R * 100:>9.2f}%",
-        f"{'I_G / m, m^2':<22}{pp.I_G / pp.m:>12.5f}{sp.I_G / sp.m:>14.5f}{c.I_G_per_mass * 100:>9.2f}%",
-        f"{'a_R, g':<22}{pp.a_R / 9.81:>12.4f}{sp.a_R / 9.81:>14.4f}{c.a_R * 100:>9.2f}%",
-        f"{'centre of mass offset':<22}{'':>12}{'':>14}{c.com_offset * 100:>9.2f}% of h",
+        f"{'prototype as built':<30}{'built':>10}{'scaled scan':>13}{'error':>11}  check (+-{ERROR_LIMIT * 100:g} %)",
     ]
+    for r in comparison_rows(res):
+        check = {"pass": "ok", "fail": "FAIL", "": ""}[r["status"]]
+        lines.append(f"{r['quantity']:<30}{r['built']:>10}{r['scan']:>13}{r['error']:>11}  {check}".rstrip())
     if res.warnings:
         lines += ["", f"{len(res.warnings)} warning(s) (all in slice.json):"]
         lines += [f"  {w}" for w in res.warnings[:12]]
@@ -123,4 +119,3 @@ def summary(res, out: Path) -> str:
     lines += ["", f"wrote {out}/: layers/ ({res.n_layers} DXF), sheets/ ({res.nesting.n_sheets} DXF + previews), "
               "bom.csv, assembly.txt, prototype.stl, prototype.json, slice.json"]
     return "\n".join(lines)
-

@@ -11,7 +11,11 @@ leaves a folder that looks complete.
     DIR/prototype.json            its properties, with the keys of `props` JSON,
                                   and its errors against the scaled scan
     DIR/slice.json                n_layers, pitch, per-layer areas, holes, tool
-                                  checks, rods, sheets, warnings (written last)
+                                  checks (parts dropped, slivers opened away,
+                                  corners, ... counted per layer), how each
+                                  section was built and checked, rods, sheets,
+                                  the errors against the scaled scan with their
+                                  likely causes, warnings (written last)
 
 Everything is written into a hidden sibling folder first and moved into place
 at the end. An existing DIR is replaced only if it holds a previous slice (a
@@ -30,6 +34,7 @@ from ..errors import InputError
 from ..files import atomic_write, prepare_dir, swap_in, write_json
 from ..props import props_dict
 from .dxf import Drawing, write_dxf
+from .prototype import CHECKED, ERROR_LIMIT
 from .slicing import SliceResult
 
 
@@ -163,6 +168,32 @@ def assembly_text(res: SliceResult) -> str:
     return "\n".join(lines) + "\n"
 
 
+def comparison_rows(res: SliceResult) -> list[dict]:
+    """The prototype as built against the scaled scan, one dict per quantity:
+    quantity, built, scan, error (text), status ('pass'/'fail' for the quantities
+    held to ERROR_LIMIT, '' otherwise) and cause (the likely cause when it fails)."""
+    g = 9.81
+    c, pp, sp = res.comparison, res.proto_params, res.scan_params
+    failing = set(c.failing())
+
+    def row(key, label, built, scan):
+        status = ("fail" if key in failing else "pass") if key in CHECKED else ""
+        return {"quantity": label, "built": built, "scan": scan, "error": f"{getattr(c, key) * 100:+.2f} %",
+                "status": status, "cause": res.causes.get(key, "") if status == "fail" else ""}
+
+    return [
+        row("volume", "volume, dm^3", f"{res.proto_mass.volume * 1e3:.3f}", f"{res.scan_mass.volume * 1e3:.3f}"),
+        row("h", "h, m", f"{pp.h:.4f}", f"{sp.h:.4f}"),
+        row("b_L", "b_L, m", f"{pp.b_L:.4f}", f"{sp.b_L:.4f}"),
+        row("b_R", "b_R, m", f"{pp.b_R:.4f}", f"{sp.b_R:.4f}"),
+        row("I_G_per_mass", "I_G / m, m^2", f"{pp.I_G / pp.m:.5f}", f"{sp.I_G / sp.m:.5f}"),
+        row("a_R", f"a_R along {res.direction_deg:.1f} deg, g", f"{pp.a_R / g:.4f}", f"{sp.a_R / g:.4f}"),
+        row("a_min", "a_min (weakest direction), g", f"{res.a_min[0] / g:.4f}", f"{res.a_min[1] / g:.4f}"),
+        {"quantity": "centre of mass offset", "built": "", "scan": "", "error": f"{c.com_offset * 100:.2f} % of h",
+         "status": "", "cause": ""},
+    ]
+
+
 def slice_dict(res: SliceResult) -> dict:
     spec = res.spec
     layers = []
@@ -171,6 +202,7 @@ def slice_dict(res: SliceResult) -> dict:
             "layer": k + 1, "z_bottom": float(res.bottoms[k]), "z_top": float(res.bottoms[k] + spec.board),
             "area": float(sec.area), "parts": [p.name for p in res.parts if p.layer == k],
             "holes": res.rods.holes[k].tolist(), "tool": res.tool[k].to_dict(),
+            "section": _section_dict(res.section_checks[k]) if res.section_checks else None,
         })
     return {
         "schema": "statue2model.slice/1",
@@ -184,7 +216,7 @@ def slice_dict(res: SliceResult) -> dict:
         "front_deg": res.front_deg,
         "volume_layers": float(sum(s.area for s in res.sections) * spec.board),
         "layers": layers,
-        "rods": res.rods.to_dict(),
+        "rods": {**res.rods.to_dict(), "warnings": list(res.rods.warnings)},
         "sheets": {
             "n_sheets": res.nesting.n_sheets,
             "material_use": res.nesting.material_use,
@@ -192,10 +224,21 @@ def slice_dict(res: SliceResult) -> dict:
             "placements": [{"part": res.parts[p.part].name, "sheet": p.sheet + 1, "angle_deg": p.angle_deg,
                             "dx": p.dx, "dy": p.dy} for p in res.nesting.placements],
         },
-        "prototype": {"mass": res.proto_mass.mass, "comparison": res.comparison.to_dict()},
+        "prototype": {"mass": res.proto_mass.mass, "comparison": res.comparison.to_dict(),
+                      "failing": res.comparison.failing(), "error_limit": ERROR_LIMIT,
+                      "likely_causes": dict(res.causes),
+                      "a_min": {"prototype": res.a_min[0], "scaled_scan": res.a_min[1]}},
         "timings": res.timings,
         "warnings": list(res.warnings),
     }
+
+
+def _section_dict(checks) -> dict:
+    """How a layer's section was built: one plane ('mid') or the planes through the board."""
+    keys = ("segments", "winding_area", "method", "overlap", "inverted", "merged", "note")
+    if len(checks) == 1:
+        return {k: getattr(checks[0], k) for k in keys}
+    return {"planes": [c.to_dict() for c in checks]}
 
 
 class _ProtoBody:
@@ -212,6 +255,7 @@ class _ProtoBody:
         self.footprint = res.proto_footprint
         self.log = (f"stack of {res.n_layers} boards as cut, glue films and rods",)
         self.warnings = ()
+        self.base = None          # no contact-tolerance study for the stack: its base is a flat board
 
 
 def prototype_dict(res: SliceResult) -> dict:
@@ -222,6 +266,7 @@ def prototype_dict(res: SliceResult) -> dict:
     out["scaled_scan"] = {
         "volume": res.scan_mass.volume, "mass_same_density": res.scan_mass.mass, "com": res.scan_mass.com.tolist(),
         **{k: getattr(res.scan_params, k) for k in ("h", "b_L", "b_R", "I_G", "a_L", "a_R")},
+        "a_min": res.a_min[1],
     }
     out["errors_vs_scaled_scan"] = res.comparison.to_dict()
     out["materials"] = {"board_density": res.spec.osb_density, "glue_density": res.spec.glue_density,

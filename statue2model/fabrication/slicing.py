@@ -1,8 +1,15 @@
 """Scan -> stacked-board prototype: the whole computation, before any file is written.
 
-    Body --(scale)--> scaled mesh --> layer outlines (layers.py) --> tool checks
-    (toolcheck.py) --> alignment rods (rods.py) --> parts with labels (labels.py)
-    --> nesting on sheets (nesting.py) --> the prototype as built (prototype.py)
+    Body --(scale)--> scaled mesh --> layer outlines, checked (layers.py) -->
+    what the cutter can make of them (toolcheck.py: parts narrower than it dropped,
+    slivers opened away) --> alignment rods (rods.py) --> parts with labels
+    (labels.py) --> nesting on sheets (nesting.py) --> the prototype as built and
+    its errors against the scaled scan, each with its likely cause (prototype.py)
+
+Warnings are few and summarised (one line per kind of finding, with the layers);
+the counts per layer are in ``tool`` and ``section_checks`` (and slice.json).
+An error of the prototype above prototype.ERROR_LIMIT (volume, h, b_L, b_R,
+I_G / m, a_R, a_min) is a warning with its likely cause, first in the list.
 
 :func:`slice_body` returns a :class:`SliceResult`; ``output.write_slice`` turns it
 into files. Layers and parts are numbered from 1 in everything a person reads
@@ -25,7 +32,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -34,14 +41,26 @@ from shapely.geometry import MultiPolygon, Point, Polygon
 from ..errors import InputError
 from ..geometry.footprint import Footprint, convex_hull_2d
 from ..geometry.massprops import MassProperties
-from ..geometry.rocking_params import rocking_params, weakest_direction
+from ..geometry.rocking_params import rocking_params, unit_vectors, weakest_direction
 from .labels import Label, place_label
-from .layers import layer_bottoms, layer_sections
+from .layers import MERGE, layer_bottoms, layer_sections_checked
 from .nesting import Nesting, nest
-from .prototype import Comparison, compare, stack_mass_properties, stack_mesh
+from .prototype import (
+    ERROR_LIMIT,
+    LABELS,
+    Comparison,
+    base_difference,
+    combine,
+    compare,
+    effect,
+    likely_causes,
+    stack_mesh,
+    stack_moments,
+    stack_volume_moments,
+)
 from .rods import RodPlan, place_rods
 from .spec import SliceSpec
-from .toolcheck import as_cut, check_layer, compensate
+from .toolcheck import as_cut, compensate, layer_list, summarise, trim_layer
 
 MAX_LAYERS = 2000
 NEST_GRIDS = (0.005, 0.004)
@@ -99,6 +118,12 @@ class SliceResult:
     height: float
     warnings: tuple
     timings: dict
+    section_checks: tuple = ()
+    """per layer, the layers.SectionCheck of each plane it was built from"""
+    causes: dict = field(default_factory=dict)
+    """comparison key -> likely cause of its error (prototype.likely_causes)"""
+    a_min: tuple = (float("nan"), float("nan"))
+    """(prototype, scaled scan) uplift acceleration in each one's weakest direction, m/s^2"""
 
     @property
     def n_layers(self) -> int:
@@ -165,22 +190,25 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
     warnings: list[str] = list(body.warnings)
 
     bottoms = layer_bottoms(height, spec.board, spec.glue, spec.policy)
-    secs = layer_sections(v, body.faces, bottoms, spec.board, spec.policy, spec.tolerance)
-    empty = [k + 1 for k, s in enumerate(secs) if s.is_empty]
-    if empty:
-        warnings.append(f"layers {_ranges(empty)} have no section (the scan has a gap there)")
+    raw, checks = layer_sections_checked(v, body.faces, bottoms, spec.board, spec.policy, spec.tolerance)
+    warnings.extend(section_warnings(checks, bottoms, spec, lam, scan_mass.volume))
     clock["sections"] = time.perf_counter() - t0
 
     t = time.perf_counter()
-    tool = tuple(check_layer(s, spec.tool) for s in secs)
-    for k, rep in enumerate(tool):
-        if not rep.clean:
-            warnings.append(f"layer {k + 1}: {rep.describe(spec.tool)}")
+    trimmed = [trim_layer(s, spec.tool) for s in raw]
+    secs = [k for k, _, _ in trimmed]
+    tool = tuple(r for _, r, _ in trimmed)
+    removed = [x for _, _, x in trimmed]
+    warnings.extend(summarise(tool, spec.tool, float(sum(s.area for s in raw))))
+    warnings.extend(empty_layer_warnings(raw, secs, checks, bottoms, spec, lam))
+    if secs[0].is_empty:
+        raise InputError(f"layer 1 holds nothing a {spec.tool * 1000:g} mm cutter can cut: the prototype has no base "
+                         "(check the scan's base, --scale and --tool)")
     clock["tool checks"] = time.perf_counter() - t
 
     t = time.perf_counter()
     plan = place_rods(secs, spec.pitch, spec.board, spec.hole, spec.wall)
-    warnings.extend(plan.warnings)
+    warnings.extend(rod_warnings(plan.warnings))
     clock["rods"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -218,9 +246,11 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
 
     t = time.perf_counter()
     built = [as_cut(s, spec.tool) for s in secs]
-    proto_mass = stack_mass_properties(
-        built, spec.pitch, spec.board, spec.glue, plan.holes, spec.hole, plan.rods,
-        (spec.osb_density, spec.glue_density, spec.rod_density), rod=spec.rod)
+    moments = stack_moments(built, spec.pitch, spec.board, spec.glue, plan.holes, spec.hole, plan.rods, rod=spec.rod)
+    proto_mass = combine(moments, (spec.osb_density, spec.glue_density, spec.rod_density))
+    # the same materials, all at the board's density: what the densities of glue and rods do
+    uniform = combine(moments, tuple(spec.osb_density if rho > 0 else 0.0
+                                     for rho in (spec.osb_density, spec.glue_density, spec.rod_density)))
     base = built[0]
     ring = shapely.get_coordinates(base.convex_hull.exterior)[:-1]
     proto_hull = convex_hull_2d(ring)
@@ -231,7 +261,14 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
     if proto_fp.contains(proto_mass.com[:2]) <= 0:
         warnings.append("the prototype as built would not stand: its centre of mass is outside the first board")
     proto_params = rocking_params(proto_mass, proto_hull, direction_deg)
-    comparison = compare(proto_mass, proto_params, scan_mass, scan_params, height)
+    a_min = (weakest_direction(proto_mass, proto_hull)[1], weakest_direction(scan_mass, hull)[1])
+    comparison = compare(proto_mass, proto_params, scan_mass, scan_params, height, *a_min)
+    extra = _policy_effect(v, body.faces, bottoms, raw, spec, scan_mass, direction_deg)
+    causes = _causes(comparison, spec, lam, bottoms, raw, secs, built, removed, tool, checks, scan_mass,
+                     proto_mass, uniform, moments, plan, height, hull, proto_hull, direction_deg, extra)
+    for i, key in enumerate(comparison.failing()):      # first: they matter most
+        warnings.insert(i, f"the prototype's {LABELS[key]} is {getattr(comparison, key) * 100:+.1f} % off the scaled "
+                        f"scan (limit +-{ERROR_LIMIT * 100:g} %); likely cause: {causes[key]}")
     mesh = stack_mesh(built, spec.pitch, spec.board, spec.glue)
     clock["prototype"] = time.perf_counter() - t
     return SliceResult(
@@ -239,20 +276,183 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
         bottoms=bottoms, sections=tuple(secs), tool=tool, rods=plan, parts=tuple(parts), nesting=nesting,
         scan_mass=scan_mass, scan_params=scan_params, proto_mass=proto_mass, proto_params=proto_params,
         proto_footprint=proto_fp, comparison=comparison, mesh=mesh, height=height,
-        warnings=tuple(warnings), timings=clock,
+        warnings=tuple(warnings), timings=clock, section_checks=tuple(checks), causes=causes,
+        a_min=(float(a_min[0]), float(a_min[1])),
     )
 
 
-def _ranges(numbers: list[int]) -> str:
-    out, start, prev = [], None, None
-    for n in numbers:
-        if start is None:
-            start = prev = n
-        elif n == prev + 1:
-            prev = n
+def _z_text(bottoms, spec: SliceSpec, lam: float, layers: list[int]) -> str:
+    """Mid-board heights of 1-based ``layers`` on the prototype and on the statue."""
+    lo = float(bottoms[min(layers) - 1] + 0.5 * spec.board)
+    hi = float(bottoms[max(layers) - 1] + 0.5 * spec.board)
+    span = f"{lo * 1000:.1f}" + (f"-{hi * 1000:.1f}" if hi > lo else "")
+    real = f"{lo * lam * 1000:.0f}" + (f"-{hi * lam * 1000:.0f}" if hi > lo else "")
+    return f"z = {span} mm on the prototype, {real} mm on the statue"
+
+
+ROD_LINES = 6
+"""More rod warnings than this are summarised (all of them stay in slice.json, rods.warnings)."""
+
+
+def rod_warnings(lines) -> list[str]:
+    """The rod plan's warnings, or when there are more than ROD_LINES, one line per kind
+    (parts too small for a hole, joints with fewer than two rods) with the layers."""
+    import re
+
+    lines = list(lines)
+    if len(lines) <= ROD_LINES:
+        return lines
+    small, joints, other = [], [], []
+    for line in lines:
+        m = re.match(r"layer (\d+) part \S+ is too small", line)
+        j = re.match(r"joint (\d+)/\d+", line)
+        if m:
+            small.append(int(m.group(1)))
+        elif j:
+            joints.append(int(j.group(1)))
         else:
-            out.append(f"{start}-{prev}" if prev > start else str(start))
-            start = prev = n
-    if start is not None:
-        out.append(f"{start}-{prev}" if prev > start else str(start))
-    return ", ".join(out)
+            other.append(line)
+    out = []
+    if small:
+        out.append(f"{len(small)} part(s) too small for a rod hole with its walls (no alignment rod: place them by "
+                   f"their outline), on {layer_list(small)}")
+    if joints:
+        out.append(f"{len(joints)} glue joint(s) crossed by fewer than two rods, above {layer_list(joints)} "
+                   "(each listed in slice.json, rods.warnings)")
+    return out + other
+
+
+def section_warnings(checks, bottoms, spec: SliceSpec, lam: float, scan_volume: float) -> list[str]:
+    """What the section checks (layers.SectionCheck per plane, per layer) found: loops
+    rebuilt from the noded segments, overlapping shells, inside-out folds, gaps closed."""
+    out = []
+
+    def where(pred):
+        return [k + 1 for k, cs in enumerate(checks) if any(pred(c) for c in cs)]
+
+    rebuilt = where(lambda c: c.repaired)
+    if rebuilt:
+        out.append(f"{layer_list(rebuilt)}: the filled section loops disagreed with the winding-number integral of "
+                   "the scan's surface; the outline was rebuilt from the noded segments (layers.py)")
+    over = where(lambda c: c.overlap > 0)
+    if over:
+        most = max(c.overlap for cs in checks for c in cs)
+        twice = sum(np.mean([c.overlap for c in cs]) for cs in checks) * spec.pitch
+        out.append(f"{layer_list(over)} ({_z_text(bottoms, spec, lam, over)}): the scan's surface overlaps itself "
+                   f"(winding number 2 or more over up to {most * 1e6:.0f} mm^2 of a layer: intersecting shells); "
+                   f"the boards take the union, while the scan's volume counts the overlap twice "
+                   f"(about {twice * 1e6:.1f} cm^3 at this scale, {twice / scan_volume * 100:.2f} % of it)")
+    inv = where(lambda c: c.inverted > 0)
+    if inv:
+        most = max(c.inverted for cs in checks for c in cs)
+        out.append(f"{layer_list(inv)}: the scan's surface folds inside out (winding number below 0 over up to "
+                   f"{most * 1e6:.1f} mm^2 of a layer); those bits are cut as solid")
+    gaps = where(lambda c: c.merged > 0)
+    if gaps:
+        out.append(f"{layer_list(gaps)}: section points up to {MERGE * 1e6:g} um apart were joined (the scan is "
+                   "not closed there)")
+    return out
+
+
+def empty_layer_warnings(raw, secs, checks, bottoms, spec: SliceSpec, lam: float) -> list[str]:
+    """Why each empty layer is empty: a gap in the body (no surface crosses it), planes
+    that touch the surface without enclosing any area, or only parts narrower than
+    the cutter."""
+    gap = [k + 1 for k, s in enumerate(raw) if s.is_empty and all(c.segments == 0 for c in checks[k])]
+    touch = [k + 1 for k, s in enumerate(raw) if s.is_empty and any(c.segments for c in checks[k])]
+    narrow = [k + 1 for k, (r, s) in enumerate(zip(raw, secs)) if s.is_empty and not r.is_empty]
+    out = []
+    if gap:
+        out.append(f"{layer_list(gap)} ({_z_text(bottoms, spec, lam, gap)}) cut nothing: the scan has a gap there "
+                   "(separate bodies above each other); the boards are left out and what is above rests on "
+                   "nothing below")
+    if touch:
+        why = ("the sections through the board have nothing in common (policy core)" if spec.policy == "core"
+               else "the section planes meet the scan's surface but enclose no area")
+        out.append(f"{layer_list(touch)} ({_z_text(bottoms, spec, lam, touch)}) "
+                   f"{'is' if len(touch) == 1 else 'are'} empty: {why}")
+    if narrow:
+        out.append(f"{layer_list(narrow)} {'holds' if len(narrow) == 1 else 'hold'} only parts narrower than the "
+                   f"{spec.tool * 1000:g} mm cutter: left empty")
+    return out
+
+
+def _policy_effect(v, faces, bottoms, raw, spec: SliceSpec, scan_mass, direction_deg) -> dict:
+    """For the envelope and core policies: what the boards gain or lose against the
+    sections at mid-board (prototype.effect), by design of the policy."""
+    if spec.policy == "mid":
+        return {}
+    from .layers import layer_sections
+
+    axis = unit_vectors(direction_deg)[1]
+    mid = layer_sections(v, faces, bottoms, spec.board, "mid", spec.tolerance)
+    gain = stack_volume_moments([r.difference(m) for r, m in zip(raw, mid)], spec.pitch, spec.pitch)
+    loss = stack_volume_moments([m.difference(r) for r, m in zip(raw, mid)], spec.pitch, spec.pitch)
+    plus, minus = effect(scan_mass, gain, 1.0, axis), effect(scan_mass, loss, -1.0, axis)
+    what = "the union" if spec.policy == "envelope" else "the common part"
+    return {f"the {spec.policy} policy (each board is {what} of the sections through it)":
+            {k: plus[k] + minus[k] for k in plus}}
+
+
+def _causes(comparison, spec, lam, bottoms, raw, secs, built, removed, tool, checks, scan_mass, proto_mass,
+            uniform, moments, plan, height, hull, proto_hull, direction_deg, extra=None) -> dict:
+    """Likely cause of each error of the comparison (prototype.likely_causes), from
+    what is known to differ: material taken out or left by the cutter, rod holes,
+    the top board against the scan's top, the densities of glue and rods,
+    overlapping shells, and the first board against the base."""
+    axis = unit_vectors(direction_deg)[1]
+    n_drop = sum(r.dropped_parts for r in tool)
+    n_thin = sum(r.thin_features for r in tool)
+    effects = dict(extra or {})
+    if n_drop or n_thin:
+        label = " and ".join(b for b in (f"{n_drop} part(s) narrower than the cutter dropped" if n_drop else "",
+                                         f"{n_thin} sliver(s) opened away" if n_thin else "") if b)
+        effects[label] = effect(scan_mass, stack_volume_moments(removed, spec.pitch, spec.pitch), -1.0, axis)
+    added = [b.difference(s) if not s.is_empty else b for b, s in zip(built, secs)]
+    if any(a.area > 0 for a in added):
+        effects["wood the cutter leaves in inside corners and narrow gaps"] = effect(
+            scan_mass, stack_volume_moments(added, spec.pitch, spec.pitch), 1.0, axis)
+    over = np.array([np.mean([c.overlap - 2 * c.inverted for c in cs]) for cs in checks]) * spec.pitch
+    if np.any(over != 0):
+        z = bottoms + 0.5 * spec.board
+        dv = -float(over.sum())
+        zc = float((over * z).sum() / over.sum()) if over.sum() else float(scan_mass.com[2])
+        inverted = any(c.inverted > 0 for cs in checks for c in cs)
+        effects["overlapping shells that the scan's volume counts twice"
+                + (" and inside-out folds it subtracts" if inverted else "")] = {
+            "volume": dv / scan_mass.volume, "h": dv * (zc - scan_mass.com[2]) / scan_mass.volume / scan_mass.com[2],
+            "I_G_per_mass": 0.0}
+    holes = [shapely.union_all([Point(c).buffer(0.5 * spec.hole, quad_segs=32) for c in plan.holes[k]]).intersection(b)
+             if len(plan.holes[k]) else None for k, b in enumerate(built)]
+    if any(h is not None for h in holes):
+        drilled = effect(scan_mass, stack_volume_moments(holes, spec.pitch, spec.pitch), -1.0, axis)
+        label = "rod holes"
+        if spec.rod_density > 0:
+            rods = effect(scan_mass, moments[2].result() if moments[2].m > 0 else None, 1.0, axis)
+            drilled = {k: drilled[k] + rods[k] for k in drilled}
+            label = f"rod holes ({spec.hole * 1000:g} mm) less the rods ({spec.rod * 1000:g} mm) in them"
+        effects[label] = drilled
+    top = float(bottoms[-1] + spec.board)
+    if abs(top - height) > 1e-6 and not built[-1].is_empty:
+        cap = stack_volume_moments([built[-1]], 1.0, abs(top - height))
+        if cap is not None:
+            cap = MassProperties(volume=cap.volume, mass=cap.mass, density=1.0,
+                                 com=cap.com + (0.0, 0.0, min(top, height)), inertia=cap.inertia)
+        effects[f"the top board {'reaching' if top > height else 'stopping'} {abs(top - height) * 1000:.1f} mm "
+                f"{'above' if top > height else 'below'} the scan's top"] = effect(
+            scan_mass, cap, 1.0 if top > height else -1.0, axis)
+    if uniform.mass != proto_mass.mass:
+        ig = lambda mp: float(axis @ mp.inertia @ axis) / mp.mass
+        effects["glue films and rods denser than the board"] = {
+            "volume": 0.0, "h": float(proto_mass.com[2] / uniform.com[2] - 1.0),
+            "I_G_per_mass": ig(proto_mass) / ig(uniform) - 1.0}
+    notes = {}
+    gap = [k + 1 for k, s in enumerate(raw) if s.is_empty and all(c.segments == 0 for c in checks[k])]
+    if gap:
+        for key in ("volume", "I_G_per_mass", "h"):
+            notes[key] = f"{layer_list(gap)} cut nothing of the scan (a gap in it)"
+    base = base_difference(hull, proto_hull, scan_mass.com, proto_mass.com, direction_deg)
+    first = {"mid": f"its section {0.5 * spec.board * 1000:g} mm up",
+             "envelope": f"the union of its sections from 0 to {spec.board * 1000:g} mm",
+             "core": f"the common part of its sections from 0 to {spec.board * 1000:g} mm"}[spec.policy]
+    return likely_causes(comparison, base, effects, notes, first, spec.pitch)
