@@ -1,4 +1,5 @@
-"""Argument types shared by the command-line modules (argparse ``type=`` callables)."""
+"""Argument types shared by the command-line modules (argparse ``type=`` callables), and
+:func:`join_dash_values`, which lets options take values that start with '-' (``--up -y``)."""
 from __future__ import annotations
 
 import argparse
@@ -94,3 +95,32 @@ def scale_ratio(text: str) -> float:
     if not (math.isfinite(lam) and lam > 0):
         raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)")
     return lam
+
+
+DASH_VALUES = {"--up": ("-x", "-y", "-z")}
+"""Options whose values may start with '-' (argparse would take ``-y`` for an option)."""
+
+
+def join_dash_values(argv: list[str], options: dict = DASH_VALUES) -> list[str]:
+    """``[..., '--up', '-y', ...]`` -> ``[..., '--up=-y', ...]`` for the values of ``options``
+    (option -> the values starting with '-' it takes), so argparse reads them as values.
+    Everything after a bare ``--`` is left alone.
+
+    >>> join_dash_values(["props", "m.stl", "--up", "-y", "--json", "o.json"])
+    ['props', 'm.stl', '--up=-y', '--json', 'o.json']
+    >>> join_dash_values(["props", "--up", "z", "--", "--up", "-y"])
+    ['props', '--up', 'z', '--', '--up', '-y']
+    """
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a == "--":
+            return out + list(argv[i:])
+        if a in options and i + 1 < len(argv) and argv[i + 1] in options[a]:
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out

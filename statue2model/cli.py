@@ -1,6 +1,6 @@
 """Command line: argument parsing only; each subcommand calls one stage.
 
-    statue2model props [MESH] [--units m|mm|cm|in|auto] [--up x|y|z|auto]
+    statue2model props [MESH] [--units m|mm|cm|in|auto] [--up x|y|z|-x|-y|-z|auto]
                        [--height H] [--density RHO | --mass M] [--direction DEG]
                        [--base-tol M] [--json OUT]
     statue2model rock PARAMS.json --motion SPEC [model options] [--t-end S] [--json OUT]
@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .argtypes import finite_float, positive_float
+from .argtypes import finite_float, join_dash_values, positive_float
 from .errors import InputError
 
 
@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--units", default="auto", choices=["auto", "m", "mm", "cm", "in"],
                    help="length unit of the file (default: detected from the size)")
     p.add_argument("--up", default="auto", choices=["auto", "x", "y", "z", "-x", "-y", "-z"],
-                   help="file axis pointing up (default: detected from the flat base)")
+                   help="file axis pointing up, e.g. --up -y (default: detected from the flat base)")
     p.add_argument("--height", type=positive_float, metavar="H",
                    help="rescale the scan to this real height in metres (for normalised scans)")
     group = p.add_mutually_exclusive_group()
@@ -99,7 +99,7 @@ def _cmd_props(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         return args.func(args)
     except InputError as exc:

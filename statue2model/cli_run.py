@@ -53,7 +53,7 @@ def _executor(args, cfg):
 def _cmd_run(args) -> int:
     from .paths import default_scan
     from .pipeline.config import load_config
-    from .pipeline.run import run_collection, run_project
+    from .pipeline.run import run_collection, run_project, warnings_line
     from .pipeline.stages import check_stage_names
 
     cfg = load_config(args.config)
@@ -70,6 +70,12 @@ def _cmd_run(args) -> int:
             print(_collection_table(data))
             print(f"\n{len(data['scans'])} scans in {time.perf_counter() - t0:.1f} s; wrote {out}/collection.json, "
                   f"collection.csv and one folder (with report.html) per scan")
+            warned = [(r["scan"], w) for r in data["scans"] for w in r.get("warnings", ())]
+            if warned:
+                print(f"\n{len(warned)} warning{'s' if len(warned) != 1 else ''} (also in each scan's run.json "
+                      "and report.html):")
+                for scan, w in warned:
+                    print(f"  {scan} {w['stage']}: warning: {w['text']}")
             errors = [r for r in data["scans"] if "error" in r]
             if errors:
                 raise InputError(f"{len(errors)} scan(s) failed: " + "; ".join(f"{r['scan']}: {r['error']}"
@@ -81,6 +87,8 @@ def _cmd_run(args) -> int:
     w = max(len(n) for n in res.stages)
     for name, status, t in res.summary_rows():
         print(f"  {name:<{w}}  {status:<8} {t}")
+    if res.warnings:
+        print(f"\n{warnings_line(len(res.warnings))}")
     print(f"\nwrote {out}/config.toml (resolved configuration), run.json and report.html "
           f"in {time.perf_counter() - t0:.1f} s")
     return 0

@@ -121,21 +121,79 @@ def volume_integrals(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np
     return vol, c + ref, inertia
 
 
+PLAUSIBLE_DENSITY = (100.0, 25000.0)
+"""Densities (kg/m^3) of solid museum objects: light wood ~400, plaster ~1000, marble 2650,
+bronze 8800, gold 19300. Outside it: a warning (:func:`density_warning`)."""
+
+POSSIBLE_DENSITY = (10.0, 30000.0)
+"""Densities (kg/m^3) beyond which the number is taken to be in the wrong unit: an error."""
+
+# other units a density is often given in: name, kg/m^3 per unit
+_DENSITY_UNITS = (("g/cm^3", 1000.0), ("g/m^3 (or mg/cm^3)", 1e-3), ("lb/ft^3", 16.0185))
+
+
+def _likely_unit(rho: float) -> str:
+    """' was it g/cm^3 (2650 kg/m^3)?' when another unit makes ``rho`` plausible, else ''."""
+    lo, hi = PLAUSIBLE_DENSITY
+    fits = [f"{name} ({rho * k:.0f} kg/m^3)" for name, k in _DENSITY_UNITS if lo <= rho * k <= hi]
+    return f": was it {' or '.join(fits)}?" if fits else ""
+
+
 def check_density_mass(density: float | None, mass: float | None) -> None:
-    """Refuse both at once, or a value that is not a positive finite number."""
+    """Refuse both at once, a value that is not a positive finite number, or a density
+    outside :data:`POSSIBLE_DENSITY` (a number in another unit, e.g. 2.65 g/cm^3).
+
+    >>> check_density_mass(2.65, None)
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: density 2.65 kg/m^3 is not plausible for a solid object: was it g/cm^3 (2650 kg/m^3)?
+    """
     if density is not None and mass is not None:
         raise InputError("give either a density or a mass, not both")
     if density is not None and not (np.isfinite(density) and density > 0):
         raise InputError(f"density must be a positive number of kg/m^3, got {density}")
     if mass is not None and not (np.isfinite(mass) and mass > 0):
         raise InputError(f"mass must be a positive number of kg, got {mass}")
+    if density is not None and not POSSIBLE_DENSITY[0] <= density <= POSSIBLE_DENSITY[1]:
+        raise InputError(f"density {density:.6g} kg/m^3 is not plausible for a solid object"
+                         + (_likely_unit(density) or f" (expected {PLAUSIBLE_DENSITY[0]:g} to "
+                                                     f"{PLAUSIBLE_DENSITY[1]:g} kg/m^3)"))
+
+
+def _mass_over_volume(mass: float, volume: float, rho: float) -> str:
+    return (f"a mass of {mass:g} kg in the scan's volume of {volume:.4g} m^3 means a density of {rho:.4g} kg/m^3"
+            f" (solid objects: {PLAUSIBLE_DENSITY[0]:g} to {PLAUSIBLE_DENSITY[1]:g})")
+
+
+def density_warning(rho: float, mass: float | None = None, volume: float | None = None) -> str | None:
+    """A warning when the density ``rho`` (kg/m^3; given, or ``mass / volume`` when a
+    measured ``mass`` in kg was given for ``volume`` m^3) is outside :data:`PLAUSIBLE_DENSITY`,
+    else None.
+
+    >>> density_warning(2650.0) is None, density_warning(50.0)
+    (True, 'density 50 kg/m^3 is unusual for a solid object (100 to 25000 kg/m^3): was it lb/ft^3 (801 kg/m^3)?')
+    >>> density_warning(60.0, mass=3.0, volume=0.05)
+    "a mass of 3 kg in the scan's volume of 0.05 m^3 means a density of 60 kg/m^3 (solid objects: 100 to 25000): check the scan's units (--units, --height) and the mass"
+    """
+    lo, hi = PLAUSIBLE_DENSITY
+    if lo <= rho <= hi:
+        return None
+    if mass is not None and volume is not None:
+        return _mass_over_volume(mass, volume, rho) + ": check the scan's units (--units, --height) and the mass"
+    return f"density {rho:.6g} kg/m^3 is unusual for a solid object ({lo:g} to {hi:g} kg/m^3){_likely_unit(rho)}"
 
 
 def resolve_density(volume: float, density: float | None = None, mass: float | None = None) -> float:
-    """Density (kg/m^3) from a measured mass, a given density, or marble by default."""
+    """Density (kg/m^3) from a measured mass, a given density, or marble by default.
+    A mass that puts the density outside :data:`POSSIBLE_DENSITY` is an error: the
+    scan's units or the mass are wrong."""
     check_density_mass(density, mass)
     if mass is not None:
-        return mass / volume
+        rho = mass / volume
+        if not POSSIBLE_DENSITY[0] <= rho <= POSSIBLE_DENSITY[1]:
+            raise InputError(_mass_over_volume(mass, volume, rho) + ", which no solid object has: the scan's units "
+                             "or the mass are wrong (check --units or --height, and --mass)")
+        return rho
     return MARBLE_DENSITY if density is None else density
 
 

@@ -10,6 +10,8 @@ Example
 >>> page = res.report.read_text()
 >>> "Rocking parameters" in page and 'src="data:image/png;base64,' in page
 True
+>>> 'class="warnings"' in page                  # the bundled scan raises no warning
+False
 """
 from __future__ import annotations
 
@@ -30,11 +32,13 @@ STATUS = {"done": "done", "cached": "cached", "failed": "failed"}
 
 def build_doc(res) -> dict:
     """The report document (see statue2model.report.html) of a RunResult."""
-    sections, summary = [], []
+    sections, summary, warnings = [], [], []
     for name, man in res.stages.items():
         status = man.get("status", "not run")
         sec = {"id": name, "title": TITLES.get(name, name), "status": STATUS.get(status, "skipped"),
-               "text": list(man.get("text", [])), "tables": [], "figures": []}
+               "text": list(man.get("text", [])), "warnings": [str(w) for w in man.get("warnings", ()) or ()],
+               "tables": [], "figures": []}
+        warnings += [(name, sec["title"], w) for w in sec["warnings"]]
         if status in ("done", "cached"):
             rows = [[k, str(v)] for k, v in man.get("summary", {}).items()]
             t = man.get("seconds")
@@ -53,7 +57,7 @@ def build_doc(res) -> dict:
     return {"title": f"statue2model report: {res.mesh.stem}",
             "subtitle": f"{res.mesh.name}, {time.strftime('%Y-%m-%d %H:%M')}, statue2model {__version__}, "
                         f"stages {res.seconds:.1f} s",
-            "summary": summary, "sections": sections,
+            "summary": summary, "warnings": warnings, "sections": sections,
             "footer": "The resolved configuration is config.toml beside this report (statue2model run MESH "
                       "--config config.toml repeats the run); run.json holds every stage's numbers."}
 

@@ -3,13 +3,16 @@
     OUT/config.toml        the resolved configuration (every key; repeat the run with it)
     OUT/params/ OUT/prototype/ OUT/isolator/ OUT/dynamics/ OUT/crosscheck/
                            one folder per stage, each with its manifest stage.json
-    OUT/run.json           stages (status, seconds, cached, key) and their headline numbers
+    OUT/run.json           stages (status, seconds, cached, key, warnings) and their headline numbers;
+                           ``warnings``: every stage's warnings, [{stage, text}]
     OUT/report.html        the self-contained report
 
 A stage whose inputs (scan bytes, the configuration sections it reads, the stages
 it reads, the package's code) did not change is taken from its folder; ``force``
 recomputes. Stages not asked for are taken from their folders when complete, and
-computed when a stage that was asked for needs them.
+computed when a stage that was asked for needs them. A stage's warnings (its
+manifest's ``warnings``) are printed after its line, also when it is taken from the
+cache: they still apply.
 
 A folder of scans (:func:`run_collection`) runs each scan as one task of an
 executor: local processes, or a Dask cluster; the numbers do not depend on which.
@@ -21,7 +24,7 @@ Example
 >>> out = pathlib.Path(tempfile.mkdtemp()) / "girl"
 >>> res = run_project(default_scan(), out, stages=["params"], report=False, say=lambda m: None)
 >>> res.stages["params"]["status"], round(res.stages["params"]["data"]["a_R"], 4)
-('done', 2.7101)
+('done', 2.717)
 >>> run_project(default_scan(), out, stages=["params"], report=False, say=lambda m: None).stages["params"]["status"]
 'cached'
 """
@@ -53,12 +56,32 @@ class RunResult:
     report: Path | None = None
     seconds: float = 0.0
 
+    @property
+    def warnings(self) -> list[dict]:
+        """Every stage's warnings, in pipeline order: [{"stage": name, "text": warning}]."""
+        return stage_warnings(self.stages)
+
     def summary_rows(self) -> list[tuple[str, str, str]]:
         rows = []
         for name, m in self.stages.items():
             t = m.get("seconds")
             rows.append((name, m["status"], "" if t is None else f"{t:.1f} s"))
         return rows
+
+
+def stage_warnings(stages: dict) -> list[dict]:
+    """[{"stage", "text"}] of the manifests ``stages`` (name -> manifest), in their order."""
+    return [{"stage": name, "text": str(w)} for name, m in stages.items() for w in m.get("warnings", ()) or ()]
+
+
+def warnings_line(n: int) -> str:
+    """The count line of a run's summary, e.g. "3 warnings: see above / run.json"."""
+    return f"{n} warning{'s' if n != 1 else ''}: see above / run.json"
+
+
+def _say_warnings(say, man: dict, prefix: str = "") -> None:
+    for w in man.get("warnings", ()) or ():
+        say(f"        warning{prefix}: {w}")
 
 
 def _needed(asked: list[str], cfg: ProjectConfig) -> list[str]:
@@ -118,6 +141,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
             if man is not None:
                 keys[name], dirs[name], manifests[name] = key, out / name, man
                 results[name] = {**man, "status": "cached"}
+                _say_warnings(say, man, f" ({name}, taken from an earlier run)")
             else:
                 results[name] = {"status": "not run", "summary": {}}
             continue
@@ -131,12 +155,14 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
             + (f" (computed in {man['seconds']:.1f} s earlier)" if man["cached"] else ""))
         for k, v in man.get("summary", {}).items():
             say(f"        {k}: {v}")
+        _say_warnings(say, man)
         keys[name], dirs[name], manifests[name] = key, out / name, man
         results[name] = {**man, "status": status}
     write_config(cfg, out / "config.toml", mesh, out)
     res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run)
     write_json(out / "run.json", {"schema": "statue2model.run/1", "version": __version__, "mesh": str(mesh),
-                                  "mesh_sha256": mesh_hash, "seconds": res.seconds, "stages": results})
+                                  "mesh_sha256": mesh_hash, "seconds": res.seconds, "stages": results,
+                                  "warnings": res.warnings})
     if report:
         from .report import write_html
 
@@ -173,7 +199,7 @@ def _scan_task(task) -> dict:
     except InputError as exc:
         return {"scan": Path(mesh).name, "error": str(exc)}
     return {"scan": Path(mesh).name, "out": str(res.out), "report": str(res.report) if res.report else None,
-            "status": {k: v["status"] for k, v in res.stages.items()},
+            "status": {k: v["status"] for k, v in res.stages.items()}, "warnings": res.warnings,
             "data": {k: v.get("data", {}) for k, v in res.stages.items()}}
 
 
@@ -212,12 +238,13 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
         for stage, key, label, factor in COLLECTION_COLUMNS:
             v = r.get("data", {}).get(stage, {}).get(key)
             row[label] = v if (v is None or factor is None) else v * factor
+        row["warnings"] = len(r.get("warnings", ()))
         table.append(row)
     data = {"schema": "statue2model.collection/1", "folder": str(folder), "scans": rows, "table": table,
             "seconds": wall, "executor": executor.describe() if executor is not None else "this process"}
     write_config(cfg, out / "config.toml", Path(folder), out)
     write_json(out / "collection.json", data)
-    cols = ["scan"] + [c[2] for c in COLLECTION_COLUMNS]
+    cols = ["scan"] + [c[2] for c in COLLECTION_COLUMNS] + ["warnings"]
 
     def cell(v):
         return "" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v))

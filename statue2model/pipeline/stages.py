@@ -9,6 +9,8 @@ show of the stage (all JSON):
     tables   [{title, columns, rows, status_column}]
     figures  [{path (relative to the stage folder), caption}]
     text     [paragraph, ...]
+    warnings [str, ...]              what the user must check (doubtful input, failed checks, skipped
+                                     analyses); printed by the run, kept in run.json, shown in the report
     data     {...}                   numbers later stages or the collection table read
 
 Stage        reads                      writes (in its folder)
@@ -102,8 +104,8 @@ def params_stage(ctx: Context, d: Path) -> dict:
                "uplift a_R": f"{p.a_R:.4f} m/s^2 ({p.a_R / p.g:.3f} g)",
                "weakest direction": f"{rose.weakest_deg:.2f} deg ({rose.a_min / p.g:.3f} g)"}
     text = [(f"Scan {Path(body.source).name}: units {body.units}, up {body.up}, scale x{body.scale:g}, "
-            f"density {mp.density:.1f} kg/m^3.")] + [f"warning: {w}" for w in body.warnings]
-    return {"summary": summary, "text": text,
+            f"density {mp.density:.1f} kg/m^3.")]
+    return {"summary": summary, "text": text, "warnings": list(body.warnings),
             "tables": [{"title": f"Rocking parameters along {p.direction_deg:.2f} deg",
                         "columns": ["quantity", "left (L)", "right (R)", "unit"], "rows": rows}],
             "figures": [_fig("props.png", "Footprint (contact polygons, hull, centre of mass, pivots) and the "
@@ -115,7 +117,8 @@ def params_stage(ctx: Context, d: Path) -> dict:
 
 # --- prototype ------------------------------------------------------------------------------------
 def prototype_stage(ctx: Context, d: Path) -> dict:
-    from ..fabrication.output import write_slice
+    from ..fabrication.output import comparison_rows, write_slice
+    from ..fabrication.prototype import ERROR_LIMIT, LABELS
     from ..fabrication.slicing import slice_body
     from ..fabrication.spec import SliceSpec
     from ..report.pipeline_plots import plot_layers
@@ -128,34 +131,31 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
     res = slice_body(ctx.load_body(), spec, direction_deg=ctx.config.scan.direction, front_deg=c.front)
     write_slice(res, d, previews=c.previews)
     plot_layers(res, d / "layers.png")
-    cmp_, pp, sp = res.comparison, res.proto_params, res.scan_params
-    rows = [["volume, dm^3", f"{res.proto_mass.volume * 1e3:.3f}", f"{res.scan_mass.volume * 1e3:.3f}",
-             f"{cmp_.volume * 100:+.2f} %"],
-            ["h, m", f"{pp.h:.4f}", f"{sp.h:.4f}", f"{cmp_.h * 100:+.2f} %"],
-            ["b_L, m", f"{pp.b_L:.4f}", f"{sp.b_L:.4f}", f"{cmp_.b_L * 100:+.2f} %"],
-            ["b_R, m", f"{pp.b_R:.4f}", f"{sp.b_R:.4f}", f"{cmp_.b_R * 100:+.2f} %"],
-            ["I_G / m, m^2", f"{pp.I_G / pp.m:.5f}", f"{sp.I_G / sp.m:.5f}", f"{cmp_.I_G_per_mass * 100:+.2f} %"],
-            ["a_R, g", f"{pp.a_R / G:.4f}", f"{sp.a_R / G:.4f}", f"{cmp_.a_R * 100:+.2f} %"],
-            ["centre of mass offset", "", "", f"{cmp_.com_offset * 100:.2f} % of h"]]
+    cmp_ = res.comparison
+    rows = [[r["quantity"], r["built"], r["scan"], r["error"], r["status"], r["cause"]] for r in comparison_rows(res)]
     figs = [_fig("layers.png", "Boards in plan (colour: layer) with the rod holes, and the stack in elevation")]
     if c.previews:
         for k in range(res.nesting.n_sheets):
             figs.append(_fig(f"sheets/sheet_{k + 1:02d}.png", f"Sheet {k + 1} of {res.nesting.n_sheets}: nested "
                                                               "parts, rod holes and engraved labels"))
+    worst, err = cmp_.largest()
     summary = {"scale": f"1:{spec.scale:g}", "layers": f"{res.n_layers} x {spec.board * 1000:g} mm "
                f"(+{spec.glue * 1000:g} mm glue)", "parts / sheets": f"{len(res.parts)} / {res.nesting.n_sheets}",
                "prototype mass": f"{res.proto_mass.mass:.2f} kg",
-               "largest parameter error": f"{max(abs(cmp_.h), abs(cmp_.b_L), abs(cmp_.b_R), abs(cmp_.a_R)) * 100:.2f} %"}
+               "largest parameter error": f"{abs(err) * 100:.2f} % ({LABELS[worst]})"}
     text = [(f"{res.n_layers} boards, {len(res.rods.rods)} alignment rods, material use "
             f"{res.nesting.material_use * 100:.1f} %. CNC files: layers/*.dxf (one per layer), sheets/*.dxf "
             "(nested panels, mm, R2010), bom.csv, assembly.txt.")]
     if res.warnings:
-        text.append(f"{len(res.warnings)} tool warning(s), all in slice.json: " + "; ".join(res.warnings[:3])
+        text.append(f"{len(res.warnings)} warning(s), all in slice.json: " + "; ".join(res.warnings[:3])
                     + ("; ..." if len(res.warnings) > 3 else ""))
-    return {"summary": summary, "text": text, "figures": figs,
+    return {"summary": summary, "text": text, "figures": figs, "warnings": list(res.warnings),
             "tables": [{"title": "Prototype as built against the scaled scan",
-                        "columns": ["quantity", "as built", "scaled scan", "error"], "rows": rows}],
-            "data": {"n_layers": res.n_layers, "n_sheets": res.nesting.n_sheets, "proto_mass": res.proto_mass.mass}}
+                        "columns": ["quantity", "as built", "scaled scan", "error",
+                                    f"check (+-{ERROR_LIMIT * 100:g} %)", "likely cause"],
+                        "rows": rows, "status_column": 4}],
+            "data": {"n_layers": res.n_layers, "n_sheets": res.nesting.n_sheets, "proto_mass": res.proto_mass.mass,
+                     "errors": cmp_.to_dict(), "failing": cmp_.failing()}}
 
 
 # --- isolator -------------------------------------------------------------------------------------
@@ -173,7 +173,7 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     dd = res.to_dict()
     write_json(d / "design.json", dd)
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
-    figs, text = [], []
+    figs, text, warnings = [], [], []
     if res.passed:
         write_plates(PlateGeometry.from_design(dd), d / "plates", segments=c.segments)
         figs.append(_fig("plates/plates_section.png", "Section through the bottom and top plates, a groove and "
@@ -182,8 +182,10 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
                     "openings POCKET, centres DRILL), solids as STL and 3MF.")
     else:
         failed = [ck.name for ck in res.checks if ck.required and not ck.passed]
-        text.append(f"No design meets every required check ({'; '.join(failed)}): no plates were written, and "
-                    "the analyses on the isolator are skipped.")
+        warnings.append(f"No isolator design meets every required check ({'; '.join(failed)}): no plates were "
+                        "written, and the analyses on the isolator are skipped.")
+    warnings += [f"advisory check not met: {ck.name} ({ck.why})" for ck in res.checks
+                 if not ck.required and not ck.passed]
     rows = [[ck.name, _fmt(ck.value), _fmt(ck.limit), "pass" if ck.passed else ("fail" if ck.required else "note"),
              ck.why] for ck in res.checks]
     summary = {"design": "PASS" if res.passed else "FAIL",
@@ -192,7 +194,7 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
                "plate": f"{res.side * 1000:.0f} x {res.side * 1000:.0f} x {res.thickness * 1000:.0f} mm",
                "plate acceleration": f"{res.a_design:.4f} m/s^2 (limit {res.a_lim:.4f})",
                "displacement": f"{res.d_design * 1000:.1f} mm (allowed {res.d_max * 1000:.1f})"}
-    return {"summary": summary, "text": text + list(res.notes), "figures": figs,
+    return {"summary": summary, "text": text + list(res.notes), "warnings": warnings, "figures": figs,
             "tables": [{"title": "Design checks", "columns": ["check", "value", "limit", "result", "why"],
                         "rows": rows, "status_column": 3}],
             "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
@@ -301,9 +303,20 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     tables.append({"title": f"Time history: {motion.label}",
                    "columns": ["base", "outcome", "|theta|max/delta", "peak acceleration felt", "efficiency"],
                    "rows": hrows})
-    if c.isolated and iso is None:
-        text.append("The analyses on the isolator were skipped: no passing isolator design "
-                    "(see the isolator section, or enable [isolator]).")
+    warnings = []
+    if c.isolated and iso is None and enabled("isolator", ctx.config):
+        warnings.append("The analyses on the isolator were skipped: no passing isolator design "
+                        "(see the isolator section).")
+    elif c.isolated and iso is None:
+        text.append("The analyses on the isolator were skipped: no passing isolator design ([isolator] "
+                    "enabled = false).")
+    runs = [("fixed-base spectrum", sp.codes), ("fixed-base variability", sw.codes)]
+    if iso is not None:
+        runs += [("isolated spectrum", spi.codes), ("isolated variability", swi.codes)]
+    for what, codes in runs:
+        if codes is not None and np.any(codes < 0):
+            warnings.append(f"{what}: the solver could not finish {int(np.sum(codes < 0))} of {codes.size} runs "
+                            "(counted as 'solver failed', not as an outcome)")
     lim_up, lim_dn = model.uplift_limits
     text.insert(0, f"Rocking model: {model.kind}; the statue lifts at +{lim_up / G:.4f} g / -{lim_dn / G:.4f} g.")
     summary = {"spectrum overturns (fixed)": f"{data['spectrum_overturn_fraction_fixed'] * 100:.1f} % of pulses",
@@ -313,7 +326,7 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
         summary["spectrum overturns (isolated)"] = f"{data['spectrum_overturn_fraction_isolated'] * 100:.1f} % of pulses"
         summary["lowest overturning PGA (isolated)"] = var_rows[1][1]
         summary[f"{motion.label} (isolated)"] = f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}"
-    return {"summary": summary, "text": text, "tables": tables, "figures": figs, "data": data}
+    return {"summary": summary, "text": text, "warnings": warnings, "tables": tables, "figures": figs, "data": data}
 
 
 def _error_and_target(cd: dict) -> tuple[str, str]:
@@ -356,12 +369,15 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
             for name, p in paths.items() if name != "json"]
     text = [("Each case compares one quantity of the 2D model with the 3D contact simulation of the same scene; "
             "a case meets its target when the difference is within the stated tolerance.")]
+    warnings = []
     if s["unmet"]:
-        text.append("Cases outside their target: " + "; ".join(map(str, s["unmet"])))
-    if c.isolator and design is None:
-        text.append("The isolator scenes were skipped: no passing isolator design.")
+        warnings.append("2D/3D cases outside their target: " + "; ".join(map(str, s["unmet"])))
+    if c.isolator and design is None and enabled("isolator", ctx.config):
+        warnings.append("The isolator scenes of the 3D cross-check were skipped: no passing isolator design.")
+    elif c.isolator and design is None:
+        text.append("The isolator scenes were skipped: no passing isolator design ([isolator] enabled = false).")
     return {"summary": {"2D/3D agreement": f"{s['n_met']} of {s['n_cases']} cases within target"},
-            "text": text, "figures": figs,
+            "text": text, "warnings": warnings, "figures": figs,
             "tables": [{"title": "2D model against 3D physics", "columns": ["case", "unit", "2D", "3D", "error",
                                                                             "target", "met"],
                         "rows": rows, "status_column": 6}],

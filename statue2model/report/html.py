@@ -12,11 +12,14 @@ The document::
         "title": "statue2model report: dancing_girl",
         "subtitle": "meshes/dancing_girl.ply, ...",            # optional
         "summary": [("weakest direction", "90.0 deg"), ...],    # optional key/value rows
+        "warnings": [("params", "Rocking parameters", "units unsure: ..."), ...],
+                                    # optional (section id, title, text) or plain text: a block at the top
         "sections": [
             {"id": "params",                # letters, digits, '-', '_', '.'; unique
              "title": "Rocking parameters",
              "status": "done",              # done | cached | skipped | failed | None
              "text": ["paragraph", ...],    # plain text (a single string is one paragraph)
+             "warnings": ["...", ...],      # optional: shown under the heading, class "warning"
              "tables": [{"title": "...", "columns": ["quantity", "left", "right"],
                          "rows": [[...], ...],
                          "status_column": 3}],   # optional: colour pass/fail/yes/no/True/False
@@ -38,6 +41,9 @@ Rules:
   In the ``status_column``, ``pass``/``yes``/``ok``/``True`` get class ``cell-pass``
   (green) and ``fail``/``no``/``False`` class ``cell-fail`` (red); booleans
   show as ``yes``/``no``.
+* ``warnings`` (document) are listed at the top of the page, above the summary, in a
+  ``<div class="warning warnings" id="all-warnings">``, each with a link to its section;
+  a section's ``warnings`` show under its heading as ``<p class="warning">warning: ...</p>``.
 * Section ``status`` shows as a badge ``badge badge-<status>`` in the heading and
   in the table of contents.
 
@@ -172,6 +178,9 @@ figure.broken figcaption::before { content: "figure failed to load: "; color: va
 .missing, .warning { color: var(--warn); background: var(--warn-bg); border-left: 4px solid var(--warn);
                      padding: .5rem .75rem; font-size: .92rem; }
 .missing { margin: 1rem 0; }
+.warnings { margin: 1rem 0; }
+.warnings p { margin: 0; }
+.warnings ul { margin: .35rem 0 0; padding-left: 1.25rem; }
 footer { margin-top: 3rem; padding-top: .75rem; border-top: 1px solid var(--line); color: var(--muted); font-size: .85rem; }
 footer p { margin: .2rem 0; }
 @media print {
@@ -291,6 +300,9 @@ def _validate(doc: Mapping[str, Any]) -> None:
         raise TypeError(f"report document must be a mapping, not {type(doc).__name__}")
     if not doc.get("title"):
         raise ValueError("report document needs a 'title'")
+    for w in doc.get("warnings", ()) or ():
+        if not (isinstance(w, str) or (isinstance(w, (list, tuple)) and len(w) == 3)):
+            raise ValueError(f"report warning {w!r} must be text or (section id, title, text)")
     seen: set[str] = set()
     for i, section in enumerate(doc.get("sections", ())):
         sid = section.get("id")
@@ -302,6 +314,9 @@ def _validate(doc: Mapping[str, Any]) -> None:
         if not section.get("title"):
             raise ValueError(f"section {sid!r}: needs a 'title'")
         status = section.get("status")
+        for w in section.get("warnings", ()) or ():
+            if not isinstance(w, str):
+                raise ValueError(f"section {sid!r}: a warning must be text, not {type(w).__name__}")
         if status is not None and status not in STATUSES:
             raise ValueError(f"section {sid!r}: status {status!r} is not one of {', '.join(STATUSES)}")
         for j, table in enumerate(section.get("tables", ()) or ()):
@@ -320,6 +335,14 @@ def _validate(doc: Mapping[str, Any]) -> None:
         for fig in section.get("figures", ()) or ():
             if "path" not in fig:
                 raise ValueError(f"section {sid!r}: a figure has no 'path'")
+
+
+def _warning_source(sid: Any, title: Any, ids: set) -> str:
+    """'stage: ' for a top-level warning, a link to its section when there is one ('' for none)."""
+    if not (title or sid):
+        return ""
+    label = _esc(title or sid)
+    return (f'<a href="#{_esc(sid)}">{label}</a>' if sid in ids else label) + ": "
 
 
 def _badge(status: str | None) -> str:
@@ -398,6 +421,7 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
     for section in sections:
         sid = section["id"]
         part = [f'<section id="{_esc(sid)}">', f"<h2>{_esc(section['title'])}{_badge(section.get('status'))}</h2>"]
+        part += [f'<p class="warning">warning: {_esc(w)}</p>' for w in _paragraphs(section.get("warnings"))]
         part += [f"<p>{_esc(p)}</p>" for p in _paragraphs(section.get("text"))]
         part += [_table(t) for t in section.get("tables", ()) or ()]
         for fig in section.get("figures", ()) or ():
@@ -413,6 +437,17 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         head.append(f'<p class="subtitle">{_esc(doc["subtitle"])}</p>')
 
     top: list[str] = []
+    warnings = [(None, None, w) if isinstance(w, str) else tuple(w) for w in doc.get("warnings", ()) or ()]
+    if warnings:
+        ids = {s["id"] for s in sections}
+        items = "".join(
+            f"<li>{_warning_source(sid, title, ids)}{_esc(text)}</li>" for sid, title, text in warnings
+        )
+        n = len(warnings)
+        top.append(
+            f'<div class="warning warnings" id="all-warnings"><p><strong>{n} warning{"s" if n != 1 else ""}: '
+            f"check these before trusting the numbers</strong></p><ul>{items}</ul></div>"
+        )
     summary = list(doc.get("summary", ()) or ())
     if summary:
         rows = "".join(
