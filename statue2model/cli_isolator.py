@@ -2,7 +2,8 @@
 
     statue2model isolator design PARAMS.json (--spectrum SPEC | --motion SPEC) --mu MU [...] --json OUT
     statue2model isolator plates DESIGN.json --out DIR
-    statue2model isolator simulate --R M --r M --mass KG --mu MU [--model coulomb|boucwen --q Q]
+    statue2model isolator simulate (--R M --r M --mass KG --mu MU | --design DESIGN.json)
+                                   [--model coulomb|boucwen --q Q] [--capacity M] [--end-stop stop|impact]
                                    [--statue PARAMS.json] --motion SPEC --json OUT
     statue2model isolator identify RECORD.csv [--units m|mm] [--T S] [--mass KG --table 25] --json OUT
 """
@@ -22,9 +23,12 @@ def add_parsers(sub) -> None:
     isub.required = True
 
     d = isub.add_parser("design", help="choose R, r, grooves and plate size for a statue",
-                        description="Choose the groove radius R, ball radius r and plate size so that the plate's "
-                        "absolute acceleration stays below the statue's reduced uplift acceleration; write the "
-                        "design (JSON) and a readable report (text) with pass/fail per check.")
+                        description="Choose the groove radius R, ball radius r, grooves, board and plate size so "
+                        "that the plate's absolute acceleration stays below the statue's reduced uplift acceleration, "
+                        "the travel capacity covers 1.5 times the spectral displacement and the top plate does not "
+                        "tip; among the passing candidates, the smallest plate, then the largest acceleration margin. "
+                        "Write the design (JSON, with the candidates tried) and a readable report (text) with every "
+                        "check's value, limit, unit and ratio; exit 2 when nothing in range works.")
     d.add_argument("params", metavar="PARAMS.json", help="the statue's rocking parameters (`statue2model props`)")
     src = d.add_mutually_exclusive_group(required=True)
     src.add_argument("--spectrum", metavar="SPEC",
@@ -38,7 +42,9 @@ def add_parsers(sub) -> None:
     d.add_argument("--alpha-L", type=finite_float, metavar="A")
     d.add_argument("--alpha-R", type=finite_float, metavar="A")
     d.add_argument("--grooves", type=int, choices=[3, 4], help="number of grooves (default: 3 or 4, whichever needs the smaller plate)")
-    d.add_argument("--thickness", type=length, default=0.03, metavar="T", help="plate thickness (default 30mm)")
+    d.add_argument("--thickness", type=length, metavar="T",
+                   help="plate thickness (30mm, 0.03m; a bare number is mm; default: the lightest passing of "
+                        "20, 30, 40, 50 mm)")
     d.add_argument("--fuse-release", type=_accel, metavar="A",
                    help="add a release mechanism (fuse) that lets go at A m/s^2 (or e.g. 0.075g with the g suffix)")
     d.add_argument("--json", metavar="OUT", required=True, help="design JSON; OUT.txt gets the report")
@@ -50,12 +56,27 @@ def add_parsers(sub) -> None:
     pl.add_argument("--out", metavar="DIR", required=True)
     pl.set_defaults(func=_cmd_plates)
 
-    s = isub.add_parser("simulate", help="top plate (and statue) under a ground motion")
-    s.add_argument("--R", type=positive_float, required=True, metavar="M", help="groove radius of curvature, m")
-    s.add_argument("--r", type=positive_float, required=True, metavar="M", help="ball radius, m")
-    s.add_argument("--mass", type=positive_float, required=True, metavar="KG",
+    s = isub.add_parser("simulate", help="top plate (and statue) under a ground motion",
+                        description="The top plate (and the statue on it) under a ground motion. The plate's "
+                        "displacement is watched against the isolator's capacity (--capacity, or the design's): "
+                        "by default the run stops where it is passed, outcome 'isolator capacity exceeded'; "
+                        "--end-stop impact lets the plate rebound on a rigid end stop (restitution --e-stop) "
+                        "and go on.")
+    s.add_argument("--design", metavar="DESIGN.json",
+                   help="take R, r, mass, mu and the capacity from a design (`isolator design`); the options "
+                        "below override it")
+    s.add_argument("--R", type=positive_float, metavar="M", help="groove radius of curvature, m")
+    s.add_argument("--r", type=positive_float, metavar="M", help="ball radius, m")
+    s.add_argument("--mass", type=positive_float, metavar="KG",
                    help="supported mass M = top plate + statue, kg")
-    s.add_argument("--mu", type=finite_float, required=True)
+    s.add_argument("--mu", type=finite_float)
+    s.add_argument("--capacity", type=length, metavar="M",
+                   help="largest plate displacement before a ball leaves its groove (150mm, 0.15m; a bare "
+                        "number is mm; default: the design's with --design, else not checked)")
+    s.add_argument("--end-stop", choices=["stop", "impact"], default="stop",
+                   help="at the capacity: stop the run (default) or rebound on a rigid end stop")
+    s.add_argument("--e-stop", type=finite_float, default=0.5, metavar="E",
+                   help="restitution of the end stop with --end-stop impact (default 0.5, assumed)")
     s.add_argument("--model", choices=["coulomb", "boucwen"], default="coulomb")
     s.add_argument("--q", type=positive_float, default=30.0, help="Bouc-Wen k_i / k (30 without rubber, 5 with)")
     s.add_argument("--n", type=int, choices=[1, 2], default=1, help="Bouc-Wen exponent")
@@ -129,8 +150,8 @@ def _cmd_design(args) -> int:
     print(report)
     print(f"\nwrote {out} and {out.with_suffix('.txt').name}")
     if not res.passed:
-        failed = [c.name for c in res.checks if c.required and not c.passed]
-        raise InputError(f"no design meets every check ({'; '.join(failed)}); see {out.with_suffix('.txt')}")
+        raise InputError(f"no design meets every check: no isolator in range works: {res.failure}; "
+                         f"see {out.with_suffix('.txt')}")
     return 0
 
 
@@ -150,7 +171,6 @@ def _cmd_simulate(args) -> int:
     from .dynamics.model import RockingModel
     from .dynamics.motions import parse_spec
     from .files import write_json
-    from .isolator.device import Isolator
     from .isolator.dynamics import simulate, statue_on_plate
 
     spec = args.motion.strip()
@@ -169,8 +189,9 @@ def _cmd_simulate(args) -> int:
         motion = motions.free()
     else:
         motion = parse_spec(spec)[0]
-    iso = Isolator(R=args.R, r=args.r, M=args.mass, mu=args.mu, model=args.model, q=args.q, n=args.n)
-    res = simulate(iso, motion, u0=u0, v0=v0, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol)
+    iso = _isolator(args)
+    res = simulate(iso, motion, u0=u0, v0=v0, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol,
+                   end_stop=args.end_stop, e_stop=args.e_stop)
     out = res.to_dict()
     if args.statue:
         params = _statue(args.statue)
@@ -184,14 +205,55 @@ def _cmd_simulate(args) -> int:
     csv = _write_history(Path(args.json).with_suffix(".csv"), res)
     print(f"T = {iso.T:.3f} s, k = {iso.k:.2f} N/m; u_max = {res.u_max * 1000:.2f} mm, "
           f"|a_abs| max = {res.acc_abs_max:.4f} m/s^2 (pga {res.pga:.4f}), {len(res.peaks_u)} peaks")
+    print("plate: " + _capacity_line(res))
     if args.statue:
         line = f"statue (coupled plate + statue): uplift {'YES' if sp.uplift else 'no'}, efficiency {sp.efficiency:.3f}"
         if sp.uplift:
-            line += (f"; {sp.rocking.outcome}, theta_max/delta {sp.rocking.theta_max_over_delta:.3f} "
-                     f"(one-way estimate {sp.one_way.theta_max_over_delta:.3f})")
+            line += f"; {sp.rocking.outcome}, theta_max/delta {sp.rocking.theta_max_over_delta:.3f}"
+            if sp.one_way is not None:
+                line += f" (one-way estimate {sp.one_way.theta_max_over_delta:.3f})"
         print(line)
+        print("plate + statue: " + _capacity_line(sp.rocking))
     print(f"wrote {args.json} and {csv.name} (history)")
     return 0
+
+
+def _isolator(args):
+    """The Isolator of `isolator simulate`: --design, overridden by the explicit options."""
+    from dataclasses import replace
+
+    from .files import read_json
+    from .isolator.device import Isolator, isolator_from_design
+
+    given = {k: getattr(args, a) for k, a in (("R", "R"), ("r", "r"), ("M", "mass"), ("mu", "mu"))
+             if getattr(args, a) is not None}
+    opts = dict(model=args.model, q=args.q, n=args.n)
+    if args.capacity is not None:
+        opts["capacity"] = args.capacity
+    if args.design:
+        return replace(isolator_from_design(read_json(args.design)), **given, **opts)
+    missing = [f"--{a}" for k, a in (("R", "R"), ("r", "r"), ("M", "mass"), ("mu", "mu")) if k not in given]
+    if missing:
+        raise InputError(f"isolator simulate needs {', '.join(missing)} (or --design DESIGN.json)")
+    return Isolator(**given, **opts)
+
+
+def _capacity_line(res) -> str:
+    """The outcome of a run with respect to the isolator's capacity, one line."""
+    import math
+
+    cap = res.isolator.capacity
+    if not math.isfinite(cap):
+        return f"outcome {res.outcome}; capacity not checked (give --capacity or --design)"
+    if not res.capacity_exceeded:
+        return f"outcome {res.outcome}; |u| max {res.u_max * 1000:.1f} mm within the capacity {cap * 1000:.1f} mm"
+    line = (f"outcome {res.outcome}: |u| reached the capacity {cap * 1000:.1f} mm at t = {res.t_capacity:.4f} s "
+            f"(u = {res.u_at_capacity * 1000:.1f} mm)")
+    if res.end_stop == "impact":
+        line += f"; {res.capacity_hits} end-stop impact(s) (e = {res.end_stop_restitution:g})"
+    else:
+        line += "; the run stops there"
+    return line
 
 
 def _write_history(path: Path, res) -> Path:

@@ -261,19 +261,35 @@ def test_design_meets_its_checks_and_explains_failures():
 
 
 def test_design_chooses_three_or_four_grooves_by_plate_size():
-    """Without n_grooves both layouts are designed; the passing one with the smaller
-    plate is kept (3 grooves on a tie), and the note gives both sizes."""
+    """Without n_grooves both layouts are searched together and CRITERION picks one:
+    the same device as the search restricted to that layout, with a plate no heavier
+    than PLATE_TOLERANCE above the lighter layout's; the notes give both layouts' best
+    plates. (Updated for the new selection rule: the smallest plate is now taken within
+    a tolerance, then the largest acceleration margin, so the lighter layout no longer
+    wins outright.)"""
+    from statue2model.isolator.design import PLATE_TOLERANCE
+
     statue = _statue()
-    for spec in (ec8(0.05 * G, "A"), ec8(0.25 * G, "C")):
-        three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
-        four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
-        auto = design(statue, spectrum=spec, mu=0.0073)
-        want = three if (three.passed, -three.side) >= (four.passed, -four.side) else four
-        assert auto.n_grooves == want.n_grooves and auto.side == want.side
-        assert auto.notes[-1].startswith(f"{want.n_grooves} grooves: plate {want.side * 1000:.0f} mm")
-    # with a large demand the plate size follows the overturning check, where 4 grooves
-    # put the tipping lines further out (L_cr = spacing / 2, not spacing / (2 sqrt 3))
-    assert four.side < three.side and auto.n_grooves == 4
+    spec = ec8(0.05 * G, "A")
+    three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
+    four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
+    auto = design(statue, spectrum=spec, mu=0.0073)
+    assert three.passed and four.passed and auto.passed
+    same = three if auto.n_grooves == 3 else four
+    assert (auto.R, auto.r, auto.side, auto.thickness) == (same.R, same.r, same.side, same.thickness)
+    assert auto.m_o <= (1 + PLATE_TOLERANCE) * min(three.m_o, four.m_o) + 1e-9
+    assert auto.notes[0].startswith(f"3 grooves: best plate {three.side:.3f} m")
+    assert auto.notes[1].startswith(f"4 grooves: best plate {four.side:.3f} m")
+    # with a large demand the plate size follows the overturning checks, where 4 grooves
+    # put the tipping lines further out (L_cr = spacing / 2, not spacing / (2 sqrt 3)):
+    # 3 grooves no longer fit on the largest plate
+    spec = ec8(0.25 * G, "C")
+    three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
+    four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
+    auto = design(statue, spectrum=spec, mu=0.0073)
+    assert four.passed and not three.passed and auto.n_grooves == 4 and auto.side == four.side
+    assert {c.key for c in three.checks if c.required and not c.passed} & {"plate_size", "travel", "overturning"}
+    assert auto.notes[0] == "3 grooves: none passes"
 
 
 def test_bad_isolators():

@@ -25,6 +25,14 @@ u (top plate displacement) is measured relative to the bottom plate (the ground)
 Rolling friction: the balls get rollingFriction = mu r / f (contact.rolling_for_mu)
 so the plate feels a resistance mu W; see contact.py and the calibration in runs.py.
 
+Capacity: the run watches the 3D plate displacement |u| against the isolator's capacity
+(``capacity``: the design's, or its ``d_max``, with :meth:`IsolatorScene.from_design`; none
+otherwise) at every engine step; where it is passed the outcome is "isolator capacity
+exceeded", with the step's time and u, and (``stop_at_capacity``, default) the run stops
+there, as the 2D analyses do. The grooves are of finite size in 3D as well: a ball that
+rolls over a rim (its centre beyond the opening radius a) is reported apart, "ball left its
+groove" (the capacity, where the balls' contact points reach the rims, comes before that).
+
 Example
 -------
 >>> from statue2model.crosscheck.isolator_scene import IsolatorScene
@@ -70,8 +78,11 @@ class IsolatorScene:
     ball_density: float = STEEL
     statue: StatueScene | None = None
     grid: float | None = GRID
+    capacity: float | None = None
 
     def __post_init__(self):
+        if self.capacity is not None and not (self.capacity > 0):
+            raise InputError(f"isolator capacity must be a positive length in m, got {self.capacity!r}")
         if not (math.isfinite(self.mu) and 0 <= self.mu < 1):
             raise InputError(f"rolling friction mu must be in [0, 1), got {self.mu!r}")
         if not (math.isfinite(self.m_o) and self.m_o > 0):
@@ -92,6 +103,11 @@ class IsolatorScene:
     @property
     def R_hat(self) -> float:
         return 2.0 * (self.geom.R - self.geom.ball_radius)
+
+    @property
+    def travel_capacity(self) -> float:
+        """Largest plate displacement |u| checked (m): ``capacity`` (the design's), inf if none."""
+        return math.inf if self.capacity is None else float(self.capacity)
 
     @property
     def ball_mass(self) -> float:
@@ -115,9 +131,12 @@ class IsolatorScene:
                                  ball_radius=float(design["r"]))
             m_o = float(design["m_o"])
             mu = float(design["mu"]) if mu is None else mu
+            cap = design.get("capacity")
+            cap = design.get("d_max") if cap is None else cap
+            cap = None if cap is None else float(cap)
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not an isolator design ({exc})") from None
-        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, statue=statue, grid=grid)
+        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, statue=statue, grid=grid, capacity=cap)
 
     @classmethod
     def simple(cls, R: float, r: float, mu: float, m_o: float, side: float | None = None, spacing: float = 0.4,
@@ -238,6 +257,8 @@ class Isolator3DResult:
     theta           : the statue's rotation (rad), if a statue rides on the plate
     acc_step        : the absolute plate acceleration of every engine step (m/s^2; velocity change
                       over the step / dt + the step's ground acceleration), for filtering
+    capacity        : the |u| checked (m, scene.travel_capacity); t_capacity, u_at_capacity: the first
+                      engine step at which |u| passed it (None if never)
     """
 
     scene: IsolatorScene
@@ -259,6 +280,13 @@ class Isolator3DResult:
     steps: int
     notes: tuple = field(default=())
     acc_step: np.ndarray | None = None
+    capacity: float = math.inf
+    t_capacity: float | None = None
+    u_at_capacity: float | None = None
+
+    @property
+    def capacity_exceeded(self) -> bool:
+        return self.t_capacity is not None
 
     @property
     def efficiency(self) -> float:
@@ -274,6 +302,8 @@ class Isolator3DResult:
             return "non-finite state"
         if self.ball_left_groove:
             return "ball left its groove"
+        if self.capacity_exceeded:
+            return "isolator capacity exceeded"
         if self.statue_overturned:
             return "statue overturned"
         return "ok"
@@ -284,7 +314,9 @@ class Isolator3DResult:
              "ball_r_max": self.ball_r_max, "ball_left_groove": self.ball_left_groove,
              "statue_overturned": self.statue_overturned, "finite": self.finite, "wall_time_s": self.wall_time,
              "steps": self.steps, "real_time_factor": self.real_time_factor, "segments": self.scene.segments,
-             "grid": self.scene.grid,
+             "grid": self.scene.grid, "capacity": self.capacity if math.isfinite(self.capacity) else None,
+             "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
+             "u_at_capacity": self.u_at_capacity,
              "settings": self.settings.to_dict(), "notes": list(self.notes)}
         if self.theta is not None:
             d["theta_max"] = float(np.nanmax(np.abs(self.theta))) if self.theta.size else 0.0
@@ -299,7 +331,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
                       settings: SimSettings | None = None, contact: ContactSettings | None = None,
                       dt_out: float = 0.005, free_time: float = 10.0, meshes: dict | None = None,
                       mount: str = "contact", ball_contact: tuple | None = None, internal_edges: bool = True,
-                      settle: float = 0.25) -> Isolator3DResult:
+                      settle: float = 0.25, stop_at_capacity: bool = True) -> Isolator3DResult:
     """Run scene (b) under ``motion`` (GroundMotion along +x), the top plate released from
     rest displaced by u0 (m; the balls halfway, on their grooves). Stops early if a ball
     leaves its groove, the statue overturns or the state stops being finite.
@@ -314,7 +346,9 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
     ``ball_contact``: (contactStiffness N/m, contactDamping N s/m) of the balls, or None (rigid).
     ``settle``: with u0 = 0, seconds run with gravity alone before t = 0 (the balls seat on the
     facets under the load: a start-up transient of up to 1.8 m/s^2 in the first 0.1 s otherwise);
-    u stays measured from the geometric centre."""
+    u stays measured from the geometric centre.
+    ``stop_at_capacity``: end the run where |u| passes scene.travel_capacity (outcome
+    "isolator capacity exceeded"); False: report it and go on."""
     if mount not in MOUNTS:
         raise InputError(f"mount must be one of {', '.join(MOUNTS)}, got {mount!r}")
     contact = ContactSettings() if contact is None else contact
@@ -440,6 +474,8 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
         a_abs_max = 0.0
         u_max = 0.0
         af = []
+        cap = scene.travel_capacity
+        t_cap = u_cap = None
         for k in range(n + 1):
             xp, vx = plate_point()
             u = xp - x_top0
@@ -452,6 +488,11 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
             a_abs_max = max(a_abs_max, abs(a_abs))
             af.append(a_abs)
             u_max = max(u_max, abs(u))
+            hit = t_cap is None and abs(u) > cap
+            if hit:
+                t_cap, u_cap = k * dt, u
+                notes.append(f"the plate passed the capacity {cap * 1000:.1f} mm at t = {k * dt:.4f} s "
+                             f"(u = {u * 1000:.1f} mm)")
             theta = None
             if statue is not None:
                 _, orn = world.call("getBasePositionAndOrientation", statue)
@@ -460,7 +501,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
                 d = scene.statue.params.delta_R if theta > 0 else scene.statue.params.delta_L
                 if abs(theta) >= d:
                     overturned = True
-            if k % every == 0:
+            if k % every == 0 or (hit and stop_at_capacity):
                 for b, (cx, cy) in zip(balls, centres):
                     bp = world.call("getBasePositionAndOrientation", b)[0]
                     rho = math.hypot(bp[0] - cx, bp[1] - cy)
@@ -471,7 +512,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
                 us.append(u)
                 aa.append(a_abs)
                 th.append(np.nan if theta is None else theta)
-            if left or overturned or k == n:
+            if left or overturned or k == n or (hit and stop_at_capacity):
                 if left:
                     notes.append(f"a ball left its groove at t = {k * dt:.3f} s")
                 if overturned:
@@ -488,7 +529,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
         theta=np.asarray(th) if statue is not None else None, peaks_t=pk_t, peaks_u=pk_u,
         ball_r_max=ball_r, u_max=u_max, acc_abs_max=a_abs_max, pga=motion.pga, statue_overturned=overturned,
         ball_left_groove=left, finite=finite, wall_time=wall, steps=steps, notes=tuple(notes),
-        acc_step=np.asarray(af))
+        acc_step=np.asarray(af), capacity=cap, t_capacity=t_cap, u_at_capacity=u_cap)
 
 
 def _peaks(t: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -57,6 +57,13 @@ Modelling choices (assumptions):
 * Overturning: |theta| reaches delta_side; the run stops there (samples after it
   are nan with phase 3).
 * Linearised rocking models are not supported (InputError).
+* Capacity (``iso.capacity``, ``end_stop``; dynamics.py): with "stop" the run ends when
+  |u| passes the capacity (outcome "isolator capacity exceeded", samples after it nan
+  with phase 4); with "impact" the top plate rebounds on a rigid end stop,
+  u'+ = -e u'- (e = END_STOP_RESTITUTION, assumed), and the jump is an impulse of the
+  plate's absolute acceleration: the statue's theta' jumps by A1 (u'+ - u'-) on its pivot
+  (theta'' = A0 + A1 a integrated across the impulse), or a statue in full contact is
+  lifted by it; acc_abs_max leaves the impulse itself out (it is infinite).
 
 Screening (Coulomb plates): the plate alone is simulated first
 (:func:`..dynamics.simulate`, exact); if its absolute acceleration stays inside the
@@ -65,7 +72,9 @@ statue's limits the statue never lifts and the coupled result is the plate resul
 integrated from t = 0 (coupled_kernel.py); if the statue still never lifts, the
 plate result is returned as well (``stats['uplift_found'] = False``). Bouc-Wen
 plates are always integrated by coupled_kernel (whose plate part agrees with the
-plate solver to ~1e-8 at rtol 1e-9 where that solver is right).
+plate solver to ~1e-8 at rtol 1e-9 where that solver is right). With end_stop "impact",
+a plate that reaches its capacity is always integrated with the statue (the impact
+may lift it).
 
 Example
 -------
@@ -99,11 +108,11 @@ from . import dynamics as ID
 from .device import Isolator
 
 FREE_TIME = ID.FREE_TIME
-PHASES = {0: "stick", 1: "transition", 2: "rocking", 3: "overturned"}
+PHASES = {0: "stick", 1: "transition", 2: "rocking", 3: "overturned", 4: "capacity exceeded"}
 
 
 @dataclass(frozen=True, eq=False)
-class CoupledResult:
+class CoupledResult(ID.CapacityTracked):
     """Time histories and peaks of the coupled plate + statue (SI units, rad).
 
     t, u, v, acc_abs, z : plate outputs every dt_out (acc_abs = f + u''; z: Bouc-Wen, 0 for Coulomb)
@@ -114,6 +123,8 @@ class CoupledResult:
     impacts             : (n, 6) t, landing side (-1 left edge, +1 right), theta'-, theta'+, u'-, u'+
     peaks_t, peaks_theta, peaks_side : extrema of |theta|; peaks_u_t, peaks_u : plate reversals
     plate               : the plate-only IsolatorResult (None if not computed)
+    t_capacity, u_at_capacity : first time and displacement at which |u| reached iso.capacity
+                          (None if never); capacity_hits: end-stop impacts (end_stop "impact")
     """
 
     isolator: Isolator
@@ -147,6 +158,11 @@ class CoupledResult:
     full_uplift: bool
     plate: object
     stats: dict
+    t_capacity: float | None = None
+    u_at_capacity: float | None = None
+    capacity_hits: int = 0
+    end_stop: str = "stop"
+    end_stop_restitution: float = ID.END_STOP_RESTITUTION
 
     @property
     def uplift(self) -> bool:
@@ -164,7 +180,10 @@ class CoupledResult:
 
     @property
     def outcome(self) -> str:
-        """'no motion', 'rolling', 'rocking' or 'overturn mode k' (as the rocking engine)."""
+        """'no motion', 'rolling', 'rocking' or 'overturn mode k' (as the rocking engine), or
+        'isolator capacity exceeded' when the run ended there (end_stop "stop")."""
+        if self.capacity_exceeded and self.end_stop == "stop":
+            return ID.CAPACITY_EXCEEDED
         return outcome_name(self.uplift, self.full_uplift or self.model.kind == "housner", self.overturned,
                             self.impacts_before_overturn)
 
@@ -179,6 +198,8 @@ class CoupledResult:
             "overturn_time": self.overturn_time, "overturn_side": self.overturn_side,
             "impacts_before_overturn": self.impacts_before_overturn,
             "peaks_u": self.peaks_u.tolist(), "peaks_u_t": self.peaks_u_t.tolist(),
+            **ID.capacity_dict(self.capacity, self.capacity_exceeded, self.t_capacity, self.u_at_capacity,
+                               self.capacity_hits, self.end_stop, self.end_stop_restitution),
             "solver": self.stats,
         }
         if history:
@@ -221,7 +242,8 @@ def _check(iso, model, motion, u0, v0, theta0, omega0, t_end, dt_out, rtol, rest
     return n_out
 
 
-def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9) -> np.ndarray:
+def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9, end_stop: str = "stop",
+                     e_stop: float = ID.END_STOP_RESTITUTION) -> np.ndarray:
     """The flat parameter vector of coupled_kernel (indices CK.Q_*)."""
     p = model.params
     Q = np.zeros(CK.N_Q)
@@ -244,6 +266,9 @@ def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9)
     Q[CK.Q_LIM_UP], Q[CK.Q_LIM_DN] = model.uplift_limits
     Q[CK.Q_H] = p.h
     Q[CK.Q_REST_TOL] = rest_tol
+    Q[CK.Q_CAP] = iso.capacity
+    Q[CK.Q_STOP] = 0.0 if end_stop == "stop" else 1.0
+    Q[CK.Q_ESTOP] = e_stop
     return Q
 
 
@@ -257,13 +282,15 @@ def _from_plate(iso, model, motion, plate, n_out, stats) -> CoupledResult:
         t_uplift=None, impacts=np.empty((0, CK.N_IMP_COLS)), n_impacts=0, peaks_t=e, peaks_theta=e.copy(),
         peaks_side=np.empty(0, dtype="<U1"), peaks_u_t=plate.peaks_t, peaks_u=plate.peaks_u,
         overturned=False, overturn_time=None, overturn_side=None, impacts_before_overturn=None,
-        full_uplift=False, plate=plate, stats=stats)
+        full_uplift=False, plate=plate, stats=stats, t_capacity=plate.t_capacity, u_at_capacity=plate.u_at_capacity,
+        capacity_hits=plate.capacity_hits, end_stop=plate.end_stop, end_stop_restitution=plate.end_stop_restitution)
 
 
 def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *, u0: float = 0.0,
                      v0: float = 0.0, theta0: float = 0.0, omega0: float = 0.0, t_end: float | None = None,
                      dt_out: float = 0.005, rtol: float = 1e-9, rest_tol: float = 1e-9, screen: bool = True,
-                     max_records: int = 10_000, max_steps: int = 20_000_000) -> CoupledResult:
+                     max_records: int = 10_000, max_steps: int = 20_000_000, end_stop: str = "stop",
+                     e_stop: float = ID.END_STOP_RESTITUTION) -> CoupledResult:
     """Integrate plate + statue from (u0, v0, theta0, omega0) at t = 0 to t_end
     (default: the end of the motion + 10 s, as the plate alone); stops at overturning.
 
@@ -272,7 +299,8 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
     ``screen``: run the plate alone first and skip the coupled integration if the
     statue cannot lift (see the module docstring); with ``screen=False`` the coupled
     system is always integrated and its own histories are returned. ``rest_tol``: Zeno threshold
-    (fraction of delta), as in the rocking engine.
+    (fraction of delta), as in the rocking engine. ``end_stop``, ``e_stop``: what happens at
+    ``iso.capacity`` (module docstring; "stop" ends the run there).
     """
     u0, v0, theta0, omega0 = float(u0), float(v0), float(theta0), float(omega0)
     if t_end is None:
@@ -280,6 +308,9 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
     t_end = float(t_end)
     dt_out = float(dt_out)
     n_out = _check(iso, model, motion, u0, v0, theta0, omega0, t_end, dt_out, rtol, rest_tol)
+    ID.check_end_stop(end_stop, e_stop)
+    if end_stop == "impact" and abs(u0) > iso.capacity:
+        raise InputError(f"u0 = {u0} m starts beyond the end stop at the capacity {iso.capacity} m")
     up, dn = model.uplift_limits
     plate = None
     still = theta0 == 0.0 and omega0 == 0.0
@@ -288,11 +319,12 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
     # integrated here).
     screen = screen and iso.model == "coulomb"
     if screen and still:
-        plate = ID.simulate(iso, motion, u0=u0, v0=v0, t_end=t_end, dt_out=dt_out, rtol=rtol)
-        if plate.acc_abs_max < min(up, dn) * (1.0 - 1e-12):
+        plate = ID.simulate(iso, motion, u0=u0, v0=v0, t_end=t_end, dt_out=dt_out, rtol=rtol, end_stop=end_stop,
+                            e_stop=e_stop)
+        if plate.acc_abs_max < min(up, dn) * (1.0 - 1e-12) and not (plate.capacity_exceeded and end_stop == "impact"):
             return _from_plate(iso, model, motion, plate, n_out,
                                {"coupled_integration": False, "plate": plate.stats})
-    Q = parameter_vector(iso, model, rest_tol)
+    Q = parameter_vector(iso, model, rest_tol, end_stop, e_stop)
     eLw, eLe = model.e_L.arrays()
     eRw, eRe = model.e_R.arrays()
     kind, Mv, samples = motion.kernel_args()
@@ -322,12 +354,14 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
     if not math.isfinite(t_up) and still and screen:
         stats["uplift_found"] = False
         if plate is None:
-            plate = ID.simulate(iso, motion, u0=u0, v0=v0, t_end=t_end, dt_out=dt_out, rtol=rtol)
+            plate = ID.simulate(iso, motion, u0=u0, v0=v0, t_end=t_end, dt_out=dt_out, rtol=rtol, end_stop=end_stop,
+                                e_stop=e_stop)
         return _from_plate(iso, model, motion, plate, n_out, stats)
     n_imp = int(S[CK.S_N_IMP])
     npk = min(int(S[CK.S_N_PEAKS]), max_records)
     nupk = min(int(S[CK.S_N_UPEAKS]), max_records)
     overturned = bool(S[CK.S_OVERTURNED])
+    hit = math.isfinite(S[CK.S_T_CAP])
     side = {1.0: "R", -1.0: "L"}
     return CoupledResult(
         isolator=iso, model=model, motion=motion, t=np.arange(n_out) * dt_out,
@@ -343,4 +377,6 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
         overturned=overturned, overturn_time=float(S[CK.S_T_OVERTURN]) if overturned else None,
         overturn_side=side.get(float(S[CK.S_OT_SIDE])) if overturned else None,
         impacts_before_overturn=int(S[CK.S_IMP_BEFORE_OT]) if overturned else None,
-        full_uplift=bool(S[CK.S_FULL_UPLIFT]), plate=plate, stats=stats)
+        full_uplift=bool(S[CK.S_FULL_UPLIFT]), plate=plate, stats=stats,
+        t_capacity=float(S[CK.S_T_CAP]) if hit else None, u_at_capacity=float(S[CK.S_U_CAP]) if hit else None,
+        capacity_hits=int(S[CK.S_N_HITS]), end_stop=end_stop, end_stop_restitution=float(e_stop))

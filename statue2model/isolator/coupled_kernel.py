@@ -13,7 +13,20 @@ side, region). Method:
   (and the step is retried shorter when that disagrees with the dense output):
   plate reversal u' = 0, plate unstick (Coulomb), statue uplift (a_abs leaves the
   limits), impact theta = 0, rolling-transition boundary |theta| = theta_side,
-  overturning |theta| = delta_side. Peaks of |theta| are located the same way.
+  overturning |theta| = delta_side, and the plate passing its capacity
+  sgn(u') u = cap (inactive, no cost, when cap = inf). Peaks of |theta| are located
+  the same way.
+* At the capacity: Q_STOP = 0 ends the run (status like overturning, phase 4);
+  Q_STOP = 1 is an impact of the top plate on a rigid end stop, u'+ = -e_stop u'-:
+  the jump dv = u'+ - u'- of the plate is an impulse of the absolute plate
+  acceleration, so the statue's theta' jumps by A1 dv (theta'' = A0 + A1 a,
+  integrated across the impulse on its current pivot); a statue in full contact
+  is lifted by it on the side the impulse tips it to (unless that excursion would
+  peak below rest_tol delta: then it stays in contact and moves with the plate).
+  A plate whose rebound would rise less than kernel.REST_TOL cap against a force
+  pushing it back rests on the stop (md[MD_PIN] = side; u' = 0) until the force
+  pulls it away: a one-sided stuck plate (Coulomb: beyond mu g; Bouc-Wen: any
+  force away from the stop, z fixed meanwhile).
 * A Coulomb plate stuck under a statue in full contact is not integrated: the
   next unstick / uplift is found in closed form on each motion piece (as in the
   plate and rocking kernels).
@@ -45,22 +58,22 @@ NY = 4
 
 # --- parameter vector Q -------------------------------------------------------
 (Q_OM2, Q_MUG, Q_BW, Q_CZ, Q_UY, Q_NBW, Q_MR, Q_P2L, Q_P2R, Q_DL, Q_DR, Q_RL, Q_RR, Q_AL, Q_AR,
- Q_TL, Q_TR, Q_G, Q_LIM_UP, Q_LIM_DN, Q_H, Q_REST_TOL) = range(22)
-N_Q = 22
+ Q_TL, Q_TR, Q_G, Q_LIM_UP, Q_LIM_DN, Q_H, Q_REST_TOL, Q_CAP, Q_STOP, Q_ESTOP) = range(25)
+N_Q = 25
 
 # --- mode vector md -----------------------------------------------------------
-(MD_PS, MD_UR, MD_ZR, MD_ROCK, MD_SIDE, MD_REG) = range(6)
-N_MD = 6
+(MD_PS, MD_UR, MD_ZR, MD_ROCK, MD_SIDE, MD_REG, MD_PIN) = range(7)
+N_MD = 7
 
 # --- events -------------------------------------------------------------------
-(EV_REV, EV_UNSTICK_P, EV_UNSTICK_N, EV_UPLIFT_L, EV_UPLIFT_R, EV_LO, EV_HI) = range(7)
-N_EV = 7
+(EV_REV, EV_UNSTICK_P, EV_UNSTICK_N, EV_UPLIFT_L, EV_UPLIFT_R, EV_LO, EV_HI, EV_CAP) = range(8)
+N_EV = 8
 
 # --- statistics vector S ------------------------------------------------------
 (S_UMAX, S_AMAX, S_NSTEPS, S_NREJ, S_TFINAL, S_STATUS, S_T_UPLIFT, S_N_IMP, S_OVERTURNED,
  S_T_OVERTURN, S_IMP_BEFORE_OT, S_OT_SIDE, S_QMAX_R, S_QMAX_L, S_FULL_UPLIFT, S_N_UPLIFTS,
- S_N_PEAKS, S_N_UPEAKS, S_N_OUT, S_N_ZENO, S_N_RHS) = range(21)
-N_S = 21
+ S_N_PEAKS, S_N_UPEAKS, S_N_OUT, S_N_ZENO, S_N_RHS, S_T_CAP, S_U_CAP, S_N_HITS, S_CAP_STOP) = range(25)
+N_S = 25
 STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
 
 # impact record columns: t, landing side (-1 left edge, +1 right edge), theta'-, theta'+, u'-, u'+
@@ -118,7 +131,26 @@ def _plate_force(u, md, Q):
 
 @njit(cache=True)
 def _stuck(md, Q):
-    return Q[Q_BW] == 0.0 and md[MD_PS] == 0.0
+    """The plate does not move relative to the ground: a stuck Coulomb plate, or any plate
+    resting on its end stop."""
+    return (Q[Q_BW] == 0.0 and md[MD_PS] == 0.0) or md[MD_PIN] != 0.0
+
+
+@njit(cache=True)
+def _hold_bounds(u, md, Q):
+    """(up, dn): the stuck plate (statue in full contact) stays while -dn <= f <= up
+    (f: ground acceleration); one-sided on the end stop."""
+    pin = md[MD_PIN]
+    if pin == 0.0:
+        return Q[Q_MUG] - Q[Q_OM2] * u, Q[Q_MUG] + Q[Q_OM2] * u
+    c = Q[Q_OM2] * u
+    fr = Q[Q_MUG]
+    if Q[Q_BW] != 0.0:
+        c += Q[Q_CZ] * md[MD_ZR]
+        fr = 0.0
+    if pin > 0.0:
+        return fr - c, np.inf
+    return np.inf, fr + c
 
 
 @njit(cache=True)
@@ -189,8 +221,17 @@ def _events(t, y, md, Q, seg, g):
         g[EV_REV] = -ps * y[1]
     if stuck and rock:
         D = _demand(t, y[0], y[2], y[3], md, Q, seg)
-        g[EV_UNSTICK_P] = D - Q[Q_MUG]
-        g[EV_UNSTICK_N] = -D - Q[Q_MUG]
+        pin = md[MD_PIN]
+        fr = Q[Q_MUG]
+        if pin != 0.0 and Q[Q_BW] != 0.0:
+            D -= Q[Q_CZ] * md[MD_ZR]
+            fr = 0.0
+        if pin <= 0.0:
+            g[EV_UNSTICK_P] = D - fr
+        if pin >= 0.0:
+            g[EV_UNSTICK_N] = -D - fr
+    if ps != 0.0 and Q[Q_CAP] < np.inf:
+        g[EV_CAP] = ps * y[0] - Q[Q_CAP]
     if not rock and not stuck:
         a = -_plate_force(y[0], md, Q)
         g[EV_UPLIFT_L] = a - Q[Q_LIM_UP]
@@ -419,7 +460,6 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     cap_pk = peaks.shape[0]
     bw = Q[Q_BW] != 0.0
     om2 = Q[Q_OM2]
-    mug = Q[Q_MUG]
     t = 0.0
     y[0] = u0
     y[1] = v0
@@ -466,9 +506,20 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     nrej = 0
     status = STATUS_OK
     overturned = False
+    capstop = False
+    S[S_T_CAP] = np.nan
+    S[S_U_CAP] = np.nan
+    if abs(u0) > Q[Q_CAP]:      # released beyond the capacity
+        S[S_T_CAP] = 0.0
+        S[S_U_CAP] = u0
+        S[S_N_HITS] = 1.0
+        S[S_CAP_STOP] = 1.0
+        capstop = True
+        _record_output(0, 0.0, y, md, Q, seg, out)
+        t_end = 0.0
     pmax = math.sqrt(max(Q[Q_P2L], Q[Q_P2R]))
     h = min(0.05 / pmax, 0.02 / math.sqrt(om2))
-    io = 0
+    io = 1 if capstop else 0
     suppress = -1
     nudge = 0.0
     t_last = -1.0
@@ -490,8 +541,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         rock = md[MD_ROCK] != 0.0
         # ---------------- Coulomb plate stuck, statue in full contact: closed form
         if not rock and _stuck(md, Q):
-            up = mug - om2 * y[0]
-            dn = mug + om2 * y[0]
+            up, dn = _hold_bounds(y[0], md, Q)
             te_p, side_p = K._first_exceedance(t, t_lim, seg, up, dn)
             te_s, side_s = K._first_exceedance(t, t_lim, seg, Q[Q_LIM_UP], Q[Q_LIM_DN])
             t_stop = min(te_p, te_s, t_lim)
@@ -502,6 +552,9 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             if side_p != 0 and te_p <= te_s and te_p < t_lim:
                 t = te_p
                 md[MD_PS] = float(side_p)
+                if md[MD_PIN] != 0.0:
+                    md[MD_PIN] = 0.0
+                    md[MD_UR] = y[0]
                 continue
             if side_s != 0 and te_s < t_lim:
                 s = float(side_s)
@@ -535,7 +588,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             t = t_lim
             continue
         # ---------------- Bouc-Wen plate at rest with no force: wait for the ground
-        if bw and md[MD_PS] == 0.0:
+        if bw and md[MD_PS] == 0.0 and md[MD_PIN] == 0.0:
             _plate_after_jump(t, y, md, Q, seg, 0.0)
         # ---------------- events already due at t (a motion breakpoint, rounding)
         _events(t, y, md, Q, seg, g0)
@@ -551,6 +604,9 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             umax = max(umax, abs(y[0]))
             if ok == 2:
                 overturned = True
+                break
+            if ok == 3:
+                capstop = True
                 break
             if ok == 0:
                 suppress = due
@@ -696,6 +752,8 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             n_upk = int(S[S_N_UPEAKS])
             if ok == 2:
                 overturned = True
+            elif ok == 3:
+                capstop = True
             elif ok == 0:
                 suppress = k_ev
                 nudge = 4.0 * _EPS * max(1.0, abs(t))
@@ -708,9 +766,17 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 qmax_r = q
             if md[MD_SIDE] < 0 and q > qmax_l:
                 qmax_l = q
-        if overturned:
+        if overturned or capstop:
             break
-    if overturned:
+    if capstop:
+        while io < n_out and io * dt_out < t:
+            io += 1
+        while io < n_out:
+            for c in range(6):
+                out[io, c] = np.nan
+            out[io, 6] = 4.0
+            io += 1
+    elif overturned:
         if md[MD_SIDE] > 0:
             qmax_r = Q[Q_DR]
         else:
@@ -737,6 +803,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     S[S_QMAX_L] = qmax_l
     S[S_N_PEAKS] = n_pk
     S[S_N_OUT] = io
+    S[S_CAP_STOP] = 1.0 if capstop else 0.0
     return io
 
 
@@ -756,12 +823,19 @@ def _apply(k, t, y, md, Q, seg, eLw, eLe, eRw, eRe, imp, upeaks, S, n_imp, n_upk
         return 1
     if k == EV_UNSTICK_P or k == EV_UNSTICK_N:
         s = 1.0 if k == EV_UNSTICK_P else -1.0
+        pin = md[MD_PIN]
+        md[MD_PIN] = 0.0
         md[MD_PS] = s
         udd, _, _ = _accs(t, y[0], y[2], y[3], md, Q, seg)
         if s * udd <= 0.0:
             md[MD_PS] = 0.0
+            md[MD_PIN] = pin
             return 0
+        if pin != 0.0:
+            md[MD_UR] = y[0]
         return 1
+    if k == EV_CAP:
+        return _end_stop(t, y, md, Q, seg, S)
     if k == EV_UPLIFT_L or k == EV_UPLIFT_R:
         s = -1.0 if k == EV_UPLIFT_L else 1.0
         md[MD_ROCK] = 1.0
@@ -837,6 +911,73 @@ def _apply(k, t, y, md, Q, seg, eLw, eLe, eRw, eRe, imp, upeaks, S, n_imp, n_upk
         imp[n_imp, 4] = v_m
         imp[n_imp, 5] = v_p
     S[S_N_IMP] = n_imp + 1
+    pin = md[MD_PIN]
+    if pin != 0.0:
+        if pin * y[1] >= 0.0:       # pushed onto the end stop: it takes the push
+            y[1] = 0.0
+            return 1
+        md[MD_PIN] = 0.0            # pulled away from it
+        md[MD_UR] = y[0]
     if y[1] != v_m or md[MD_PS] == 0.0 or y[1] == 0.0:
         _plate_after_jump(t, y, md, Q, seg, ps_old)
+    return 1
+
+
+@njit(cache=True)
+def _end_stop(t, y, md, Q, seg, S):
+    """The plate reaches its capacity at (t, y) moving outward (sign md[MD_PS]). Returns 3
+    (the run ends: Q_STOP = 0) or 1 (end-stop impact applied, see the module docstring)."""
+    sig = md[MD_PS]
+    if S[S_N_HITS] == 0.0:
+        S[S_T_CAP] = t
+        S[S_U_CAP] = y[0]
+    S[S_N_HITS] += 1.0
+    if Q[Q_STOP] == 0.0:
+        S[S_CAP_STOP] = 1.0
+        return 3
+    bw = Q[Q_BW] != 0.0
+    v_m = y[1]
+    z = _zeta(y[0], md, Q)
+    y[0] = sig * Q[Q_CAP]
+    v_p = -Q[Q_ESTOP] * v_m
+    dv = v_p - v_m
+    # the statue: theta' jumps by A1 dv (on its pivot), or the impulse lifts it
+    if md[MD_ROCK] != 0.0:
+        _, A1, _, _ = _statue_terms(y[2], md[MD_SIDE], md[MD_REG], Q)
+        y[3] += A1 * dv
+    elif dv != 0.0:
+        s = -1.0 if dv > 0.0 else 1.0
+        reg = _start_region(s, Q)
+        A0, A1, _, _ = _statue_terms(0.0, s, reg, Q)
+        w = A1 * dv
+        md[MD_ROCK] = 1.0
+        md[MD_SIDE] = s
+        md[MD_REG] = reg
+        ps_keep = md[MD_PS]
+        md[MD_PS] = -sig
+        _, thdd, _ = _accs(t, y[0], 0.0, w, md, Q, seg)
+        md[MD_PS] = ps_keep
+        c = -s * thdd
+        dside = Q[Q_DR] if s > 0 else Q[Q_DL]
+        if c > 0.0 and w * w / (2.0 * c) < Q[Q_REST_TOL] * dside:
+            md[MD_ROCK] = 0.0          # too small to count: the statue moves with the plate
+        else:
+            y[2] = 0.0
+            y[3] = w
+            if S[S_N_UPLIFTS] == 0.0:
+                S[S_T_UPLIFT] = t
+            S[S_N_UPLIFTS] += 1.0
+            if reg == 1.0 and (Q[Q_TR] if s > 0 else Q[Q_TL]) > 0.0:
+                S[S_FULL_UPLIFT] = 1.0
+    # the plate: a new branch moving back (Bouc-Wen z from here), or resting on the stop
+    if bw:
+        md[MD_UR] = y[0]
+        md[MD_ZR] = z
+    md[MD_PS] = -sig
+    y[1] = v_p
+    udd, _, _ = _accs(t, y[0], y[2], y[3], md, Q, seg)
+    if v_p == 0.0 or (sig * udd > 0.0 and v_p * v_p / (2.0 * abs(udd)) < IK.REST_TOL * Q[Q_CAP]):
+        y[1] = 0.0
+        md[MD_PS] = 0.0
+        md[MD_PIN] = sig
     return 1

@@ -1,45 +1,91 @@
-"""Design of a rolling-ball isolator for one statue (thesis ch. 5.1, 5.3, 6.4).
+"""Design of a rolling-ball isolator for one statue and one hazard (thesis ch. 5.1, 5.3, 6.4).
 
-Input: the statue's rocking parameters (m, h, a_L, a_R; reduced by alpha when the
-base is imperfect), a friction coefficient mu, and a design input: an elastic
-response spectrum (EC8 / NTC 2018, design_spectrum.py) or a ground motion that
-is simulated on every candidate. Optionally a stricter target for the plate's
-absolute acceleration.
+Input: the statue's rocking parameters (m, h, b_L, b_R, a_L, a_R; the uplift limits
+reduced by alpha when the base is imperfect), a rolling friction coefficient mu and a
+design input: an elastic response spectrum (EC8 / NTC 2018, design_spectrum.py) or a
+ground motion simulated on every candidate. Optionally a stricter target for the plate's
+absolute acceleration, and a fuse (release mechanism, eq. 52). SI units throughout.
 
-Procedure, for ball radii ``balls`` and groove radii R on a grid (smallest
-first), n grooves (3 or 4; by default both are designed and the smaller plate is
-kept):
+Travel capacity of a device (m): the largest relative displacement u_o of the top plate
+before a ball leaves its groove or the top plate tips, ``capacity = min(u_groove, u_tip)``:
 
-1. the plate's absolute acceleration: Se(T) from the spectrum (as in ch. 6.4),
-   or the simulated peak |a_abs|, must stay below a_lim = min(alpha_L a_L,
-   alpha_R a_R, target); friction adds up to mu g, checked separately;
-2. design displacement d: SDe(T) or the simulated peak |u_o|;
-3. grooves: each ball rolls d/2 on each plate, so the opening radius is
-   d/2 + r + margin and the depth follows from the spherical cap; at least
-   MIN_BOTTOM of wood must remain under a groove, and the balls must stand
-   proud of the grooves (a gap of MIN_GAP between the plates);
-4. the plate is at least as large as the statue's base (2 max(b_L, b_R) + edges,
-   or ``min_side``); top-plate overturning (eqs. 47-49): lever arm l, safety length
-   a = (a_design/g) l, allowable displacement d_max = L_cr - a with L_cr the
-   distance from the plate centre to the tipping line of the grooves (half the
-   groove spacing for 4 grooves, the inradius of the triangle for 3); the groove
-   spacing is chosen so that d <= d_max;
-5. optional fuse (eq. 52): seat depth for a release acceleration, which must be
-   below a_lim (the statue must not rock before the plate is released).
+    u_groove = a R_hat / R                        device.groove_capacity (a: opening radius)
+    u_tip    = (L_cr - mu l) R_hat / (R + l)      tipping_capacity
 
-The first candidate that passes every required check is the design; the report
-says pass/fail per check and why, also when nothing passes.
+u_tip is eqs. 47-49 written in the top plate's frame at the displacement itself. When the
+plate moves u_o, the balls' contact points move back u_o R / R_hat relative to the plate
+(groove_capacity's derivation), so the tipping line through the outer balls is
+L_cr - u_o R / R_hat from the plate centre (L_cr: half the groove spacing for 4 grooves,
+the triangle's inradius for 3). There the grooves push plate and statue with
+g (u_o / R_hat + mu), which moves the resultant of the weights out by the safety length
+a = (u_o / R_hat + mu) l (eqs. 47, 48; l the lever arm). The plate tips when
+a = L_cr - u_o R / R_hat. The thesis' own check, eq. 49 at the design acceleration
+(d <= d_max = L_cr - (a_design / g) l, the displacement not reduced by R / R_hat), is kept
+as a separate required check.
+
+Demand (spectrum): a_design = Se(T) and d = SDe(T) at T = 2 pi sqrt(R_hat / g) (ch. 6.4);
+(motion): the simulated peaks of |a_abs| and |u_o|. The travel the grooves must give is
+
+    need = DISPLACEMENT_MARGIN d + mu R_hat
+
+DISPLACEMENT_MARGIN (1.5) covers what SDe does not, as a stated judgement: EN 1998-1
+§10.3(2) designs isolator displacements for gamma_x d with gamma_x = 1.2 (reliability of
+the isolation system), and a spherical groove travels along the vector sum of both
+horizontal components, whose peak exceeds the one-component spectral value by about
+1.25-1.3 at these periods (maximum-direction factors, e.g. 1.3 at T >= 1 s in ASCE 7-16
+§21.2): 1.2 x 1.25 = 1.5. mu R_hat is where friction may have left the plate resting off
+centre after an earlier shake or a push (static equilibrium k |u| <= mu W); the next
+earthquake starts from there.
+
+Checks (each one reads value <= limit, in the stated unit; ratio = value / limit, so a
+ratio above 1 fails by that factor):
+
+    acceleration   a_design <= a_lim = min(alpha_L a_L, alpha_R a_R[, target])       m/s^2
+    friction       mu g <= a_lim (else the statue rocks before the plate rolls)       m/s^2
+    travel         need <= capacity                                                   m
+    overturning    d <= d_max = L_cr - (a_design / g) l (eq. 49)                      m
+    depth          groove depth <= board - MIN_BOTTOM                                 m
+    proud          groove depth <= r - MIN_GAP / 2 (the plates stay apart)            m
+    plate size     side <= SIDE_MAX                                                   m
+    fuse           release <= a_lim; MIN_WALL <= the least wood around its seats     m/s^2, m
+  advisory (reported, not required):
+    a_design + mu g <= a_lim (friction transmits up to mu g; the thesis checks Se alone)  m/s^2
+    recentring     R_hat <= d / (2 RESTORING) = 20 d (ASCE 7-16 §17.2.4.4)             m
+    ball load      W / n <= BALL_LOAD_TESTED (r / BALL_TESTED)^2                       N
+
+Search: every ball radius in BALLS, groove radius in R_GRID, 3 and 4 grooves and every
+board in THICKNESSES (or the ones given). Each candidate is sized, then checked: the
+opening radius gives u_groove = need exactly; the groove spacing gives u_tip >= need and
+d <= d_max, with l taken at its largest (top plate's mass neglected); the plate is at
+least the statue's base (2 max(b_L, b_R) + 2 EDGE) and is capped at SIDE_MAX (the checks
+then say what is missing); the grooves are spread out to the plate's edge (EDGE of wood
+left), which only adds capacity; fuse seats go on the bisectors between the grooves, at
+the radius (FUSE_RADII) that leaves the most wood.
+
+Choice (CRITERION): among the candidates that pass every required check, those whose top
+plate is within PLATE_TOLERANCE (10 %) of the lightest passing one; of these, the least
+overload of the balls, then the least shortfall of the restoring force, then the largest
+acceleration margin a_lim / a_design, then the smaller side, the thinner board, 3 grooves
+before 4, the larger ball. Beyond the spectrum's T_D the spectral displacement no longer
+grows with the period, so a longer period lowers the felt acceleration at no cost in
+travel: for strong hazards the longest R in range wins; for weak ones the restoring-force
+rule keeps R_hat within 20 d. When none passes, the nearest candidate (fewest failing
+required checks, then the smallest worst ratio) is shown with passed False, and
+``failure`` says which checks fail and by how much, with the ranges searched.
 
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
 >>> from statue2model.isolator.design_spectrum import ec8
 >>> statue = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
->>> d = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073)
->>> d.passed, d.n_grooves, round(d.T, 2) > 1.0
-(True, 3, True)
->>> d.notes[-1]                           # both plates are as small as the statue's base
-'3 grooves: plate 439 mm vs 4 grooves: 439 mm'
+>>> d = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, thickness=0.03)
+>>> d.passed, d.R, d.r, d.n_grooves, round(d.T, 2), round(d.side, 3)   # the statue's base sets the plate
+(True, 0.2, 0.0183, 3, 1.21, 0.439)
+>>> round(d.d_design, 4), round(d.travel_need, 4), round(d.capacity, 4), d.capacity_limited_by
+(0.015, 0.0252, 0.0252, 'groove rim')
+>>> bad = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, alpha=(0.02, 0.02))
+>>> bad.passed, bad.failure.split(":")[0]
+(False, "rolling friction below the statue's uplift limit")
 """
 from __future__ import annotations
 
@@ -55,13 +101,33 @@ from .device import (
     allowable_displacement,
     fuse_release_acceleration,
     fuse_seat_depth,
+    groove_capacity,
     lever_arm,
     safety_length,
 )
 
 BALLS = (0.0095, 0.0125, 0.0183, 0.020, 0.025)
 """Ball radii tried (m): the thesis' steel 9.5 mm, resin 18.3 mm, ivory 20 mm, and two more."""
-R_GRID = tuple(np.round(np.arange(0.20, 3.001, 0.05), 3))
+R_GRID = tuple(float(x) for x in np.round(np.arange(0.20, 2.0001, 0.05), 3))
+"""Groove radii tried (m), 0.20 to 2.00: up to R = 2.0 m the period stays within about 4 s
+(4.003 s with 9.5 mm balls), the range over which EN 1998-1 §3.2.2.2 defines the elastic
+spectrum."""
+THICKNESSES = (0.02, 0.03, 0.04, 0.05)
+"""Board thicknesses tried (m) when none is given; the thesis' plates were 30 mm beech."""
+SIDE_MAX = 1.25
+"""Largest plate side, m: a standard panel width and CNC bed (2500 x 1250 mm)."""
+PLATE_TOLERANCE = 0.10
+"""Top plates within 10 % of the lightest passing one count as equally small (CRITERION)."""
+DISPLACEMENT_MARGIN = 1.5
+"""Travel need / spectral displacement: EN 1998-1 §10.3(2) gamma_x = 1.2 times about 1.25
+for the two horizontal components on a spherical groove (module docstring)."""
+BALL_LOAD_TESTED = 30.0 * 9.81 / 4
+"""N per ball: the thesis' four-groove beech device carried up to 30 kg on its 20 mm balls
+undamaged (ch. 6.4); heavier loads on 9.5 and 18.3 mm balls left pits (ch. 5.2)."""
+BALL_TESTED = 0.020
+"""Radius (m) of the balls of that test. For another radius r the load is scaled by
+(r / BALL_TESTED)^2: the same Hertz contact pressure on a ball in a groove much wider
+than the ball (p_max ~ (P / r^2)^(1/3)). An assumption from one measured point."""
 MIN_BOTTOM = 0.005
 """Wood left under the deepest point of a groove, m."""
 EDGE = 0.02
@@ -70,21 +136,53 @@ GAP = 0.01
 """Wood between two groove openings, m."""
 MIN_GAP = 0.002
 """Least clearance between the plates, m: the balls stand 2 (r - depth) proud."""
+MIN_WALL = 0.005
+"""Wood between a fuse seat or drop hole and any other cutout or the edge, m (plates.py)."""
+RESTORING = 0.025
+"""Least restoring force increase, as a fraction of W, from half the design displacement to
+all of it (ASCE 7-16 §17.2.4.4, NBC 2015 4.1.8.20(2)): for the pendulum F(d) - F(d/2) =
+W d / (2 R_hat), i.e. R_hat <= d / (2 RESTORING) = 20 d. Advisory here (a building code's
+rule against ratcheting; the thesis' Venere device, d = 24 mm on R_hat = 0.60 m, misses
+it), but preferred by CRITERION."""
 WOOD_DENSITY = 700.0
 """Beech, kg/m^3 (the thesis' plates)."""
+SHOWN_PASSING = 30
+"""design.json lists at most this many passing candidates (best first) ..."""
+SHOWN_FAILING = 10
+"""... and this many failing ones (nearest to passing first)."""
+CRITERION = (f"the smallest plate (top plate mass within {PLATE_TOLERANCE:.0%} of the lightest passing one); "
+             "among those the least overload of the balls (load per ball / tested load if above 1, to 2 "
+             "digits), then the least shortfall of the restoring force (R_hat / 20 d if above 1, to 2 digits), "
+             "then the largest acceleration margin a_lim / a_design (to 0.01: the longest period that fits), then the "
+             "smaller side (to 1 mm), the thinner board, 3 grooves before 4 (three balls always share the load), "
+             "the larger ball")
 
 
 @dataclass(frozen=True)
 class Check:
+    """One design check: passes when value <= limit (both in ``unit``)."""
+
     name: str
     passed: bool
     value: float
     limit: float
     why: str
     required: bool = True
+    unit: str = "-"
+    key: str = ""
+
+    @property
+    def ratio(self) -> float:
+        """value / limit: above 1 the check fails by that factor (inf: no positive limit)."""
+        if self.limit > 0:
+            return self.value / self.limit
+        return 0.0 if self.value <= self.limit else math.inf
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "passed": self.passed, "value": self.value, "limit": self.limit,
+        ratio = self.ratio
+        fin = lambda x: x if math.isfinite(x) else None                 # noqa: E731 (JSON has no inf)
+        return {"name": self.name, "key": self.key, "passed": self.passed, "value": fin(self.value),
+                "limit": fin(self.limit), "unit": self.unit, "ratio": fin(ratio),
                 "required": self.required, "why": self.why}
 
 
@@ -102,7 +200,7 @@ class Design:
     a_design: float          # plate absolute acceleration, m/s^2
     a_lim: float
     d_design: float          # design displacement of the top plate, m
-    d_max: float
+    d_max: float             # eq. 49 at the design acceleration, m
     lever_arm: float
     safety_length: float
     L_cr: float
@@ -117,44 +215,99 @@ class Design:
     input: dict
     candidates_tried: int
     notes: tuple = field(default=())
+    capacity: float = 0.0            # min(capacity_groove, capacity_tip), m
+    capacity_groove: float = 0.0     # a ball's contact point reaches its groove's rim, m
+    capacity_tip: float = 0.0        # the top plate tips, m
+    travel_need: float = 0.0         # DISPLACEMENT_MARGIN d_design + mu R_hat, m
+    margin: float = DISPLACEMENT_MARGIN
+    candidates: dict = field(default_factory=dict)
+    failure: str | None = None       # why nothing in range works (None when passed)
+    criterion: str = CRITERION
 
     @property
     def passed(self) -> bool:
         return all(c.passed for c in self.checks if c.required)
 
+    @property
+    def capacity_limited_by(self) -> str:
+        return "groove rim" if self.capacity_groove <= self.capacity_tip else "top plate tipping"
+
     def isolator(self, model: str = "coulomb", q: float = 30.0) -> Isolator:
-        return Isolator(R=self.R, r=self.r, M=self.M, mu=self.mu, model=model, q=q)
+        return Isolator(R=self.R, r=self.r, M=self.M, mu=self.mu, model=model, q=q, capacity=self.capacity)
 
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in (
             "R", "r", "R_hat", "T", "k", "n_grooves", "mu", "M", "m_o", "a_design", "a_lim", "d_design", "d_max",
-            "lever_arm", "safety_length", "L_cr", "spacing", "side", "thickness", "depth", "opening_radius",
-            "fuse", "input", "candidates_tried")}
+            "capacity", "capacity_groove", "capacity_tip", "travel_need", "margin", "lever_arm",
+            "safety_length", "L_cr", "spacing", "side", "thickness", "depth", "opening_radius",
+            "fuse", "input", "candidates_tried", "failure", "criterion")}
+        out["capacity_limited_by"] = self.capacity_limited_by
+        out["travel_margin"] = self.capacity / self.d_design if self.d_design > 0 else None
+        out["acceleration_margin"] = self.a_lim / self.a_design if self.a_design > 0 else None
         out["groove_centres"] = [list(c) for c in self.groove_centres]
         out["passed"] = self.passed
         out["checks"] = [c.to_dict() for c in self.checks]
+        out["candidates"] = self.candidates
         out["notes"] = list(self.notes)
-        out["schema"] = "statue2model.isolator_design/1"
+        out["schema"] = "statue2model.isolator_design/2"
         return out
 
     def report(self) -> str:
-        lines = [
-            f"Rolling-ball isolator: {'PASS' if self.passed else 'FAIL'}",
-            f"  grooves R = {self.R:.3f} m, balls r = {self.r * 1000:.1f} mm, R_hat = {self.R_hat:.3f} m, "
+        """design.txt: the device, the checks (one unit column) and the choice."""
+        lines = [f"Rolling-ball isolator: {'PASS' if self.passed else 'FAIL'}"]
+        if self.failure:
+            lines.append(f"  no isolator in range works: {self.failure}")
+            lines.append("  nearest candidate:")
+        lines += [
+            f"  grooves R = {self.R:.3f} m, balls r = {self.r:.4f} m, R_hat = {self.R_hat:.3f} m, "
             f"T = {self.T:.2f} s, k = {self.k:.1f} N/m, {self.n_grooves} grooves",
-            f"  plates {self.side * 1000:.0f} x {self.side * 1000:.0f} x {self.thickness * 1000:.0f} mm, "
-            f"groove spacing {self.spacing * 1000:.0f} mm, depth {self.depth * 1000:.1f} mm, "
-            f"opening radius {self.opening_radius * 1000:.1f} mm",
-            f"  plate acceleration {self.a_design:.4f} m/s^2 vs limit {self.a_lim:.4f} m/s^2; "
-            f"design displacement {self.d_design * 1000:.1f} mm vs allowable {self.d_max * 1000:.1f} mm",
+            f"  plates {self.side:.3f} m x {self.side:.3f} m x {self.thickness:.3f} m "
+            f"(top plate {self.m_o:.2f} kg), groove spacing {self.spacing:.3f} m, depth {self.depth:.4f} m, "
+            f"opening radius {self.opening_radius:.4f} m",
+            f"  felt acceleration {self.a_design:.4f} m/s^2 vs uplift limit {self.a_lim:.4f} m/s^2 "
+            f"(margin {self.a_lim / self.a_design:.2f})" if self.a_design > 0 else
+            f"  felt acceleration 0 vs uplift limit {self.a_lim:.4f} m/s^2",
+            f"  travel: demand {self.d_design:.4f} m x {self.margin:g} + mu R_hat {self.mu * self.R_hat:.4f} m = "
+            f"{self.travel_need:.4f} m vs capacity {self.capacity:.4f} m ({self.capacity_limited_by}; groove "
+            f"{self.capacity_groove:.4f} m, tipping {self.capacity_tip:.4f} m)",
             "",
-            "checks:",
+            "checks (each passes when value <= limit; ratio = value / limit):",
         ]
+        rows = [("result", "check", "value", "limit", "unit", "ratio")]
         for c in self.checks:
             mark = "pass" if c.passed else ("FAIL" if c.required else "note")
-            lines.append(f"  [{mark}] {c.name}: {c.why}")
+            ratio = c.ratio
+            rows.append((mark, c.name, f"{c.value:.5g}", f"{c.limit:.5g}", c.unit,
+                         f"{ratio:.3f}" if math.isfinite(ratio) else "inf"))
+        widths = [max(len(r[i]) for r in rows) for i in range(6)]
+        for r in rows:
+            lines.append("  " + "  ".join(s.ljust(w) if i in (0, 1, 4) else s.rjust(w)
+                                          for i, (s, w) in enumerate(zip(r, widths))).rstrip())
+        lines += ["", "why:"] + [f"  {c.name}: {c.why}" for c in self.checks]
+        cand = self.candidates or {}
+        lines += ["", f"choice: {self.criterion}",
+                  f"  {cand.get('passing', 0)} of {self.candidates_tried} candidates pass every required check"
+                  + (f"; ranges: {cand['ranges']}" if cand.get("ranges") else "")]
         lines += [f"  {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def tipping_capacity(L_cr: float, l: float, R: float, r: float, mu: float) -> float:
+    """Largest relative displacement u_o (m) of the top plate before it tips (module
+    docstring): (L_cr - mu l) R_hat / (R + l), with L_cr the distance from the plate
+    centre to the tipping line through the balls at rest (m), l the lever arm (eq. 47, m),
+    R, r the groove and ball radii (m) and mu the rolling friction; <= 0 when even
+    friction alone tips it.
+
+    >>> round(tipping_capacity(0.2, 0.3, 0.32, 0.02, 0.0), 4)
+    0.1935
+    """
+    return (L_cr - mu * l) * 2.0 * (R - r) / (R + l)
+
+
+def _cap_depth(R: float, a: float) -> float:
+    """Depth of a spherical cap of radius R opening on a circle of radius a <= R (no cancellation)."""
+    return a * a / (R + math.sqrt(max((R - a) * (R + a), 0.0)))
 
 
 def _layout(n: int, spacing: float) -> tuple[tuple, float]:
@@ -171,136 +324,392 @@ def _layout(n: int, spacing: float) -> tuple[tuple, float]:
     raise InputError(f"number of grooves must be 3 or 4, got {n}")
 
 
-def _demand(iso: Isolator, spectrum, motion):
-    if spectrum is not None:
-        return float(spectrum.Se(iso.T)), float(spectrum.SDe(iso.T)), None
-    from .dynamics import simulate
-
-    res = simulate(iso, motion, dt_out=0.01)
-    return res.acc_abs_max, res.u_max, res
+def _spacing_for_extent(n: int, ext: float) -> float:
+    """Groove spacing whose layout reaches ``ext`` (largest |x| or |y| of a centre)."""
+    return 2 * ext if n == 4 else math.sqrt(3) * ext
 
 
-def design(statue, *, mu: float, spectrum=None, motion=None, target: float | None = None,
-           alpha: tuple[float, float] = (1.0, 1.0), n_grooves: int | None = None, thickness: float = 0.03,
-           balls=BALLS, R_grid=R_GRID, wood_density: float = WOOD_DENSITY, fuse_release: float | None = None,
-           fuse_ball: float | None = None, min_side: float | None = None, g: float = G) -> Design:
-    """Choose R, r, number of grooves, spacing and plate size for ``statue``
-    (RockingParams); see the module. ``n_grooves`` None designs with 3 and with 4
-    grooves and keeps the passing design with the smaller (lighter) plate; on a tie,
-    3 grooves (three balls always share the load, even on an uneven floor)."""
-    if n_grooves is not None:
-        return _design(statue, mu=mu, spectrum=spectrum, motion=motion, target=target, alpha=alpha,
-                       n_grooves=n_grooves, thickness=thickness, balls=balls, R_grid=R_grid,
-                       wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball,
-                       min_side=min_side, g=g)
-    kw = dict(mu=mu, spectrum=spectrum, motion=motion, target=target, alpha=alpha, thickness=thickness,
-              balls=balls, R_grid=R_grid, wood_density=wood_density, fuse_release=fuse_release,
-              fuse_ball=fuse_ball, min_side=min_side, g=g)
-    three, four = (_design(statue, n_grooves=n, **kw) for n in (3, 4))
-    best = min((three, four), key=lambda d: (not d.passed, round(d.side, 6), d.n_grooves))
-    other = four if best is three else three
-    why = (f"{best.n_grooves} grooves: plate {best.side * 1000:.0f} mm"
-           f"{'' if best.passed else ' (fails)'} vs {other.n_grooves} grooves: {other.side * 1000:.0f} mm"
-           f"{'' if other.passed else ' (fails)'}")
-    return replace(best, notes=best.notes + (why,))
+def _extent_for_L(n: int, L_cr: float) -> float:
+    return L_cr if n == 4 else 2 * L_cr
 
 
-def _design(statue, *, mu, spectrum, motion, target, alpha, n_grooves, thickness, balls, R_grid,
-            wood_density, fuse_release, fuse_ball, min_side, g) -> Design:
+def _extent_min(n: int, a: float) -> float:
+    """Smallest extent with GAP of wood between neighbouring openings."""
+    return (2 * a + GAP) / 2 if n == 4 else (2 * a + GAP) / math.sqrt(3)
+
+
+@dataclass(frozen=True)
+class _Geometry:
+    R: float
+    r: float
+    n: int
+    thickness: float
+    a: float                 # opening radius
+    depth: float
+    spacing: float
+    centres: tuple
+    L_cr: float
+    side: float
+
+
+@dataclass(frozen=True)
+class _Context:
+    m: float
+    h: float
+    mu: float
+    g: float
+    a_lim: float
+    why_lim: str
+    margin: float
+    side_max: float
+    wood_density: float
+    fuse_release: float | None
+    fuse_ball: float | None
+
+
+def _size(R, r, n, t, a_design, d, cx: _Context, min_side: float) -> _Geometry:
+    """Grooves and plate of one candidate for the demand (a_design, d); see the module."""
+    R_hat = 2 * (R - r)
+    need = cx.margin * d + cx.mu * R_hat
+    a = min(max(need * R / R_hat, 1e-6), R)         # (a floor only for a zero demand)
+    depth = _cap_depth(R, a)
+    l0 = cx.h + t                                  # lever arm without the plate's mass: the largest
+    L_need = max(need * (R + l0) / R_hat + cx.mu * l0, d + safety_length(a_design, l0, cx.g))
+    ext_min = _extent_min(n, a)
+    ext = max(_extent_for_L(n, L_need), ext_min)
+    side = max(2 * (ext + a + EDGE), min_side)
+    if side > cx.side_max:                         # capped: the checks then say what is missing
+        side = max(cx.side_max, min_side, 2 * (ext_min + a + EDGE))
+    ext = side / 2 - a - EDGE                      # spread the grooves to the plate's edge
+    spacing = _spacing_for_extent(n, ext)
+    centres, L_cr = _layout(n, spacing)
+    return _Geometry(R, r, n, t, a, depth, spacing, centres, L_cr, side)
+
+
+def _fuse(geo: _Geometry, cx: _Context) -> dict:
+    """The fuse balls carry the plate at rest: diameter = the gap between the plates + two
+    seats, 2 r_f = 2 (r - depth) + 2 z with z = c r_f (eq. 52 solved for z)."""
+    c = fuse_seat_depth(1.0, cx.fuse_release, cx.g)
+    gap = 2 * (geo.r - geo.depth)
+    r_f = gap / 2 / (1.0 - c) if cx.fuse_ball is None else cx.fuse_ball
+    if not r_f > 0:                                # the plates touch: no room for a fuse ball
+        return {"ball_radius": 0.0, "seat_depth": 0.0, "release": None, "release_g": None, "gap": gap}
+    z = fuse_seat_depth(r_f, cx.fuse_release, cx.g)
+    back = fuse_release_acceleration(r_f, z, cx.g)
+    return {"ball_radius": r_f, "seat_depth": z, "release": back, "release_g": back / cx.g, "gap": gap}
+
+
+FUSE_RADII = (0.2, 0.35, 0.5, 0.65, 0.8)
+"""Fuse seats sit on the bisectors between neighbouring grooves, at one of these fractions
+of the grooves' distance from the plate centre (the one leaving the most wood)."""
+
+
+def _fuse_layout(geo: _Geometry, fuse: dict) -> tuple[tuple, float]:
+    """Fuse seat centres (one between each pair of neighbouring grooves) and the least wood
+    (m) they leave between the bottom plate's cutouts (grooves, seats, drop holes, laid out
+    as plates.py does) and between each and the plate's edge."""
+    from .plates import _fuse_geometry
+
+    c = np.asarray(geo.centres, dtype=float)
+    ang = np.sort(np.arctan2(c[:, 1], c[:, 0]))
+    mid = (ang + np.diff(np.append(ang, ang[0] + 2 * math.pi)) / 2)        # bisectors
+    rho_g = float(np.hypot(c[:, 0], c[:, 1]).mean())
+    grooves = np.column_stack([c, np.full(len(c), geo.a)])
+    best = ((), -math.inf)
+    for f in FUSE_RADII:
+        seats = tuple((f * rho_g * math.cos(t), f * rho_g * math.sin(t)) for t in mid)
+        fg = _fuse_geometry(dict(fuse, centres=seats), {"groove_centres": geo.centres, "thickness": geo.thickness})
+        rf, z, off = fg["fuse_ball_radius"], fg["fuse_seat_depth"], fg["fuse_hole_offset"]
+        s = np.asarray(seats)
+        u = s / np.hypot(s[:, 0], s[:, 1])[:, None]
+        circ = np.vstack([grooves,
+                          np.column_stack([s, np.full(len(s), math.sqrt(max(2 * rf * z - z * z, 0.0)))]),
+                          np.column_stack([s + off * u, np.full(len(s), fg["fuse_hole_diameter"] / 2)])])
+        edge = float((geo.side / 2 - np.abs(circ[:, :2]).max(axis=1) - circ[:, 2]).min())
+        diff = circ[:, None, :2] - circ[None, :, :2]
+        dist = np.hypot(diff[..., 0], diff[..., 1]) - circ[:, None, 2] - circ[None, :, 2]
+        wall = min(edge, float(dist[np.triu_indices(len(circ), 1)].min()))
+        if wall > best[1]:
+            best = (seats, wall)
+    return best
+
+
+def _evaluate(geo: _Geometry, a_design: float, d: float, cx: _Context) -> dict:
+    """Every number and check of one device under the demand (a_design, d)."""
+    R, r, t, g, mu = geo.R, geo.r, geo.thickness, cx.g, cx.mu
+    R_hat = 2 * (R - r)
+    n = geo.n
+    z = min(geo.depth, t)                          # a groove deeper than the board fails "depth" anyway
+    m_o = cx.wood_density * max(geo.side ** 2 * t - n * math.pi * z * z * (3 * R - z) / 3, 0.5 * geo.side ** 2 * t)
+    l = lever_arm(cx.m, cx.h, m_o, t)
+    a_s = safety_length(a_design, l, g)
+    d_max = allowable_displacement(geo.L_cr, a_s)
+    cap_g = groove_capacity(R, r, geo.a)
+    cap_t = tipping_capacity(geo.L_cr, l, R, r, mu)
+    cap = min(cap_g, cap_t)
+    need = cx.margin * d + mu * R_hat
+    a_lim = cx.a_lim
+    limited = "groove rim" if cap_g <= cap_t else "top plate tipping"
+    W = (cx.m + m_o) * g
+    P_allow = BALL_LOAD_TESTED * (r / BALL_TESTED) ** 2
+    checks = [
+        Check("plate acceleration below the statue's uplift limit", a_design <= a_lim, a_design, a_lim,
+              f"felt {a_design:.4f} m/s^2 {'<=' if a_design <= a_lim else '>'} {cx.why_lim}", unit="m/s^2",
+              key="acceleration"),
+        Check("rolling friction below the statue's uplift limit", mu * g <= a_lim, mu * g, a_lim,
+              f"mu g = {mu * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (below mu g the plate does not roll and the "
+              "statue feels the ground)", unit="m/s^2", key="friction"),
+        Check("with the friction force added", a_design + mu * g <= a_lim, a_design + mu * g, a_lim,
+              f"a + mu g = {a_design + mu * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (friction transmits up to mu g; "
+              "the thesis checks the spectral acceleration alone)", required=False, unit="m/s^2",
+              key="acceleration_friction"),
+        Check("travel capacity covers the demand with the margin", need <= cap, need, cap,
+              f"travel demand {d:.4f} m x {cx.margin:g} + mu R_hat {mu * R_hat:.4f} m = {need:.4f} m "
+              f"{'<=' if need <= cap else '>'} capacity {cap:.4f} m (limited by the {limited}: groove "
+              f"{cap_g:.4f} m, tipping {cap_t:.4f} m)", unit="m", key="travel"),
+        Check("top plate does not overturn (eq. 49)", d <= d_max + 1e-12, d, d_max,
+              f"design displacement {d:.4f} m {'<=' if d <= d_max + 1e-12 else '>'} d_max = L_cr - a = "
+              f"{geo.L_cr:.4f} - {a_s:.4f} m (a = a_design l / g, l = {l:.4f} m)", unit="m", key="overturning"),
+        Check("groove depth leaves wood under the groove", geo.depth <= t - MIN_BOTTOM, geo.depth, t - MIN_BOTTOM,
+              f"depth {geo.depth:.4f} m in a {t:.3f} m board, at least {MIN_BOTTOM:.3f} m must remain",
+              unit="m", key="depth"),
+        Check("the plates stay apart (balls stand proud of the grooves)", geo.depth <= r - MIN_GAP / 2,
+              geo.depth, r - MIN_GAP / 2, f"depth {geo.depth:.4f} m vs ball radius {r:.4f} m less "
+              f"{MIN_GAP / 2:.4f} m: gap 2 (r - depth) = {2 * (r - geo.depth):.4f} m, at least {MIN_GAP:.3f} m",
+              unit="m", key="proud"),
+        Check("plate within the largest allowed side", geo.side <= cx.side_max + 1e-12, geo.side, cx.side_max,
+              f"side {geo.side:.3f} m vs {cx.side_max:.3f} m (panel width and CNC bed)", unit="m", key="plate_size"),
+        Check("restoring force recentres the plate", R_hat <= d / (2 * RESTORING) + 1e-12, R_hat,
+              d / (2 * RESTORING), f"R_hat {R_hat:.3f} m vs d / (2 x {RESTORING:g}) = {d / (2 * RESTORING):.3f} m: "
+              f"F(d) - F(d/2) = W d / (2 R_hat) = {d / (2 * R_hat):.4f} W vs {RESTORING:g} W (ASCE 7-16 "
+              "§17.2.4.4); a weaker pendulum may drift and stay off centre", required=False, unit="m",
+              key="recentring"),
+        Check("load per ball within the thesis' tests", W / n <= P_allow, W / n, P_allow,
+              f"{W / n:.0f} N on each of {n} balls vs {P_allow:.0f} N ({BALL_LOAD_TESTED:.0f} N on "
+              f"{BALL_TESTED * 1000:g} mm balls undamaged, ch. 6.4, scaled by (r / {BALL_TESTED:g} m)^2); heavier "
+              "loads leave pits in beech grooves that shorten the period (ch. 5.2): consider a harder groove "
+              "surface or a rubber layer", required=False, unit="N", key="ball_load"),
+    ]
+    fuse = {}
+    if cx.fuse_release is not None:
+        fuse = _fuse(geo, cx)
+        back = math.inf if fuse["release"] is None else fuse["release"]
+        checks.append(Check("fuse releases before the statue rocks", back < a_lim, back, a_lim,
+                            f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2", unit="m/s^2",
+                            key="fuse"))
+        seats, wall = _fuse_layout(geo, fuse) if fuse["ball_radius"] > 0 else ((), -math.inf)
+        fuse["centres"] = [list(p) for p in seats]
+        checks.append(Check("fuse seats and drop holes fit between the grooves", MIN_WALL <= wall + 1e-12,
+                            MIN_WALL, wall, f"least wood between the cutouts {wall:.4f} m, at least "
+                            f"{MIN_WALL:.3f} m needed", unit="m", key="fuse_layout"))
+    return {"geo": geo, "T": 2 * math.pi * math.sqrt(R_hat / g), "a_lim": a_lim, "a_design": a_design, "d": d,
+            "m_o": m_o, "l": l, "a_s": a_s, "d_max": d_max, "cap": cap, "cap_g": cap_g, "cap_t": cap_t,
+            "need": need, "checks": checks, "fuse": fuse}
+
+
+def _worst(ev: dict) -> float:
+    """Largest ratio of the required checks (<= 1: every required check passes)."""
+    return max(c.ratio for c in ev["checks"] if c.required)
+
+
+def _closeness(ev: dict) -> tuple:
+    """Order of the failing candidates, nearest to passing first: fewer failing required
+    checks, then the smaller worst ratio, then the smaller plate."""
+    return (sum(1 for c in ev["checks"] if c.required and not c.passed), _worst(ev), ev["geo"].side)
+
+
+def _passes(ev: dict) -> bool:
+    return all(c.passed for c in ev["checks"] if c.required)
+
+
+def _failure(checks, shown: int = 3) -> str:
+    """The failing required checks, worst ratio first: what fails and by how much."""
+    bad = sorted((c for c in checks if c.required and not c.passed), key=lambda c: -c.ratio)
+    text = "; ".join(f"{c.name}: {c.why} (ratio {c.ratio:.2f})" for c in bad[:shown])
+    return text + (f"; and {len(bad) - shown} more" if len(bad) > shown else "")
+
+
+def _sig(x: float) -> float | None:
+    return float(f"{x:.6g}") if math.isfinite(x) else None
+
+
+def _row(ev: dict) -> dict:
+    geo = ev["geo"]
+    return {"R": geo.R, "r": geo.r, "n_grooves": geo.n, "thickness": geo.thickness,
+            "T": _sig(ev["T"]), "side": _sig(geo.side), "m_o": _sig(ev["m_o"]), "capacity": _sig(ev["cap"]),
+            "need": _sig(ev["need"]), "passed": _passes(ev), "worst_ratio": _sig(_worst(ev)),
+            "checks": [[_sig(c.value), _sig(c.limit), _sig(c.ratio), c.passed] for c in ev["checks"]]}
+
+
+def _choose(passing: list[dict]) -> list[dict]:
+    """The passing candidates in the order of CRITERION (best first)."""
+    lightest = min(ev["m_o"] for ev in passing)
+    near = [ev for ev in passing if ev["m_o"] <= lightest * (1 + PLATE_TOLERANCE)]
+    rest = [ev for ev in passing if ev["m_o"] > lightest * (1 + PLATE_TOLERANCE)]
+
+    def key(ev):
+        geo = ev["geo"]
+        over = {c.key: float(f"{max(c.ratio, 1.0):.2g}") for c in ev["checks"] if c.key in ("ball_load", "recentring")}
+        margin = ev["a_lim"] / ev["a_design"] if ev["a_design"] > 0 else math.inf
+        return (over["ball_load"], over["recentring"], -round(margin, 2), round(geo.side, 3), geo.thickness, geo.n,
+                -geo.r)
+
+    return sorted(near, key=key) + sorted(rest, key=lambda ev: (round(ev["m_o"], 3),) + key(ev))
+
+
+def _demand_fn(spectrum, motion, mu: float, g: float):
+    cache: dict = {}
+
+    def demand(R: float, r: float) -> tuple[float, float]:
+        if (R, r) not in cache:
+            iso = Isolator(R=R, r=r, M=1.0, mu=mu, g=g)      # the plate's motion does not depend on M
+            if spectrum is not None:
+                cache[R, r] = (float(spectrum.Se(iso.T)), float(spectrum.SDe(iso.T)))
+            else:
+                from .dynamics import simulate
+
+                res = simulate(iso, motion, dt_out=0.01)
+                cache[R, r] = (float(res.acc_abs_max), float(res.u_max))
+        return cache[R, r]
+
+    return demand
+
+
+def _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_grid, side_max, margin):
     if (spectrum is None) == (motion is None):
         raise InputError("give exactly one design input: a response spectrum or a ground motion")
-    if not (math.isfinite(mu) and 0 <= mu < 0.5):
+    if not (isinstance(mu, (int, float)) and math.isfinite(mu) and 0 <= mu < 0.5):
         raise InputError(f"rolling friction mu must be in [0, 0.5), got {mu}")
     if not all(0 < a <= 1 for a in alpha):
         raise InputError(f"alpha must be in (0, 1], got {alpha}")
-    if not (0.01 <= thickness <= 0.2):
-        raise InputError(f"plate thickness {thickness * 1000:g} mm is out of range (10 to 200 mm)")
+    for t in thicknesses:
+        if not (math.isfinite(t) and 0.01 <= t <= 0.2):
+            raise InputError(f"plate thickness {t * 1000:g} mm is out of range (10 to 200 mm)")
     if target is not None and not (math.isfinite(target) and target > 0):
         raise InputError(f"target acceleration must be positive, got {target}")
+    for name, values in (("ball radius", balls), ("groove radius R", R_grid)):
+        if not values or not all(math.isfinite(v) and v > 0 for v in values):
+            raise InputError(f"every {name} to try must be a positive length in m, got {values!r}")
+    if not (math.isfinite(side_max) and side_max > 0):
+        raise InputError(f"largest plate side must be positive, got {side_max}")
+    if not (math.isfinite(margin) and margin >= 1):
+        raise InputError(f"displacement margin must be >= 1, got {margin}")
+
+
+def design(statue, *, mu: float, spectrum=None, motion=None, target: float | None = None,
+           alpha: tuple[float, float] = (1.0, 1.0), n_grooves: int | None = None, thickness=None,
+           balls=BALLS, R_grid=R_GRID, wood_density: float = WOOD_DENSITY, fuse_release: float | None = None,
+           fuse_ball: float | None = None, min_side: float | None = None, side_max: float = SIDE_MAX,
+           margin: float = DISPLACEMENT_MARGIN, g: float = G) -> Design:
+    """Choose R, r, number of grooves, board, groove layout and plate size for ``statue``
+    (RockingParams) under one design input; see the module for the checks and CRITERION.
+    ``n_grooves`` None tries 3 and 4; ``thickness`` None tries THICKNESSES, a number (m)
+    or a sequence restricts the boards."""
+    if thickness is None:
+        thicknesses = THICKNESSES
+    elif isinstance(thickness, (int, float)):
+        thicknesses = (float(thickness),)
+    else:
+        thicknesses = tuple(float(t) for t in thickness)
+    _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_grid, side_max, margin)
+    if n_grooves not in (None, 3, 4):
+        raise InputError(f"number of grooves must be 3 or 4, got {n_grooves}")
+    ns = (3, 4) if n_grooves is None else (n_grooves,)
     a_lim = min(alpha[0] * statue.a_L, alpha[1] * statue.a_R)
     why_lim = f"min(alpha_L a_L, alpha_R a_R) = {a_lim:.4f} m/s^2"
     if target is not None and target < a_lim:
         a_lim, why_lim = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
-    m = statue.m
     if min_side is None:                 # the statue's base must fit on the top plate
         min_side = 2 * max(statue.b_L, statue.b_R) + 2 * EDGE
-    tried = 0
-    best = None
+    cx = _Context(m=statue.m, h=statue.h, mu=mu, g=g, a_lim=a_lim, why_lim=why_lim, margin=margin,
+                  side_max=side_max, wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball)
+    demand = _demand_fn(spectrum, motion, mu, g)
+    evs = []
     for r in sorted(balls):
         for R in sorted(R_grid):
             if R <= 2 * r:
                 continue
-            tried += 1
-            # the top plate's mass depends on its size, which depends on the demand: iterate twice
-            m_o = 0.0
-            for _ in range(3):
-                iso = Isolator(R=R, r=r, M=m + m_o, mu=mu, g=g)
-                a_design, d, _ = _demand(iso, spectrum, motion)
-                opening = d / 2 + r + 0.005
-                if opening >= R:
-                    break
-                depth = R - math.sqrt(R * R - opening * opening)
-                l = lever_arm(m, statue.h, max(m_o, 1e-9), thickness)
-                a_s = safety_length(a_design, l, g)
-                L_need = d + a_s
-                spacing = max(2 * opening + GAP, 2 * L_need if n_grooves == 4 else 2 * math.sqrt(3) * L_need)
-                centres, L_cr = _layout(n_grooves, spacing)
-                ext = max(max(abs(x), abs(y)) for x, y in centres)
-                side = max(2 * (ext + opening + EDGE), min_side)
-                m_o = wood_density * side * side * thickness
-            else:
-                cand = (R, r, iso, a_design, d, opening, depth, l, a_s, spacing, centres, L_cr, side, m_o)
-                ok = a_design <= a_lim and depth <= thickness - MIN_BOTTOM and depth <= r - MIN_GAP / 2
-                if best is None or (ok and not best[0]):
-                    best = (ok, cand)
-                if ok:
-                    break
-        if best is not None and best[0]:
-            break
-    if best is None:
+            a_design, d = demand(R, r)
+            for n in ns:
+                for t in thicknesses:
+                    evs.append(_evaluate(_size(R, r, n, t, a_design, d, cx, min_side), a_design, d, cx))
+    if not evs:
         raise InputError("no groove radius in the grid is larger than the balls' diameter")
-    ok, (R, r, iso, a_design, d, opening, depth, l, a_s, spacing, centres, L_cr, side, m_o) = best
-    d_max = allowable_displacement(L_cr, a_s)
-    checks = [
-        Check("plate acceleration below the statue's uplift limit", a_design <= a_lim, a_design, a_lim,
-              f"{a_design:.4f} m/s^2 {'<=' if a_design <= a_lim else '>'} {why_lim}"),
-        Check("with the friction force added", a_design + mu * g <= a_lim, a_design + mu * g, a_lim,
-              f"a + mu g = {a_design + mu * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (friction transmits up to mu g)",
-              required=False),
-        Check("groove depth leaves wood under the groove", depth <= thickness - MIN_BOTTOM, depth,
-              thickness - MIN_BOTTOM, f"depth {depth * 1000:.1f} mm, plate {thickness * 1000:.0f} mm, "
-              f"at least {MIN_BOTTOM * 1000:.0f} mm must remain"),
-        Check("the plates stay apart (balls stand proud of the grooves)", depth <= r - MIN_GAP / 2,
-              2 * (r - depth), MIN_GAP, f"gap 2 (r - depth) = {2 * (r - depth) * 1000:.1f} mm, "
-              f"at least {MIN_GAP * 1000:.0f} mm"),
-        Check("top plate does not overturn (eq. 49)", d <= d_max + 1e-12, d, d_max,
-              f"design displacement {d * 1000:.1f} mm <= d_max = L_cr - a = {L_cr * 1000:.1f} - {a_s * 1000:.1f} mm"),
-        Check("ball stays in its groove", d / 2 + r <= opening, d / 2 + r, opening,
-              f"ball travel d/2 + r = {(d / 2 + r) * 1000:.1f} mm within the opening radius {opening * 1000:.1f} mm"),
-    ]
-    fuse = {}
-    if fuse_release is not None:
-        # the fuse balls carry the plate at rest: diameter = the gap between the plates + two seats,
-        # 2 r_f = 2 (r - depth) + 2 z with z = c r_f (eq. 52 solved for z)
-        c = fuse_seat_depth(1.0, fuse_release, g)
-        r_f = (r - depth) / (1.0 - c) if fuse_ball is None else fuse_ball
-        z = fuse_seat_depth(r_f, fuse_release, g)
-        back = fuse_release_acceleration(r_f, z, g)
-        fuse = {"ball_radius": r_f, "seat_depth": z, "release": back, "release_g": back / g,
-                "gap": 2 * (r - depth)}
-        checks.append(Check("fuse releases before the statue rocks", back < a_lim, back, a_lim,
-                            f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2"))
+    passing = [ev for ev in evs if _passes(ev)]
+    failing = sorted((ev for ev in evs if not _passes(ev)), key=_closeness)
+    ranges = (f"R {min(R_grid):g} to {max(R_grid):g} m, r {min(balls):g} to {max(balls):g} m, "
+              f"{' or '.join(map(str, ns))} grooves, boards {', '.join(f'{t:g}' for t in thicknesses)} m, "
+              f"plate up to {side_max:g} m")
     notes = []
-    if not ok:
-        notes.append("no candidate met every check: the one shown comes closest; try more friction-free balls, "
-                     "a thicker plate, a larger R grid, or a less demanding design input")
+    if passing:
+        ranked = _choose(passing)
+        best, failure = ranked[0], None
+        for n in ns:
+            own = [ev for ev in ranked if ev["geo"].n == n]
+            notes.append(f"{n} grooves: " + (f"best plate {own[0]['geo'].side:.3f} m, R {own[0]['geo'].R:g} m"
+                                             if own else "none passes"))
+        shown = ranked[:SHOWN_PASSING] + failing[:SHOWN_FAILING]
+    else:
+        best = failing[0]
+        failure = _failure(best["checks"]) + f" [nearest of {len(evs)} candidates; {ranges}]"
+        notes.append("no candidate meets every required check: the nearest one (fewest failing required checks, "
+                     "then the smallest worst ratio) is shown")
+        shown = failing[:SHOWN_PASSING + SHOWN_FAILING]
+    head = evs[0]["checks"]
+    candidates = {"criterion": CRITERION, "tried": len(evs), "passing": len(passing), "shown": len(shown),
+                  "ranges": ranges, "order": "passing by the criterion (chosen first), then failing nearest "
+                  "first (fewest failing required checks, then the smallest worst ratio)",
+                  "checks": [{"key": c.key, "name": c.name, "unit": c.unit, "required": c.required} for c in head],
+                  "check_columns": ["value", "limit", "ratio", "passed"],
+                  "rows": [_row(ev) for ev in shown]}
+    return _design_from(best, cx, statue, spectrum, motion, target, alpha, len(evs), candidates, failure,
+                        tuple(notes), margin)
+
+
+def _design_from(ev, cx, statue, spectrum, motion, target, alpha, tried, candidates, failure, notes,
+                 margin) -> Design:
+    geo = ev["geo"]
+    iso = Isolator(R=geo.R, r=geo.r, M=cx.m + ev["m_o"], mu=cx.mu, g=cx.g)
     inp = {"spectrum": spectrum.to_dict() if spectrum is not None else None,
            "motion": motion.to_dict() if motion is not None else None, "target": target,
-           "alpha": list(alpha), "statue": {"m": m, "h": statue.h, "a_L": statue.a_L, "a_R": statue.a_R}}
+           "alpha": list(alpha), "statue": {"m": statue.m, "h": statue.h, "b_L": statue.b_L, "b_R": statue.b_R,
+                                            "a_L": statue.a_L, "a_R": statue.a_R}}
     return Design(
-        R=R, r=r, n_grooves=n_grooves, mu=mu, M=iso.M, m_o=m_o, T=iso.T, k=iso.k, R_hat=iso.R_hat,
-        a_design=a_design, a_lim=a_lim, d_design=d, d_max=d_max, lever_arm=l, safety_length=a_s, L_cr=L_cr,
-        spacing=spacing, side=side, thickness=thickness, depth=depth, opening_radius=opening,
-        groove_centres=tuple(centres), fuse=fuse, checks=tuple(checks), input=inp, candidates_tried=tried,
-        notes=tuple(notes),
-    )
+        R=geo.R, r=geo.r, n_grooves=geo.n, mu=cx.mu, M=iso.M, m_o=ev["m_o"], T=iso.T, k=iso.k, R_hat=iso.R_hat,
+        a_design=ev["a_design"], a_lim=cx.a_lim, d_design=ev["d"], d_max=ev["d_max"], lever_arm=ev["l"],
+        safety_length=ev["a_s"], L_cr=geo.L_cr, spacing=geo.spacing, side=geo.side, thickness=geo.thickness,
+        depth=geo.depth, opening_radius=geo.a, groove_centres=tuple(geo.centres), fuse=ev["fuse"],
+        checks=tuple(ev["checks"]), input=inp, candidates_tried=tried, notes=notes, capacity=ev["cap"],
+        capacity_groove=ev["cap_g"], capacity_tip=ev["cap_t"], travel_need=ev["need"], margin=margin,
+        candidates=candidates, failure=failure)
+
+
+def assess(statue, *, R: float, r: float, n_grooves: int, opening_radius: float, spacing: float, side: float,
+           thickness: float, mu: float, spectrum=None, motion=None, target: float | None = None,
+           alpha: tuple[float, float] = (1.0, 1.0), wood_density: float = WOOD_DENSITY,
+           fuse_release: float | None = None, fuse_ball: float | None = None, side_max: float = SIDE_MAX,
+           margin: float = DISPLACEMENT_MARGIN, g: float = G) -> Design:
+    """Check a given device (no search): grooves R, balls r, ``n_grooves`` grooves of
+    opening radius ``opening_radius`` with centres ``spacing`` apart (layout as the
+    design's), a square plate ``side`` x ``thickness`` (m), under one design input."""
+    _check_inputs(spectrum, motion, mu, alpha, (thickness,), target, (r,), (R,), side_max, margin)
+    if not 0 < opening_radius <= R:
+        raise InputError(f"opening radius must be in (0, R = {R:g}] m, got {opening_radius!r}")
+    a_lim = min(alpha[0] * statue.a_L, alpha[1] * statue.a_R)
+    why_lim = f"min(alpha_L a_L, alpha_R a_R) = {a_lim:.4f} m/s^2"
+    if target is not None and target < a_lim:
+        a_lim, why_lim = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
+    cx = _Context(m=statue.m, h=statue.h, mu=mu, g=g, a_lim=a_lim, why_lim=why_lim, margin=margin,
+                  side_max=side_max, wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball)
+    a_design, d = _demand_fn(spectrum, motion, mu, g)(R, r)
+    centres, L_cr = _layout(n_grooves, spacing)
+    geo = _Geometry(R, r, n_grooves, thickness, opening_radius, _cap_depth(R, opening_radius), spacing,
+                    centres, L_cr, side)
+    ev = _evaluate(geo, a_design, d, cx)
+    ok = _passes(ev)
+    failure = None if ok else _failure(ev["checks"])
+    cands = {"criterion": "given device (no search)", "tried": 1, "passing": int(ok), "shown": 1,
+             "checks": [{"key": c.key, "name": c.name, "unit": c.unit, "required": c.required} for c in ev["checks"]],
+             "check_columns": ["value", "limit", "ratio", "passed"], "rows": [_row(ev)]}
+    return replace(_design_from(ev, cx, statue, spectrum, motion, target, alpha, 1, cands, failure, (), margin),
+                   criterion="given device (no search)")

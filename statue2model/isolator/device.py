@@ -8,6 +8,9 @@ between facing grooves; the top plate (mass m_o) carries the statue (mass m).
     k      = W / R_hat        horizontal stiffness of the grooves, N/m
     T      = 2 pi sqrt(R_hat / g)   period, independent of the mass
     mu                        rolling friction coefficient (friction force mu W)
+    capacity                  largest |u_o| (m) before a ball leaves its groove or the top
+                              plate tips (inf: not checked); every isolated analysis stops
+                              there with the outcome "isolator capacity exceeded"
 
 Restoring force models:
 
@@ -24,6 +27,8 @@ Example
 (0.581, 1.53)
 >>> round(Isolator(R=0.30, r=0.0183, M=10.0, mu=0.01).T, 2)
 1.51
+>>> isolator_from_design({"R": 0.3, "r": 0.0095, "M": 11.664, "mu": 0.0131, "d_max": 0.15}).capacity
+0.15
 """
 from __future__ import annotations
 
@@ -46,8 +51,12 @@ class Isolator:
     q: float = 30.0
     n: int = 1
     g: float = G
+    capacity: float = math.inf
 
     def __post_init__(self):
+        if not (isinstance(self.capacity, (int, float)) and self.capacity > 0 and self.capacity == self.capacity):
+            raise InputError(f"isolator capacity (largest plate displacement) must be a positive length in m "
+                             f"or inf, got {self.capacity!r}")
         for name in ("R", "r", "M", "g"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -94,9 +103,25 @@ class Isolator:
     def to_dict(self) -> dict:
         out = asdict(self)
         out.update(R_hat=self.R_hat, W=self.W, k=self.k, T=self.T)
+        out["capacity"] = self.capacity if math.isfinite(self.capacity) else None    # None: not checked
         if self.model == "boucwen":
             out["u_y"] = self.u_y
         return out
+
+
+def isolator_from_design(design: dict, model: str = "coulomb") -> Isolator:
+    """The Isolator of a design (the dict of design.json, SI units): R, r, M, mu and the
+    capacity (m; missing or null -> the design's allowable displacement "d_max" if present,
+    else inf: not checked)."""
+    try:
+        R, r, M, mu = (float(design[k]) for k in ("R", "r", "M", "mu"))
+        cap = design.get("capacity")
+        if cap is None:
+            cap = design.get("d_max")
+        cap = math.inf if cap is None else float(cap)
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise InputError(f"not an isolator design (R, r, M, mu, capacity): {exc!r}") from None
+    return Isolator(R=R, r=r, M=M, mu=mu, model=model, capacity=cap)
 
 
 def fuse_release_acceleration(r: float, z: float, g: float = G) -> float:
@@ -130,3 +155,41 @@ def safety_length(acc: float, l: float, g: float = G) -> float:
 def allowable_displacement(L_cr: float, a: float) -> float:
     """d_max = L_cr - a (eq. 49)."""
     return L_cr - a
+
+
+def groove_capacity(R: float, r: float, opening_radius: float) -> float:
+    """Largest relative displacement u_o (m) of the top plate before a ball's contact
+    point reaches the rim of its groove: u_o = 2 a (R - r) / R = a R_hat / R, with a the
+    groove's opening radius (m), R its radius of curvature, r the ball's radius.
+
+    Derivation (one ball between two facing spherical grooves of radius R, both plates
+    alike). The ball touches a groove on the line from that groove's sphere centre
+    through the ball's centre, so the ball's centre is always R - r from both sphere
+    centres C_b (bottom groove, above it) and C_t (top groove, below it); at rest they
+    are 2 (R - r) = R_hat apart on one vertical. When the top plate moves u_o
+    horizontally, C_t moves u_o; the ball's centre, equidistant from C_b and C_t (and
+    the top plate rising to keep both distances R - r), sits on the midpoint's
+    vertical: u_o / 2 from the bottom groove's axis and u_o / 2 from the top groove's
+    axis (rolling on both surfaces, it travels half the plate's displacement). On the
+    bottom groove the contact point is R / (R - r) times further out along the same
+    ray: at rho = (u_o / 2) R / (R - r) = u_o R / R_hat from the groove's axis; the top
+    groove's contact point is the mirror image, u_o R / R_hat from its own axis. Both
+    reach their rim (rho = a) together, at u_o = a R_hat / R; beyond it the ball rides
+    on the rim's edge and the grooves no longer hold it. (The ball's centre is then
+    only a (R - r) / R from the axis, and the old rule "ball travel d / 2 + r within
+    the opening" wasted about r + (a r / R) of every groove.)
+
+    >>> round(groove_capacity(0.32, 0.02, 0.08), 6)      # R_hat 0.60 m, 80 mm opening
+    0.15
+    >>> round(groove_capacity(0.30, 0.0095, 0.05), 5)    # about 2 a for r << R
+    0.09683
+    """
+    for name, value in (("groove radius R", R), ("ball radius r", r), ("opening radius", opening_radius)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a positive length in m, got {value!r}")
+    if r >= R:
+        raise InputError(f"ball radius r = {r:g} m must be smaller than the groove radius R = {R:g} m")
+    if opening_radius > R:
+        raise InputError(f"a groove of radius R = {R:g} m cannot open wider than R, got opening radius "
+                         f"{opening_radius:g} m")
+    return opening_radius * 2.0 * (R - r) / R

@@ -14,6 +14,15 @@ statue pushes the plate back); full contact is checked, not assumed. While the
 statue stays in full contact the coupled model is exactly eq. 20 with M = m_o + m,
 so a plate whose a_abs stays inside the statue's limits needs no 2-DOF run.
 
+Capacity: the run watches |u_o| against ``iso.capacity`` (the largest displacement
+before a ball leaves its groove or the top plate tips). ``end_stop="stop"`` (default):
+the run ends when |u_o| passes it, with the outcome "isolator capacity exceeded" (a
+failure, as bad as overturning; samples after it are nan). ``end_stop="impact"``: the
+top plate hits a rigid end stop there, u_o' -> -e u_o' with e = END_STOP_RESTITUTION
+(0.5, an assumption: timber or steel stop, no measurement), and the run goes on; the
+capacity is still reported as reached (first time, displacement, number of hits).
+The crossing time is exact (kernel.py), not read at output samples.
+
 Example
 -------
 >>> from statue2model.dynamics import motions
@@ -24,6 +33,9 @@ Example
 array([-0.03715,  0.02431, -0.01146, -0.00138])
 >>> round(float(res.peaks_t[0]), 4), round(iso.T / 2, 4)   # Coulomb friction leaves the period alone
 (0.7529, 0.7529)
+>>> cap = simulate(Isolator(R=0.30, r=0.0183, M=21.664, mu=0.0114, capacity=0.03), motions.free(), u0=-0.04)
+>>> cap.outcome, cap.t_capacity, cap.u_at_capacity      # released beyond the capacity
+('isolator capacity exceeded', 0.0, -0.04)
 """
 from __future__ import annotations
 
@@ -38,16 +50,50 @@ from . import kernel as IK
 from .device import Isolator
 
 FREE_TIME = 10.0
+END_STOPS = ("stop", "impact")
+END_STOP_RESTITUTION = 0.5
+"""Coefficient of restitution of the top plate on the end stop (end_stop="impact"): assumed."""
+CAPACITY_EXCEEDED = "isolator capacity exceeded"
+
+
+def check_end_stop(end_stop: str, e_stop: float) -> None:
+    if end_stop not in END_STOPS:
+        raise InputError(f"end_stop must be one of {', '.join(END_STOPS)}, got {end_stop!r}")
+    if not (math.isfinite(e_stop) and 0 <= e_stop <= 1):
+        raise InputError(f"end-stop restitution must be in [0, 1], got {e_stop!r}")
+
+
+def capacity_dict(capacity: float, exceeded: bool, t_cap, u_cap, n_hits: int, end_stop: str, e_stop: float) -> dict:
+    """The capacity fields of a result's to_dict (None for inf / not reached)."""
+    return {"capacity": capacity if math.isfinite(capacity) else None, "capacity_exceeded": bool(exceeded),
+            "t_capacity": t_cap, "u_at_capacity": u_cap, "capacity_hits": int(n_hits), "end_stop": end_stop,
+            "end_stop_restitution": e_stop if end_stop == "impact" else None}
+
+
+class CapacityTracked:
+    """What every isolated result says of the travel limit: ``capacity`` (m, the
+    isolator's) and ``capacity_exceeded`` (whether ``t_capacity`` was reached)."""
+
+    @property
+    def capacity(self) -> float:
+        return self.isolator.capacity
+
+    @property
+    def capacity_exceeded(self) -> bool:
+        return self.t_capacity is not None
 
 
 @dataclass(frozen=True)
-class IsolatorResult:
+class IsolatorResult(CapacityTracked):
     """Time history and peaks of the top plate (SI units).
 
     t, u, v, acc_abs, z : outputs every dt_out (z: Bouc-Wen variable, 0 for Coulomb)
     peaks_t, peaks_u    : successive displacement peaks (reversals u' = 0)
     u_max, acc_abs_max  : exact maxima of |u| and |a_abs| over the run
     pga                 : max |u_g''|
+    capacity_exceeded   : |u| passed iso.capacity; t_capacity, u_at_capacity: when and where
+                          first (None if not); capacity_hits: end-stop impacts (end_stop
+                          "impact"; 1 with "stop", where the run ended at t_capacity)
     """
 
     isolator: Isolator
@@ -63,6 +109,19 @@ class IsolatorResult:
     acc_abs_max: float
     pga: float
     stats: dict
+    t_capacity: float | None = None
+    u_at_capacity: float | None = None
+    capacity_hits: int = 0
+    end_stop: str = "stop"
+    end_stop_restitution: float = END_STOP_RESTITUTION
+
+    @property
+    def outcome(self) -> str:
+        """"isolator capacity exceeded" if the run ended there (end_stop "stop"), "end-stop
+        impact" if the plate hit the end stop and went on (end_stop "impact"), else "ok"."""
+        if not self.capacity_exceeded:
+            return "ok"
+        return CAPACITY_EXCEEDED if self.end_stop == "stop" else "end-stop impact"
 
     @property
     def efficiency(self) -> float:
@@ -71,18 +130,23 @@ class IsolatorResult:
 
     def to_dict(self) -> dict:
         return {
-            "isolator": self.isolator.to_dict(), "motion": self.motion.to_dict(),
+            "isolator": self.isolator.to_dict(), "motion": self.motion.to_dict(), "outcome": self.outcome,
             "u_max": self.u_max, "acc_abs_max": self.acc_abs_max, "pga": self.pga,
             "efficiency": self.efficiency, "peaks": self.peaks_u.tolist(), "peaks_t": self.peaks_t.tolist(),
+            **capacity_dict(self.capacity, self.capacity_exceeded, self.t_capacity, self.u_at_capacity,
+                            self.capacity_hits, self.end_stop, self.end_stop_restitution),
             "solver": self.stats,
         }
 
 
 def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float = 0.0,
-             t_end: float | None = None, dt_out: float = 0.005, rtol: float = 1e-9) -> IsolatorResult:
+             t_end: float | None = None, dt_out: float = 0.005, rtol: float = 1e-9, end_stop: str = "stop",
+             e_stop: float = END_STOP_RESTITUTION) -> IsolatorResult:
     """Integrate the top plate from (u0, v0) at t = 0 to t_end (default: the end of
     the motion + 10 s). Coulomb: exact closed form; Bouc-Wen: adaptive 5(4) steps
-    at relative tolerance ``rtol`` (see kernel.py)."""
+    at relative tolerance ``rtol`` (see kernel.py). ``end_stop``: what happens where
+    |u| passes ``iso.capacity`` ("stop": the run ends, "impact": the plate rebounds
+    with restitution ``e_stop``; module docstring)."""
     if t_end is None:
         t_end = motion.end + FREE_TIME
     for name, value in (("u0", u0), ("v0", v0)):
@@ -94,6 +158,11 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
         raise InputError(f"dt_out must be positive, got {dt_out}")
     if not (0 < rtol < 1):
         raise InputError(f"rtol must be in (0, 1), got {rtol}")
+    check_end_stop(end_stop, e_stop)
+    cap = float(iso.capacity)
+    if end_stop == "impact" and abs(u0) > cap:
+        raise InputError(f"u0 = {u0} m starts beyond the end stop at the capacity {cap} m")
+    stop = 0 if end_stop == "stop" else 1
     n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1
     if n_out > 50_000_000:
         raise InputError(f"{n_out} output samples: raise dt_out")
@@ -109,19 +178,22 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
     mug = iso.mu * iso.g
     if iso.model == "coulomb":
         n_pk, pk_t, pk_u = IK.coulomb(om, mug, kind, M, samples, float(u0), float(v0), float(t_end), float(dt_out),
-                                      out_u, out_v, out_a, pk_t, pk_u, stats)
+                                      cap, stop, float(e_stop), out_u, out_v, out_a, pk_t, pk_u, stats)
     else:
         scale = max(abs(u0), abs(v0) / om, motion.pga / om**2, iso.u_y)
         n_pk, pk_t, pk_u = IK.boucwen(om, mug, float(iso.q), int(iso.n), kind, M, samples, float(u0), float(v0),
                                       float(t_end), float(dt_out), float(rtol), 1e-3 * rtol * scale,
-                                      out_u, out_v, out_a, out_z, pk_t, pk_u, stats)
+                                      cap, stop, float(e_stop), out_u, out_v, out_a, out_z, pk_t, pk_u, stats)
     t = np.arange(n_out) * dt_out
+    hit = math.isfinite(stats[IK.I_TCAP])
     return IsolatorResult(
         isolator=iso, motion=motion, t=t, u=out_u, v=out_v, acc_abs=out_a, z=out_z,
         peaks_t=pk_t[:n_pk].copy(), peaks_u=pk_u[:n_pk].copy(),
         u_max=float(stats[IK.I_UMAX]), acc_abs_max=float(stats[IK.I_AMAX]), pga=motion.pga,
         stats={"steps": int(stats[IK.I_NSTEPS]), "rejected": int(stats[IK.I_NREJ]), "t_final": float(stats[IK.I_TFINAL]),
                "sliding_time": float(stats[IK.I_TSLIDE])},
+        t_capacity=float(stats[IK.I_TCAP]) if hit else None, u_at_capacity=float(stats[IK.I_UCAP]) if hit else None,
+        capacity_hits=int(stats[IK.I_NHITS]), end_stop=end_stop, end_stop_restitution=float(e_stop),
     )
 
 
@@ -157,10 +229,13 @@ class StatueOnPlate:
         out = {
             "uplift": self.uplift, "uplift_limits": [self.limit_pos, self.limit_neg],
             "acc_abs_max": r.acc_abs_max, "pga": r.pga, "efficiency": r.efficiency,
-            "margin_plate_only": min(self.limit_pos - float(self.plate.acc_abs.max()),
-                                     self.limit_neg + float(self.plate.acc_abs.min())),
+            "margin_plate_only": min(self.limit_pos - float(np.nanmax(self.plate.acc_abs)),
+                                     self.limit_neg + float(np.nanmin(self.plate.acc_abs))),
             "model": "coupled plate + statue (two-way)",
             "coupled_integration": bool(r.stats.get("coupled_integration", False)),
+            "outcome": r.outcome,
+            **capacity_dict(r.capacity, r.capacity_exceeded, r.t_capacity, r.u_at_capacity, r.capacity_hits,
+                            r.end_stop, r.end_stop_restitution),
         }
         if self.uplift:
             out["rocking_on_plate"] = {"outcome": r.outcome, "theta_max_over_delta": r.theta_max_over_delta,
@@ -188,11 +263,14 @@ def statue_on_plate(plate: IsolatorResult, rocking_model, compare_fixed: bool = 
     up, dn = rocking_model.uplift_limits
     dt = float(plate.t[1] - plate.t[0])
     coupled = simulate_coupled(plate.isolator, rocking_model, plate.motion, u0=float(plate.u[0]),
-                               v0=float(plate.v[0]), t_end=float(plate.t[-1]), dt_out=dt, rtol=rtol)
+                               v0=float(plate.v[0]), t_end=float(plate.t[-1]), dt_out=dt, rtol=rtol,
+                               end_stop=plate.end_stop, e_stop=plate.end_stop_restitution)
     one_way = None
-    if coupled.uplift:
-        one_way = rock(rocking_model, motions.record(plate.acc_abs, dt, label="isolated plate"),
-                       t_end=float(plate.t[-1]))
+    acc = plate.acc_abs
+    n_ok = int(np.argmin(np.isfinite(acc))) if not np.all(np.isfinite(acc)) else acc.size   # up to a capacity stop
+    if coupled.uplift and n_ok >= 2:
+        one_way = rock(rocking_model, motions.record(acc[:n_ok], dt, label="isolated plate"),
+                       t_end=float(plate.t[n_ok - 1]))
     fixed = rock(rocking_model, plate.motion) if compare_fixed and plate.motion.kind != "none" else None
     return StatueOnPlate(plate=plate, limit_pos=up, limit_neg=dn, rocking=coupled, one_way=one_way,
                          fixed_rocking=fixed)

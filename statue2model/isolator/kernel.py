@@ -18,6 +18,18 @@ or a tanh (n = 2) towards sgn(u'); unloading is linear with slope 1/u_y), so
 remaining 2-state equation u'' = -omega^2 u - (1 - 1/q) mu g z(u) - f(t) is
 integrated with an adaptive Dormand-Prince 5(4) step that never crosses a motion
 breakpoint or an output time; a reversal is located by bisection on the step.
+
+Capacity (both models): between two reversals u is monotonic, so |u| passes the
+capacity ``cap`` inside a piece (Coulomb) or a step (Bouc-Wen) exactly when it is
+beyond it at the piece's end (or at the reversal); the crossing time is then
+bisected to machine precision on the closed form (Coulomb) or on the step
+length (Bouc-Wen). Outputs are not involved, and with cap = inf the only extra
+work is one comparison per piece or step. ``stop`` = 0: the run ends there
+(samples after it are nan); ``stop`` = 1: the top plate hits a rigid end stop,
+u' -> -e_stop u' (a Newton impact), and the run goes on; when the rebound would
+rise less than REST_TOL x cap against a force that pushes the plate back onto
+the stop, it stays on the stop (u' = 0) until the force pulls it away (the
+one-sided counterpart of a stuck plate, found exactly as that).
 """
 from __future__ import annotations
 
@@ -28,9 +40,12 @@ from numba import njit
 
 from ..dynamics import kernel as K
 
-# statistics vector
-(I_UMAX, I_AMAX, I_NSTEPS, I_NREJ, I_TFINAL, I_NPEAKS, I_STATUS, I_TSLIDE) = range(8)
-N_I = 8
+# statistics vector (I_TCAP, I_UCAP: first time and displacement at which |u| reached the
+# capacity, nan if never; I_NHITS: capacity crossings, i.e. end-stop impacts with stop = 1)
+(I_UMAX, I_AMAX, I_NSTEPS, I_NREJ, I_TFINAL, I_NPEAKS, I_STATUS, I_TSLIDE, I_TCAP, I_UCAP, I_NHITS) = range(11)
+N_I = 11
+REST_TOL = 1e-9
+"""A rebound that would rise less than REST_TOL x capacity leaves the plate on the end stop."""
 
 
 @njit(cache=True)
@@ -126,8 +141,27 @@ def _max_abs_f(ta, tb, seg):
 
 
 @njit(cache=True)
-def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_a, pk_t, pk_u, stats):
-    """Advance the Coulomb plate exactly; fill outputs at k dt_out; return (n_peaks, pk_t, pk_u)."""
+def _stop_rebound(t, v, s, e_stop, cap, F, kind, M, samples, seg):
+    """After an end-stop impact at u = s cap with velocity v (sign s): (new velocity, stays on
+    the stop?). ``F``: the restoring force per unit mass on the way back (sign -s), so the
+    relative acceleration there is -F - u_g''; the plate stays on the stop when that pushes
+    it back and the rebound (e_stop v) would rise less than REST_TOL cap, or e_stop v = 0."""
+    v_new = -e_stop * v
+    if v_new == 0.0:
+        return 0.0, True
+    K.segment(t, kind, M, samples, seg)
+    a_in = -F - K._acc(t, seg)
+    if s * a_in > 0.0 and v_new * v_new / (2.0 * abs(a_in)) < REST_TOL * cap:
+        return 0.0, True
+    return v_new, False
+
+
+@njit(cache=True)
+def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop, out_u, out_v, out_a, pk_t, pk_u,
+            stats):
+    """Advance the Coulomb plate exactly; fill outputs at k dt_out; return (n_peaks, pk_t, pk_u).
+    ``cap``: capacity |u| (inf: none); ``stop`` 0: end the run there, 1: end-stop impact with
+    restitution ``e_stop`` (see the module docstring)."""
     seg = np.empty(8)
     cf = np.empty(6)
     n_out = out_u.shape[0]
@@ -141,19 +175,35 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
     steps = 0
     t_slide = 0.0
     om2 = om * om
+    t_cap = np.nan
+    u_cap = np.nan
+    n_hits = 0
+    stopped = False
+    pin = 0.0              # +-1: resting on the end stop at u = pin cap
     # initial phase
     if v != 0.0:
         s = 1.0 if v > 0.0 else -1.0
     else:
         s = 0.0
+    if abs(u0) > cap:      # released beyond the capacity
+        t_cap = 0.0
+        u_cap = u0
+        n_hits = 1
+        stopped = True
+        t_end = 0.0
     while t < t_end and steps < 10_000_000:
         steps += 1
         t_piece_end = K.segment(t, kind, M, samples, seg)
         tb = min(t_piece_end, t_end)
         if s == 0.0:
-            # stuck: moves with the ground until |om^2 u + f| > mu g
+            # stuck: moves with the ground until |om^2 u + f| > mu g (on the end stop: only
+            # away from it)
             up = mug - om2 * u
             dn = mug + om2 * u
+            if pin > 0.0:
+                dn = np.inf
+            elif pin < 0.0:
+                up = np.inf
             te, side = K._first_exceedance(t, tb, seg, up, dn)
             t_stop = min(te, tb)
             while k_out < n_out and k_out * dt_out < t_stop:
@@ -166,6 +216,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
             if te < tb or (te == tb and side != 0):
                 t = te
                 s = float(side)
+                pin = 0.0
                 continue
             if t_piece_end == np.inf and kind != K.M_NONE and abs(om2 * u) <= mug:
                 # the ground is at rest for good and the plate is stuck: done
@@ -206,6 +257,24 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
                 break
             lo = ti
         t_stop = min(t_rev, tb)
+        u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
+        hit = False
+        if s * u_end > cap:
+            # u is monotonic on [t, t_stop]: bisect s u = cap to machine precision
+            lo = t
+            hi = t_stop
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                um, _, _ = _coulomb_state(mid, t, seg, cf, om)
+                if s * um > cap:
+                    hi = mid
+                else:
+                    lo = mid
+            t_stop = hi
+            u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
+            hit = True
         while k_out < n_out and k_out * dt_out < t_stop:
             tk = k_out * dt_out
             uk, vk, ak = _coulomb_state(tk, t, seg, cf, om)
@@ -213,13 +282,29 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
             out_v[k_out] = vk
             out_a[k_out] = ak + K._acc(tk, seg)
             k_out += 1
-        u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
         # |a_abs| = |om^2 u + s mu g| is monotonic while sliding: its extremes are at the ends
         amax = max(amax, abs(om2 * u + s * mug), abs(om2 * u_end + s * mug))
         umax = max(umax, abs(u_end))
         t_slide += t_stop - t
         t = t_stop
         u = u_end
+        if hit:
+            if n_hits == 0:
+                t_cap = t
+                u_cap = u
+            n_hits += 1
+            if stop == 0:
+                v = v_end
+                stopped = True
+                break
+            u = s * cap
+            v, rest = _stop_rebound(t, v_end, s, e_stop, cap, om2 * u - s * mug, kind, M, samples, seg)
+            if rest:
+                pin = s
+                s = 0.0
+            else:
+                s = -s
+            continue
         if t_rev <= tb and t_rev < np.inf:
             v = 0.0
             pk_t, pk_u, n_pk = _push_peak(pk_t, pk_u, n_pk, t, u)
@@ -231,6 +316,17 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
                 s = 1.0 if d > 0.0 else -1.0
         else:
             v = v_end
+    while stopped and k_out < n_out:     # the run ended at the capacity: nothing after it
+        if k_out == 0 and t == 0.0:
+            out_u[0] = u0
+            out_v[0] = v0
+            K.segment(0.0, kind, M, samples, seg)
+            out_a[0] = -(om2 * u0 + s * mug) if s != 0.0 else K._acc(0.0, seg)
+        else:
+            out_u[k_out] = np.nan
+            out_v[k_out] = np.nan
+            out_a[k_out] = np.nan
+        k_out += 1
     while k_out < n_out:       # samples at t_end itself (or after the plate came to rest for good)
         tk = k_out * dt_out
         out_u[k_out] = u
@@ -247,6 +343,9 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, out_u, out_v, out_
     stats[I_TFINAL] = t
     stats[I_NPEAKS] = n_pk
     stats[I_TSLIDE] = t_slide
+    stats[I_TCAP] = t_cap
+    stats[I_UCAP] = u_cap
+    stats[I_NHITS] = n_hits
     return n_pk, pk_t, pk_u
 
 
@@ -315,8 +414,10 @@ def _dp_step(t, u, v, h, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv):
 
 
 @njit(cache=True)
-def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u,
+def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u, cap, stop, e_stop,
             out_u, out_v, out_a, out_z, pk_t, pk_u, stats):
+    """Advance the Bouc-Wen plate (adaptive steps); capacity ``cap``, ``stop`` and ``e_stop``
+    as for :func:`coulomb`."""
     seg = np.empty(8)
     ku = np.empty(7)
     kv = np.empty(7)
@@ -338,8 +439,42 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
     steps = 0
     rej = 0
     h = min(2.0 * math.pi / om / 50.0, max(dt_out, 1e-6))
-    while True:
+    t_cap = np.nan
+    u_cap = np.nan
+    n_hits = 0
+    stopped = False
+    pin = 0.0              # +-1: resting on the end stop at u = pin cap
+    if abs(u0) > cap:      # released beyond the capacity
+        t_cap = 0.0
+        u_cap = u0
+        n_hits = 1
+        stopped = True
+    while not stopped:
         t_piece_end = K.segment(t, kind, M, samples, seg)
+        if pin != 0.0:
+            # on the end stop (u' = 0, z fixed): until the force pulls the plate away from it
+            c = om2 * u + cz * z_r
+            t_next = min(t_piece_end, t_end)
+            te, side = K._first_exceedance(t, t_next, seg, -c if pin > 0.0 else np.inf,
+                                           c if pin < 0.0 else np.inf)
+            t_stop = min(te, t_next)
+            while k_out < n_out and k_out * dt_out < t_stop:
+                out_u[k_out] = u
+                out_v[k_out] = 0.0
+                out_a[k_out] = K._acc(k_out * dt_out, seg)
+                out_z[k_out] = z_r
+                k_out += 1
+            amax = max(amax, _max_abs_f(t, t_stop, seg))
+            if te <= t_next and side != 0:
+                t = te
+                s = float(side)
+                u_r = u
+                pin = 0.0
+                continue
+            t = t_next
+            if t >= t_end or t_piece_end == np.inf:
+                break
+            continue
         if s == 0.0:
             a0, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, 1.0, u_y, n)
             if a0 == 0.0:
@@ -387,8 +522,10 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             continue
         fac = 0.9 * err ** -0.2 if err > 0.0 else 5.0
         h_new = hh * max(0.2, min(5.0, fac))
+        x_far = 0.0                 # capacity passed inside the step, before any reversal: in (0, x_far]
+        hi_rev = hh
         if s * v5 < 0.0:
-            # reversal inside the step: bisect the step length on the sign of v
+            # the largest s u of the step is at its reversal
             lo = 0.0
             hi = hh
             for _ in range(100):
@@ -400,6 +537,53 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
                     lo = mid
                 else:
                     hi = mid
+            hi_rev = hi
+            um, _, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+            if s * um > cap:
+                x_far = hi
+        elif s * u5 > cap:
+            x_far = hh
+        if x_far > 0.0:
+            lo = 0.0
+            hi = x_far
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                um, _, _, _ = _dp_step(t, u, v, mid, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+                if s * um > cap:
+                    hi = mid
+                else:
+                    lo = mid
+            um, vm, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+            t = t + hi
+            z_e = z_map(z_r, um - u_r, s, u_y, n)
+            umax = max(umax, abs(um))
+            a_e, _ = _bw_acc(t, um, seg, om2, cz, u_r, z_r, s, u_y, n)
+            amax = max(amax, abs(a_e + K._acc(t, seg)))
+            if n_hits == 0:
+                t_cap = t
+                u_cap = um
+            n_hits += 1
+            if stop == 0:
+                u = um
+                v = vm
+                stopped = True
+                break
+            u = s * cap
+            u_r = u
+            z_r = z_e
+            v, rest = _stop_rebound(t, vm, s, e_stop, cap, om2 * u + cz * z_e, kind, M, samples, seg)
+            if rest:
+                pin = s
+                s = 0.0
+            else:
+                s = -s
+            h = max(h_new, 1e-12)
+            continue
+        if s * v5 < 0.0:
+            # reversal inside the step (located above by bisection on the sign of v)
+            hi = hi_rev
             um, vm, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
             t = t + hi
             z_e = z_map(z_r, um - u_r, s, u_y, n)
@@ -422,10 +606,28 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         a_rel, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n)
         amax = max(amax, abs(a_rel + K._acc(t, seg)))
         h = h_new
+    if stopped:      # the run ended at the capacity: nothing after it
+        if k_out == 0:
+            K.segment(0.0, kind, M, samples, seg)
+            a_rel, z = _bw_acc(0.0, u0, seg, om2, cz, u0, 0.0, s if s != 0.0 else 1.0, u_y, n)
+            out_u[0] = u0
+            out_v[0] = v0
+            out_a[0] = a_rel + K._acc(0.0, seg)
+            out_z[0] = z
+            k_out = 1
+        while k_out < n_out:
+            out_u[k_out] = np.nan
+            out_v[k_out] = np.nan
+            out_a[k_out] = np.nan
+            out_z[k_out] = np.nan
+            k_out += 1
     stats[I_UMAX] = umax
     stats[I_AMAX] = amax
     stats[I_NSTEPS] = steps
     stats[I_NREJ] = rej
     stats[I_TFINAL] = t
     stats[I_NPEAKS] = n_pk
+    stats[I_TCAP] = t_cap
+    stats[I_UCAP] = u_cap
+    stats[I_NHITS] = n_hits
     return n_pk, pk_t, pk_u

@@ -174,7 +174,8 @@ class PlateGeometry:
     @classmethod
     def from_design(cls, d: dict, where: str = "design") -> PlateGeometry:
         """From the JSON of ``statue2model isolator design`` (a dict); fuse seats, if the
-        design has a fuse, sit between the grooves (on the diagonals, halfway to the centre)."""
+        design has a fuse, sit at its ``fuse["centres"]`` (m) or, without them, between the
+        grooves (on the diagonals, halfway to the centre)."""
         try:
             return cls(side=float(d["side"]), thickness=float(d["thickness"]), R=float(d["R"]),
                        depth=float(d["depth"]), groove_centres=tuple(tuple(c) for c in d["groove_centres"]),
@@ -571,11 +572,12 @@ def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str,
 
 
 def _fuse_geometry(fuse: dict, d: dict) -> dict:
-    """Fuse seats between the grooves (on the diagonals, halfway to the centre), m."""
+    """Fuse seats at fuse["centres"], else between the grooves (on the diagonals, halfway to the centre), m."""
     if not fuse:
         return {}
     rf = float(fuse["ball_radius"])
-    centres = [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]]
+    centres = ([tuple(map(float, c)) for c in fuse["centres"]] if fuse.get("centres")
+               else [(0.5 * x, 0.5 * y) for x, y in d["groove_centres"]])
     z = float(fuse["seat_depth"])
     hole = max(2.4 * rf, 2 * rf + 0.002)
     seat = (2 * rf * z - z * z) ** 0.5
