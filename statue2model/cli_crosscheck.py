@@ -88,10 +88,17 @@ def _cmd_crosscheck(args) -> int:
         iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
                                         grid=args.grid / 1000 if args.grid > 0 else None)
     contact = ContactSettings()
+    from .dynamics.model import RockingModel
+
+    # a squat body: plastic impacts (eq. 15 < 0) and sliding on the 3D floor (friction contact.friction^2)
+    notes = RockingModel.housner(scene.params, mu_static=contact.friction**2).notes
+    for note in notes:
+        print(f"note (3D floor friction {contact.friction**2:g}): {note}")
     comp = compare(scene, motion, iso_scene=iso, settings=settings, contact=contact, pulse_freq=args.pulse_freq,
                    quick=args.quick, progress=lambda m: print(f"  running: {m}", flush=True))
     extra = {"scene": {"name": scene.name, "params": scene.params.to_dict(), "hull_vertices": len(scene.hull)},
-             "settings": settings.to_dict(), "contact": contact.to_dict(), "motion": motion.to_dict()}
+             "settings": settings.to_dict(), "contact": contact.to_dict(), "motion": motion.to_dict(),
+             "notes": notes}
     paths = write_report(comp, out, extra)
     print(table(comp.cases))
     s = summary(comp.cases)

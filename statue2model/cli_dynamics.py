@@ -37,6 +37,10 @@ def _model_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--e-L", metavar="E", help="restitution landing on the left edge: a number in [0, 1] or the JSON "
                    "of `statue2model identify` (its fitted curve); default: angular momentum, eq. 15")
     g.add_argument("--e-R", metavar="E", help="restitution landing on the right edge (as --e-L)")
+    g.add_argument("--mu-static", type=positive_float, default=None, metavar="MU",
+                   help="static friction coefficient of the base on its support (default 0.7, a typical value "
+                        "for stone on stone): a body whose uplift needs more than MU g slides before it rocks, "
+                        "and its rocking outcome above MU g is not applicable")
     g.add_argument("--rtol", type=positive_float, default=None, metavar="TOL", help="solver tolerance (default 1e-8 for "
                    "rock, 1e-7 for sweeps)")
 
@@ -108,13 +112,19 @@ def build_model(args):
     if kind == "housner":
         if any(v is not None for v in (aL, aR, tL, tR)):
             raise InputError("--alpha/--theta options belong to --model imperfect")
-        return RockingModel.housner(params, eL, eR, args.linearised)
+        return RockingModel.housner(params, eL, eR, args.linearised, mu_static=args.mu_static)
     if aL is None or aR is None:
         raise InputError("--model imperfect needs --alpha-L and --alpha-R (or --alpha for both)")
     for name, v in (("--theta-L", tL), ("--theta-R", tR)):
         if v is not None and v <= 0:
             raise InputError(f"{name} must be > 0 rad, got {v}")
-    return RockingModel.imperfect(params, aL, aR, tL, tR, eL, eR, args.linearised)
+    return RockingModel.imperfect(params, aL, aR, tL, tR, eL, eR, args.linearised, mu_static=args.mu_static)
+
+
+def _print_notes(model) -> None:
+    """The model's notes (plastic impacts, sliding), one line each."""
+    for note in model.notes:
+        print(note if note.startswith("warning") else f"note: {note}")
 
 
 def _out(args, default_name: str) -> Path:
@@ -159,6 +169,11 @@ def cmd_rock(args) -> int:
             ("at rest from", "-" if r.t_rest is None else f"{r.t_rest:.4f} s")]
     w = max(len(a) for a, _ in rows)
     print("\n".join(f"{a:<{w}}  {b}" for a, b in rows))
+    _print_notes(model)
+    if not r.applicable:
+        print(f"the rocking outcome is not applicable: the body slides before it rocks (peak ground acceleration "
+              f"{max(abs(a) for a in motion.extremes()) / p.g:.3f} g > mu_s g = {model.mu_static:.3f} g); the rotations "
+              f"above are those of a base that cannot slide")
     if model.energy_gain_possible:
         print("warning: e_side^2 I_new / I_old > 1 at some impact: impacts add energy with these e values")
     write_json(out, r.to_dict())
@@ -197,11 +212,29 @@ def cmd_spectrum(args) -> int:
     for name, n in sp.counts().items():
         print(f"{name:<16} {n:>7}")
     print(f"{sp.codes.size} runs ({sp.n_integrated} integrated) in {wall:.2f} s")
+    _print_notes(model)
+    na = ~sp.applicable
+    if na.any():
+        print(f"{int(na.sum())} of {sp.codes.size} points are not applicable (the body slides before it rocks "
+              f"above {model.mu_static:.3f} g); grey in the plot")
     d = sp.to_dict()
     d["wall_s"] = wall
     write_json(out, d)
     csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sp.to_csv()))
-    png = plot_spectrum(sp, out.with_suffix(".png"))
+    if na.any():
+        import dataclasses
+
+        import matplotlib
+        import numpy as np
+
+        # not-applicable cells are masked: they show the axes' (grey) background
+        shown = dataclasses.replace(sp, codes=np.ma.masked_array(sp.codes, mask=na))
+        with matplotlib.rc_context({"axes.facecolor": "0.55"}):
+            png = plot_spectrum(shown, out.with_suffix(".png"),
+                                f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs; grey: not "
+                                f"applicable, slides before it rocks)")
+    else:
+        png = plot_spectrum(sp, out.with_suffix(".png"))
     print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
     return 0
 
@@ -212,12 +245,21 @@ def _write_sweep(sw, out: Path) -> None:
     from .report.dynamics_plots import plot_sweep
 
     s = sw.summary()
-    print(f"{sw.values.size} runs: |theta|max/delta mean {s['mean']:.4f}, std {s['std']:.4f}, p05 {s['p05']:.4f}, "
-          f"p50 {s['p50']:.4f}, p95 {s['p95']:.4f}, max {s['max']:.4f}; {s['n_overturned']} overturned")
+    _print_notes(sw.model)
+    if s["n_not_applicable"]:
+        print(f"{s['n_not_applicable']} of {sw.values.size} runs are not applicable (the body slides before it "
+              f"rocks): left out of the statistics and the plot")
+    if s["n"]:
+        print(f"{s['n']} runs: |theta|max/delta mean {s['mean']:.4f}, std {s['std']:.4f}, p05 {s['p05']:.4f}, "
+              f"p50 {s['p50']:.4f}, p95 {s['p95']:.4f}, max {s['max']:.4f}; {s['n_overturned']} overturned")
     write_json(out, sw.to_dict())
     csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sw.to_csv()))
-    png = plot_sweep(sw, out.with_suffix(".png"))
-    print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
+    names = [out.name, csv.name]
+    if s["n"]:
+        names.append(plot_sweep(sw.applicable_only() if s["n_not_applicable"] else sw, out.with_suffix(".png")).name)
+    else:
+        print("no run is applicable: no plot")
+    print(f"wrote {', '.join(names)} in {out.parent}")
 
 
 def cmd_variability(args) -> int:

@@ -427,7 +427,10 @@ def test_motion_below_the_uplift_limits_never_lifts(case):
     assert hi <= up and lo >= -dn
     r = simulate(model, motion, dt_out=0.01)
     assert r.uplift_time is None and r.n_impacts == 0 and r.theta_max_L == r.theta_max_R == 0.0
-    assert r.outcome == "no motion"
+    # a body whose uplift needs more than mu_static g slides above mu_static g: not 'no motion'
+    slides = model.slides_first and max(hi, -lo) > model.mu_static * model.params.g
+    assert r.applicable == (not slides)
+    assert r.outcome == ("not applicable (slides before it rocks)" if slides else "no motion")
     assert not np.any(r.history["theta"]) and not np.any(r.history["theta_dot"])
     assert not np.any(r.history["phase"])
     assert not _batch_moved(model, motion, motion.end + 1.0)

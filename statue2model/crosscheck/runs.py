@@ -17,7 +17,9 @@ target, met) and the two time histories for the overlay plots.
   calibrated (the faceted grooves and inelastic ball contacts dissipate by
   themselves: measured at mu = 0 and taken off);
 * the isolated statue under the user's motion: peak absolute plate acceleration
-  3D vs the 2D plate (isolator/dynamics.py), and the efficiency.
+  3D vs the 2D plate (isolator/dynamics.py), and the efficiency; and whether the plate
+  passes the isolator's capacity (the design's) in 2D and in 3D (must agree; both runs
+  stop there, and the accelerations are compared up to the earlier stop).
 
 Example
 -------
@@ -81,7 +83,11 @@ class Case:
                    "equal", "", note)
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        d = asdict(self)
+        if not math.isfinite(d["rel_error"]):
+            # one side has no value (e.g. a squat body lifts in 3D but not in 2D): JSON has no inf
+            d["rel_error"] = None
+        return d
 
 
 def _f(x):
@@ -383,8 +389,8 @@ def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: Con
 def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettings, u0: float | None = None,
                         cycles: float = 2.2, calibrate: bool = True) -> tuple[list, dict, dict, dict]:
     """Free vibration of the top plate (no statue) from u0 (default: 60 % of the balls'
-    travel): period, and per-cycle decay with the mapped and with the calibrated rolling
-    friction. Returns (cases, histories, runs, calibration)."""
+    travel, at most 90 % of the isolator's capacity): period, and per-cycle decay with the
+    mapped and with the calibrated rolling friction. Returns (cases, histories, runs, calibration)."""
     from dataclasses import replace
 
     from ..isolator.device import Isolator
@@ -395,10 +401,10 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
     g = settings.g
     T = 2 * math.pi * math.sqrt(sc.R_hat / g)
     if u0 is None:
-        u0 = 1.2 * (sc.geom.opening_radius - sc.r)
+        u0 = min(1.2 * (sc.geom.opening_radius - sc.r), 0.9 * sc.travel_capacity)
     t_end = cycles * T
     meshes = {w: sc.plate_mesh(w) for w in ("bottom", "top")}
-    iso2 = Isolator(R=sc.R, r=sc.r, M=sc.M, mu=sc.mu, g=g)
+    iso2 = Isolator(R=sc.R, r=sc.r, M=sc.M, mu=sc.mu, g=g, capacity=sc.travel_capacity)
     r2 = plate_2d(iso2, motions.free(), u0=u0, t_end=t_end, dt_out=0.005)
     runs, hist = {}, {}
 
@@ -510,16 +516,21 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
 
     g = settings.g
     dt = settings.dt
-    iso2 = Isolator(R=iso_scene.R, r=iso_scene.r, M=iso_scene.M, mu=iso_scene.mu, g=g)
+    cap = iso_scene.travel_capacity
+    iso2 = Isolator(R=iso_scene.R, r=iso_scene.r, M=iso_scene.M, mu=iso_scene.mu, g=g, capacity=cap)
     t_end = motion.end + free_time
     r2 = plate_2d(iso2, motion, t_end=t_end, dt_out=dt)
     sc3 = iso_scene if mu_3d is None else replace(iso_scene, mu=mu_3d)
     r3 = simulate_isolator(sc3, motion, t_end=t_end, settings=settings, contact=contact, dt_out=0.005, mount=mount)
-    a2f = float(np.abs(lowpass(r2.acc_abs, dt, cutoff)).max())
-    a3 = r3.acc_step
+    # both runs stop where the plate passes the capacity: compare up to the earlier stop
+    a2_all = r2.acc_abs
+    n2 = int(np.argmin(np.isfinite(a2_all))) if not np.all(np.isfinite(a2_all)) else a2_all.size
+    n_common = min(n2, r3.acc_step.size)
+    a2, a3 = a2_all[:max(n_common, 1)], r3.acc_step[:max(n_common, 1)]
+    a2f = float(np.abs(lowpass(a2, dt, cutoff)).max())
     a3f = float(np.abs(lowpass(a3, dt, cutoff)).max())
     a3w = float(np.abs(window_mean(a3, dt, 0.005)).max())
-    a2w = float(np.abs(window_mean(r2.acc_abs, dt, 0.005)).max())
+    a2w = float(np.abs(window_mean(a2, dt, 0.005)).max())
     why = (f"raw per-step peaks 2D {r2.acc_abs_max:.3f}, 3D {r3.acc_abs_max:.3f} m/s^2 (ball-facet contact "
            f"impulses); 5 ms window mean 2D {a2w:.3f}, 3D {a3w:.3f}; compared: both low-passed at {cutoff:g} Hz")
     cases = [Case.relative(f"{label}: peak plate acceleration", "m/s^2", a2f, a3f, 0.10,
@@ -537,13 +548,24 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
     overturn = bool(r3.statue_overturned)
     cases.append(Case.equal(f"{label}: statue overturns", False, overturn, quantity="overturn",
                             note=f"3D outcome: {r3.outcome}"))
+
+    def when(r):
+        return "not exceeded" if not r.capacity_exceeded else f"at t = {r.t_capacity:.3f} s"
+
+    if math.isfinite(cap):
+        cases.append(Case.equal(f"{label}: isolator capacity exceeded", r2.capacity_exceeded,
+                                r3.capacity_exceeded, quantity="capacity exceeded",
+                                note=f"|u| against the capacity {cap * 1000:.1f} mm: 2D {when(r2)}, 3D {when(r3)}"))
     hist = {f"{label}: plate": {"t2": r2.t, "y2": r2.u, "t3": r3.t, "y3": r3.u, "label": "u (m)"},
             f"{label}: plate acceleration (low-passed)": {
-                "t2": r2.t, "y2": lowpass(r2.acc_abs, dt, cutoff), "t3": np.arange(a3.size) * dt,
+                "t2": r2.t[:a2.size], "y2": lowpass(a2, dt, cutoff), "t3": np.arange(a3.size) * dt,
                 "y3": lowpass(a3, dt, cutoff), "label": f"absolute plate acc., {cutoff:g} Hz low-pass (m/s^2)"}}
     return cases, hist, {label: r3.to_dict() | {"acc_abs_max_filtered": a3f,
                                                              "acc_abs_max_window5ms": a3w,
-                                                             "acc_2d_filtered": a2f, "cutoff_hz": cutoff}}
+                                                             "acc_2d_filtered": a2f, "cutoff_hz": cutoff,
+                                                             "capacity_2d": r2.to_dict()["capacity"],
+                                                             "capacity_exceeded_2d": r2.capacity_exceeded,
+                                                             "t_capacity_2d": r2.t_capacity}}
 
 
 def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSettings | None = None,

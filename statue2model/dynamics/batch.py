@@ -112,8 +112,19 @@ def outcome_codes(S: np.ndarray, has_transition: bool) -> np.ndarray:
 
 OUTCOMES = ("no motion", "rolling", "rocking", "overturn mode 1", "overturn mode 2", "overturn mode 3")
 
+NOT_APPLICABLE_CODE = -2
+"""Outcome code of a run in which the body slides before it rocks (engine.NOT_APPLICABLE):
+the rocking model does not apply there; set by the spectrum and the sweeps, never by the kernel."""
+
+
+CAPACITY_CODE = -3
+"""Outcome code of an isolated run in which the plate passed the isolator's capacity
+(isolator/sweeps.py CAPACITY): "isolator capacity exceeded", a failure like overturning."""
+
 
 def outcome_label(code: int) -> str:
-    """The name of an outcome code; a negative code marks a run the solver could not
-    finish (isolated sweeps), "solver failed"."""
-    return OUTCOMES[int(code)] if code >= 0 else "solver failed"
+    """The name of an outcome code; CAPACITY_CODE: "isolator capacity exceeded"; another
+    negative code marks a run the solver could not finish (isolated sweeps), "solver failed"."""
+    if code >= 0:
+        return OUTCOMES[int(code)]
+    return "isolator capacity exceeded" if code == CAPACITY_CODE else "solver failed"

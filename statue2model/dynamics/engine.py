@@ -15,11 +15,18 @@ Example
 (True, True, False)
 >>> simulate(model, motions.cosine_pulse(0.5 * 9.81, 2.0)).outcome
 'overturn mode 2'
+
+A plastic impact (e = 0, a squat body: eq. 15 < 0) ends the rocking at the first impact:
+
+>>> plastic = RockingModel.housner(block, e_L=0.0, e_R=0.0)
+>>> r = simulate(plastic, motions.free(), theta0=0.1)
+>>> r.n_impacts, r.t_rest == float(r.impact_times[0])
+(1, True)
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -29,6 +36,8 @@ from .model import RockingModel
 from .motions import GroundMotion
 
 FREE_TIME = 20.0  # s of free motion simulated after the ground stops, by default
+NOT_APPLICABLE = "not applicable (slides before it rocks)"
+"""The outcome of a run in which the body slides before it rocks (see RockingModel.applicability)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,6 +54,9 @@ class RockingResult:
     overturned or still moves at t_end); peak_times, peak_values (|theta| at each
     extremum), peak_sides; history (t, theta, theta', phase) when requested,
     phase 0 stick, 1 rolling transition, 2 rocking; stats: solver counters.
+    applicable: False if the body slides before it rocks and the ground exceeds the
+    friction (:meth:`RockingModel.applicability`); the numbers are then those of a base
+    that cannot slide and ``outcome`` says 'not applicable'; why: the reason.
     """
 
     model: RockingModel
@@ -69,6 +81,8 @@ class RockingResult:
     peak_sides: np.ndarray
     history: dict | None
     stats: dict
+    applicable: bool = True
+    why: str = ""
 
     @property
     def n_impacts(self) -> int:
@@ -92,7 +106,10 @@ class RockingResult:
 
     @property
     def outcome(self) -> str:
-        """'no motion', 'rolling' (never past theta_side), 'rocking' or 'overturn mode k'."""
+        """'no motion', 'rolling' (never past theta_side), 'rocking' or 'overturn mode k';
+        NOT_APPLICABLE if the body slides before it rocks under this motion."""
+        if not self.applicable:
+            return NOT_APPLICABLE
         return outcome_name(self.uplift_time is not None, self.full_uplift or self.model.kind == "housner",
                             self.overturned, self.impacts_before_overturn)
 
@@ -112,6 +129,7 @@ class RockingResult:
             "impacts_before_overturn": self.impacts_before_overturn,
             "overturn_time": opt(self.overturn_time), "overturn_side": self.overturn_side,
             "t_rest": opt(self.t_rest), "outcome": self.outcome,
+            "applicable": self.applicable, "why": self.why, "notes": self.model.notes,
             "peaks": {"t": self.peak_times.tolist(), "theta_abs": self.peak_values.tolist(),
                       "side": self.peak_sides.tolist()},
             "t_end": self.t_end, "theta0": self.theta0, "omega0": self.omega0,
@@ -187,6 +205,7 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
     peaks = np.empty((max_records, 3))
     S = np.zeros(K.N_S)
     hi, lo = motion.extremes()
+    applicable, why = model.applicability(hi, -lo)
     lim_up, lim_dn = model.uplift_limits
     quiet = theta0 == 0.0 and omega0 == 0.0 and hi <= lim_up and lo >= -lim_dn
     if quiet:
@@ -202,7 +221,8 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
         raise RuntimeError(f"rocking solver stopped after {max_steps} steps at t = {S[K.S_T_FINAL]:.6g} s")
     if S[K.S_STATUS] == K.STATUS_STALLED:
         raise RuntimeError(f"rocking solver made no progress at t = {S[K.S_T_FINAL]:.6g} s")
-    return _result(model, motion, theta0, omega0, float(t_end), S, out_t, out_y, imp, peaks)
+    r = _result(model, motion, theta0, omega0, float(t_end), S, out_t, out_y, imp, peaks)
+    return r if applicable else replace(r, applicable=False, why=why)
 
 
 def _opt(x):

@@ -15,6 +15,18 @@ Symbols, once (SI units):
   constant or a table e(|theta'-|) (:class:`Restitution`).
 * ``linearised`` - sin(delta - |theta|) -> delta - |theta|, cos -> 1 (Housner's
   slender-block approximation, used by the closed forms).
+* ``mu_static`` - static friction coefficient between the base and its support
+  (default :data:`MU_STATIC`). The model is pure rocking: it applies only where the
+  body lifts before it slides. Sliding from rest needs a ground acceleration
+  mu_s g, uplift needs alpha_side a_side = alpha_side g b_side / h, so a body whose
+  easier uplift (the side that lifts first) needs more than mu_s g *slides before
+  it rocks*, and under a ground acceleration above mu_s g its rocking outcome is
+  not applicable (:meth:`RockingModel.applicability`). The friction the pivot
+  needs once the body rocks (it can exceed mu_s during impacts) is not checked.
+
+Restitution: the default is eq. 15's angular-momentum value, clipped at 0: a
+squat body (eq. 15 < 0) has a plastic impact, e = 0, and stops rocking at its
+first impact (:meth:`RockingParams.restitution_notes`).
 
 alpha_L = alpha_R = 1 and theta_L = theta_R = 0 is the classical (Housner) model.
 
@@ -39,6 +51,14 @@ from ..geometry.rocking_params import RockingParams
 from . import kernel as K
 
 THETA_FLOOR = 1e-9  # shortest rolling transition integrated, as a fraction of delta
+
+MU_STATIC = 0.7
+"""Default static friction coefficient of the body's base on its support: a typical
+value for dry stone on stone (handbook figures run from about 0.6 to 0.8), not a
+measured one and not from the thesis; set the real one with ``--mu-static`` or
+``[model] mu_static``. With mu_s > b/h a rigid block starts to rock rather than slide
+(the thesis, ch. 2.2.2, citing its ref. [6], Aslam et al.; Shenton, J. Eng. Mech. 122(7),
+1996, gives the full slide / rock / slide-rock criteria)."""
 
 
 def _finite(name: str, value) -> float:
@@ -128,8 +148,12 @@ class RockingModel:
     e_L: Restitution = field(default_factory=lambda: Restitution.constant(1.0, "e_L"))
     e_R: Restitution = field(default_factory=lambda: Restitution.constant(1.0, "e_R"))
     linearised: bool = False
+    mu_static: float = MU_STATIC
 
     def __post_init__(self):
+        mu = _finite("mu_static", self.mu_static)
+        if not mu > 0.0:
+            raise InputError(f"static friction coefficient mu_static must be > 0, got {mu}")
         for name in ("alpha_L", "alpha_R"):
             a = _finite(name, getattr(self, name))
             if not 0.0 < a <= 1.0:
@@ -145,22 +169,26 @@ class RockingModel:
 
     # -- constructors -------------------------------------------------------
     @classmethod
-    def housner(cls, params: RockingParams, e_L=None, e_R=None, linearised: bool = False) -> "RockingModel":
-        """Classical model; e defaults to the angular-momentum values of eq. 15."""
+    def housner(cls, params: RockingParams, e_L=None, e_R=None, linearised: bool = False,
+                mu_static: float | None = None) -> "RockingModel":
+        """Classical model; e defaults to the angular-momentum values of eq. 15 (clipped
+        at 0: plastic impact); mu_static to MU_STATIC."""
         return cls(params, 1.0, 1.0, 0.0, 0.0,
                    Restitution.from_value(params.e_L if e_L is None else e_L, "e_L"),
-                   Restitution.from_value(params.e_R if e_R is None else e_R, "e_R"), bool(linearised))
+                   Restitution.from_value(params.e_R if e_R is None else e_R, "e_R"), bool(linearised),
+                   MU_STATIC if mu_static is None else mu_static)
 
     @classmethod
     def imperfect(cls, params: RockingParams, alpha_L: float, alpha_R: float, theta_L=None, theta_R=None,
-                  e_L=None, e_R=None, linearised: bool = False) -> "RockingModel":
+                  e_L=None, e_R=None, linearised: bool = False, mu_static: float | None = None) -> "RockingModel":
         """Imperfect asymmetric model (eqs. 33-38); theta_side defaults to 0.07 delta_side,
         the thesis' rough estimate of the full-uplift rotation (ch. 4.2)."""
         return cls(params, alpha_L, alpha_R,
                    0.07 * params.delta_L if theta_L is None else theta_L,
                    0.07 * params.delta_R if theta_R is None else theta_R,
                    Restitution.from_value(params.e_L if e_L is None else e_L, "e_L"),
-                   Restitution.from_value(params.e_R if e_R is None else e_R, "e_R"), bool(linearised))
+                   Restitution.from_value(params.e_R if e_R is None else e_R, "e_R"), bool(linearised),
+                   MU_STATIC if mu_static is None else mu_static)
 
     def with_(self, **changes) -> "RockingModel":
         """A copy with some fields changed (e.g. ``theta_R=...``, ``e_L=0.9``)."""
@@ -196,6 +224,66 @@ class RockingModel:
         return aL, aR
 
     @property
+    def lift_accelerations(self) -> tuple[float, float]:
+        """(alpha_L a_L, alpha_R a_R) in m/s^2 with the exact a_side = g b_side / h (also for a
+        linearised model): the ground acceleration toward +x (-x) that lifts the body on its
+        left (right) pivot, what friction must hold for the body to rock rather than slide."""
+        p = self.params
+        aL, aR = self.effective_alpha
+        return aL * p.a_L, aR * p.a_R
+
+    @property
+    def slides_first(self) -> bool:
+        """True if the body slides before it rocks: even its easier uplift (the side that
+        lifts first) needs more than the friction can hold, min(alpha_i a_i) > mu_static g."""
+        return min(self.lift_accelerations) > self.mu_static * self.params.g
+
+    def sliding_note(self) -> str:
+        """'' if the body lifts before it slides in both directions; else one line: 'slides
+        before it rocks: ...' (no rocking above mu_s g), or a warning when only the harder
+        side needs more friction than mu_s."""
+        g, mu = self.params.g, self.mu_static
+        up, dn = self.lift_accelerations
+        sides = {"L": (up, "+x", self.effective_alpha[0], self.params.b_L),
+                 "R": (dn, "-x", self.effective_alpha[1], self.params.b_R)}
+        first = "L" if up <= dn else "R"
+        a1, _, al1, b1 = sides[first]
+        if a1 > mu * g:
+            al = f"alpha_{first} " if al1 < 1 else ""
+            return (f"slides before it rocks: lifting it needs a ground acceleration of {a1 / g:.3f} g "
+                    f"({al}g b_{first}/h on the pivot that lifts first, b_{first}/h = {b1 / self.params.h:.3f}) but "
+                    f"friction holds only mu_s g = {mu:.3f} g (static friction mu_s = {mu:g}): above {mu:.3f} g the "
+                    f"body slides and the rocking outcome is not applicable")
+        other = "R" if first == "L" else "L"
+        a2, dir2, _, _ = sides[other]
+        if a2 > mu * g:
+            return (f"warning: uplift on the {other} pivot needs {a2 / g:.3f} g > mu_s g = {mu:.3f} g: a ground "
+                    f"acceleration above {mu:.3f} g toward {dir2} while the body is at rest slides it before it "
+                    f"lifts on that side; the rocking model assumes it does not slide")
+        return ""
+
+    def applicability(self, peak_pos: float, peak_neg: float) -> tuple[bool, str]:
+        """(applicable, why) of a run whose ground acceleration reaches ``peak_pos`` toward
+        +x and ``peak_neg`` toward -x (both >= 0, m/s^2): not applicable if the body slides
+        before it rocks (:attr:`slides_first`) and the ground exceeds mu_s g. Below mu_s g
+        such a body neither slides nor lifts (the outcome 'no motion' holds)."""
+        peak = max(float(peak_pos), float(peak_neg))
+        if self.slides_first and peak > self.mu_static * self.params.g:
+            return False, (f"{self.sliding_note()}; peak ground acceleration {peak / self.params.g:.3f} g")
+        return True, ""
+
+    @property
+    def notes(self) -> list[str]:
+        """What a reader must know about this model's assumptions: plastic impacts where
+        eq. 15 is negative (and the model uses e = 0) and the sliding check."""
+        plastic = {side for side, e in (("L", self.e_L), ("R", self.e_R)) if e.is_constant and e.values[0] == 0.0}
+        out = [n for n in self.params.restitution_notes() if n[2] in plastic]     # 'e_L: ...'
+        s = self.sliding_note()
+        if s:
+            out.append(s)
+        return out
+
+    @property
     def energy_gain_possible(self) -> bool:
         """True if e_side^2 I_new / I_old > 1 at some impact (the impact would add energy)."""
         p = self.params
@@ -226,4 +314,5 @@ class RockingModel:
                 "alpha_L": self.alpha_L, "alpha_R": self.alpha_R,
                 "theta_L": self.theta_L, "theta_R": self.theta_R,
                 "e_L": self.e_L.to_dict(), "e_R": self.e_R.to_dict(),
+                "mu_static": self.mu_static, "slides_first": self.slides_first, "notes": self.notes,
                 "params": self.params.to_dict()}

@@ -3,7 +3,10 @@
 
 Outcome classes: no motion (below the uplift limit), rolling (lifted but never
 past theta_side), rocking, overturn mode 1, 2, 3 (0, 1, >= 2 impacts before
-overturning).
+overturning). A body that slides before it rocks (uplift needs more than the static
+friction mu_s g, :attr:`RockingModel.slides_first`) gets code NOT_APPLICABLE (-2,
+"not applicable (slides before it rocks)") at every amplitude above mu_s g; those
+points are not integrated (theta_max_over_delta nan).
 
 Example
 -------
@@ -27,8 +30,8 @@ import numpy as np
 
 from ..errors import InputError
 from . import kernel as K
-from .batch import OUTCOMES, outcome_codes, outcome_label, run_batch
-from .engine import FREE_TIME
+from .batch import NOT_APPLICABLE_CODE, OUTCOMES, outcome_codes, outcome_label, run_batch
+from .engine import FREE_TIME, NOT_APPLICABLE
 from .model import RockingModel
 
 PULSES = {"cosine": math.pi / 2, "sine": 0.0}
@@ -40,7 +43,8 @@ class StabilitySpectrum:
     theta_max_over_delta, n_impacts (n_f, n_a); pulse name; the model.
 
     Runs stop as soon as their outcome is decided (see ``early_exit`` of
-    :meth:`RockingModel.kernel_vector`), so n_impacts counts the impacts until then."""
+    :meth:`RockingModel.kernel_vector`), so n_impacts counts the impacts until then.
+    ``why``: '' or why some points are NOT_APPLICABLE_CODE (the body slides first)."""
 
     model: RockingModel
     pulse: str
@@ -50,11 +54,17 @@ class StabilitySpectrum:
     theta_max_over_delta: np.ndarray
     n_impacts: np.ndarray
     n_integrated: int
+    why: str = ""
+
+    @property
+    def applicable(self) -> np.ndarray:
+        """(n_f, n_a) bool: False where the body slides before it rocks."""
+        return self.codes != NOT_APPLICABLE_CODE
 
     def outcome(self, freq: float, amp: float) -> str:
         i = int(np.argmin(np.abs(self.freqs - freq)))
         j = int(np.argmin(np.abs(self.amps - amp)))
-        return outcome_label(self.codes[i, j])
+        return label(self.codes[i, j])
 
     def min_overturning_amp(self) -> np.ndarray:
         """Smallest amplitude of the grid that overturns, per frequency (nan if none)."""
@@ -67,14 +77,20 @@ class StabilitySpectrum:
         return out
 
     def counts(self) -> dict:
-        return {name: int(np.sum(self.codes == k)) for k, name in enumerate(OUTCOMES)}
+        out = {name: int(np.sum(self.codes == k)) for k, name in enumerate(OUTCOMES)}
+        n_na = int(np.sum(self.codes == NOT_APPLICABLE_CODE))
+        if n_na:
+            out[NOT_APPLICABLE] = n_na
+        return out
 
     def to_dict(self) -> dict:
         return {"pulse": self.pulse, "freqs_hz": self.freqs, "amps_m_s2": self.amps,
                 "outcomes": list(OUTCOMES), "codes": self.codes, "theta_max_over_delta": self.theta_max_over_delta,
                 "n_impacts": self.n_impacts, "counts": self.counts(), "n_runs": int(self.codes.size),
                 "n_integrated": self.n_integrated, "min_overturning_amp_m_s2": self.min_overturning_amp(),
-                "model": self.model.to_dict()}
+                "applicable": bool(self.applicable.all()), "not_applicable_code": NOT_APPLICABLE_CODE,
+                "n_not_applicable": int((~self.applicable).sum()), "why": self.why,
+                "notes": self.model.notes, "model": self.model.to_dict()}
 
     def to_csv(self) -> str:
         lines = ["freq_hz,amp_m_s2,amp_g,outcome_code,outcome,theta_max_over_delta,n_impacts"]
@@ -82,9 +98,14 @@ class StabilitySpectrum:
         for i, f in enumerate(self.freqs):
             for j, a in enumerate(self.amps):
                 c = int(self.codes[i, j])
-                lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{outcome_label(c)},"
+                lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{label(c)},"
                              f"{self.theta_max_over_delta[i, j]:.6g},{int(self.n_impacts[i, j])}")
         return "\n".join(lines) + "\n"
+
+
+def label(code: int) -> str:
+    """The name of an outcome code, NOT_APPLICABLE included."""
+    return NOT_APPLICABLE if code == NOT_APPLICABLE_CODE else outcome_label(code)
 
 
 def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", rtol: float = 1e-7,
@@ -114,9 +135,15 @@ def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", 
     P = np.tile(model.kernel_vector(early_exit=True), (n, 1))
     lim_up, lim_dn = model.uplift_limits
     quiet = (A.ravel() <= lim_up) & (A.ravel() <= lim_dn)  # a full cycle reaches +amp and -amp
+    na = np.array([not model.applicability(a, a)[0] for a in amps])      # slides before it rocks
+    na = np.broadcast_to(na, F.shape).ravel()
+    quiet = quiet | na
     S = run_batch(model, P, kinds, M, np.zeros(2), M[:, K.MT1] + free_time, rtol=rtol, quiet=quiet,
                   progress="spectrum" if progress else None, executor=executor)
-    codes = outcome_codes(S, model.kind == "imperfect").reshape(F.shape)
+    codes = outcome_codes(S, model.kind == "imperfect")
+    codes[na] = NOT_APPLICABLE_CODE
     tmd = np.maximum(S[:, K.S_QMAX_L] / model.params.delta_L, S[:, K.S_QMAX_R] / model.params.delta_R)
-    return StabilitySpectrum(model, pulse, freqs, amps, codes, tmd.reshape(F.shape),
-                             S[:, K.S_N_IMP].reshape(F.shape).astype(int), int(n - quiet.sum()))
+    tmd[na] = np.nan
+    return StabilitySpectrum(model, pulse, freqs, amps, codes.reshape(F.shape), tmd.reshape(F.shape),
+                             S[:, K.S_N_IMP].reshape(F.shape).astype(int), int(n - quiet.sum()),
+                             model.sliding_note() if na.any() else "")

@@ -6,6 +6,10 @@
   parameter (e.g. 49 values of theta_R, Table 24), with the distribution of the
   peak response.
 
+Where the body slides before it rocks (:attr:`RockingModel.slides_first`) and a run's
+ground acceleration exceeds mu_s g, the run is not integrated: code NOT_APPLICABLE_CODE,
+|theta|max/delta nan, left out of the summary.
+
 Example
 -------
 >>> import numpy as np
@@ -19,7 +23,7 @@ Example
 (True, True)
 >>> s = parameter_sweep(model, rec.scaled_to_pga(2.0), "theta_R", np.linspace(0.5, 1.5, 5) * model.theta_R)
 >>> sorted(s.summary())
-['max', 'mean', 'n', 'n_overturned', 'p05', 'p50', 'p95', 'std']
+['max', 'mean', 'n', 'n_not_applicable', 'n_overturned', 'p05', 'p50', 'p95', 'std']
 """
 from __future__ import annotations
 
@@ -29,8 +33,9 @@ import numpy as np
 
 from ..errors import InputError
 from . import kernel as K
-from .batch import outcome_codes, outcome_label, run_batch
+from .batch import NOT_APPLICABLE_CODE, outcome_codes, run_batch
 from .engine import FREE_TIME, simulate
+from .spectrum import label
 from .model import RockingModel
 from .motions import GroundMotion
 
@@ -41,7 +46,8 @@ SWEEPABLE = ("alpha_L", "alpha_R", "alpha", "theta_L", "theta_R", "theta", "e_L"
 class SweepResult:
     """One response per swept value: ``values`` (n,) of ``name`` (PGA in m/s^2 for
     a variability sweep), theta_max_over_delta, theta_max_L, theta_max_R (rad),
-    overturned (bool), codes (into OUTCOMES), n_impacts (until the outcome was decided)."""
+    overturned (bool), codes (into OUTCOMES, or NOT_APPLICABLE_CODE: nan responses), n_impacts
+    (until the outcome was decided); why: '' or why some runs are not applicable."""
 
     name: str
     values: np.ndarray
@@ -53,19 +59,41 @@ class SweepResult:
     n_impacts: np.ndarray
     model: RockingModel
     motion: GroundMotion
+    why: str = ""
+
+    @property
+    def applicable(self) -> np.ndarray:
+        """(n,) bool: False where the body slides before it rocks."""
+        return np.asarray(self.codes) != NOT_APPLICABLE_CODE
 
     def summary(self) -> dict:
-        """Distribution of |theta|max/delta over the sweep (overturned runs count as 1)."""
-        x = self.theta_max_over_delta
+        """Distribution of |theta|max/delta over the sweep's applicable runs (overturned runs
+        count as 1; nan if none applies); n_not_applicable: the runs left out."""
+        x = self.theta_max_over_delta[self.applicable]
+        n_na = int(self.values.size - x.size)
+        if x.size == 0:
+            nan = float("nan")
+            return {"n": 0, "mean": nan, "std": nan, "p05": nan, "p50": nan, "p95": nan, "max": nan,
+                    "n_overturned": 0, "n_not_applicable": n_na}
         return {"n": int(x.size), "mean": float(x.mean()), "std": float(x.std()),
                 "p05": float(np.percentile(x, 5)), "p50": float(np.percentile(x, 50)),
                 "p95": float(np.percentile(x, 95)), "max": float(x.max()),
-                "n_overturned": int(self.overturned.sum())}
+                "n_overturned": int(self.overturned.sum()), "n_not_applicable": n_na}
+
+    def applicable_only(self) -> "SweepResult":
+        """The same sweep without its not-applicable runs (e.g. to plot it)."""
+        from dataclasses import replace
+
+        k = self.applicable
+        return replace(self, values=self.values[k], theta_max_over_delta=self.theta_max_over_delta[k],
+                       theta_max_L=self.theta_max_L[k], theta_max_R=self.theta_max_R[k],
+                       overturned=self.overturned[k], codes=self.codes[k], n_impacts=self.n_impacts[k])
 
     def to_dict(self) -> dict:
         return {"name": self.name, "values": self.values, "theta_max_over_delta": self.theta_max_over_delta,
                 "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R,
-                "overturned": self.overturned, "outcome": [outcome_label(c) for c in self.codes],
+                "overturned": self.overturned, "outcome": [label(c) for c in self.codes],
+                "applicable": self.applicable, "why": self.why, "notes": self.model.notes,
                 "n_impacts": self.n_impacts, "summary": self.summary(),
                 "model": self.model.to_dict(), "motion": self.motion.to_dict()}
 
@@ -73,17 +101,24 @@ class SweepResult:
         lines = [f"{self.name},theta_max_over_delta,theta_max_L_rad,theta_max_R_rad,overturned,outcome,n_impacts"]
         for i in range(self.values.size):
             lines.append(f"{self.values[i]:.9g},{self.theta_max_over_delta[i]:.9g},{self.theta_max_L[i]:.9g},"
-                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{outcome_label(self.codes[i])},"
+                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{label(self.codes[i])},"
                          f"{int(self.n_impacts[i])}")
         return "\n".join(lines) + "\n"
 
 
-def _result(name, values, S, model, motion, codes) -> SweepResult:
+def _result(name, values, S, model, motion, codes, na=None, why: str = "") -> SweepResult:
+    """``na``: (n,) bool, runs in which the body slides before it rocks (not integrated)."""
     p = model.params
-    tl, tr = S[:, K.S_QMAX_L], S[:, K.S_QMAX_R]
+    tl, tr = S[:, K.S_QMAX_L].copy(), S[:, K.S_QMAX_R].copy()
     tmd = np.maximum(tl / p.delta_L, tr / p.delta_R)
+    if na is not None and np.any(na):
+        codes = codes.copy()
+        codes[na] = NOT_APPLICABLE_CODE
+        tl[na] = tr[na] = tmd[na] = np.nan
+    else:
+        why = ""
     return SweepResult(name, np.asarray(values, dtype=float), tmd, tl, tr, S[:, K.S_OVERTURNED] > 0, codes,
-                       S[:, K.S_N_IMP].astype(int), model, motion)
+                       S[:, K.S_N_IMP].astype(int), model, motion, why)
 
 
 def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1e-7,
@@ -104,10 +139,12 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
     hi, lo = motion.extremes()
     lim_up, lim_dn = model.uplift_limits
     quiet = (gain * hi <= lim_up) & (-gain * lo <= lim_dn)
+    na = np.array([not model.applicability(k * hi, -k * lo)[0] for k in gain])
     P = np.tile(model.kernel_vector(early_exit=True), (n, 1))
     S = run_batch(model, P, np.full(n, kind), M, samples, np.full(n, motion.end + free_time), rtol=rtol,
-                  quiet=quiet, progress="variability" if progress else None, executor=executor)
-    return _result("pga_m_s2", pgas, S, model, motion, outcome_codes(S, model.kind == "imperfect"))
+                  quiet=quiet | na, progress="variability" if progress else None, executor=executor)
+    return _result("pga_m_s2", pgas, S, model, motion, outcome_codes(S, model.kind == "imperfect"), na,
+                   model.sliding_note())
 
 
 def _models(model: RockingModel, name: str, values) -> list[RockingModel]:
@@ -149,9 +186,11 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     models = _models(model, name, values)
     n = values.size
     t_end = motion.end + free_time
+    hi, lo = motion.extremes()
+    na = np.array([not m.applicability(hi, -lo)[0] for m in models], dtype=bool)
     if name.startswith("e"):
         # restitution tables are shared by a batch: run one by one
-        tasks = [(m, motion, t_end, rtol) for m in models]
+        tasks = [(m, motion, t_end, rtol) for m in models]     # e does not change the sliding check
         if executor is None:
             rows = [_simulate_row(task) for task in tasks]
         else:
@@ -160,12 +199,12 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     else:
         kind, M0, samples = motion.kernel_args()
         P = np.stack([m.kernel_vector(early_exit=True) for m in models])
-        hi, lo = motion.extremes()
-        quiet = np.array([hi <= m.uplift_limits[0] and -lo <= m.uplift_limits[1] for m in models])
+        quiet = np.array([hi <= m.uplift_limits[0] and -lo <= m.uplift_limits[1] for m in models]) | na
         S = run_batch(model, P, np.full(n, kind), np.tile(M0, (n, 1)), samples, np.full(n, t_end), rtol=rtol,
                       quiet=quiet, progress=f"sweep {name}" if progress else None, executor=executor)
     codes = outcome_codes(S, any(m.kind == "imperfect" for m in models))
-    return _result(name, values, S, model, motion, codes)
+    why = next((m.sliding_note() for m, x in zip(models, na) if x), "")
+    return _result(name, values, S, model, motion, codes, na, why)
 
 
 def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:

@@ -19,8 +19,12 @@ p_i        sqrt(m g d_i / I_i), frequency parameter, rad/s
 a_i        g b_i / h, uplift acceleration (West), m/s^2: a ground acceleration
            of -a_R (toward -x) lifts the body onto its right pivot
            (theta > 0), one of +a_L onto its left pivot (theta < 0)
-e_L, e_R   theoretical restitution, [I_G + m (h^2 - b_L b_R)] / I_i: e_L for
-           landing on the left edge (after rocking on the right pivot)
+e_L, e_R   theoretical restitution, max(0, [I_G + m (h^2 - b_L b_R)] / I_i)
+           (eq. 15): e_L for landing on the left edge (after rocking on the
+           right pivot). Eq. 15 turns negative for a squat body (a rectangle
+           with delta > asin(sqrt(2/3)) = 54.7 deg): the impact is then
+           plastic, e = 0 (thesis ch. 2.2.3); ``e_L_raw``, ``e_R_raw`` keep
+           eq. 15's own value
 =========  ============================================================
 
 Example
@@ -109,16 +113,41 @@ class RockingParams:
         return self.g * self.b_R / self.h
 
     @property
-    def e_L(self) -> float:
+    def e_L_raw(self) -> float:
+        """Eq. 15 as it stands (negative for a squat body): [I_G + m (h^2 - b_L b_R)] / I_L."""
         return (self.I_G + self.m * (self.h**2 - self.b_L * self.b_R)) / self.I_L
 
     @property
-    def e_R(self) -> float:
+    def e_R_raw(self) -> float:
+        """Eq. 15 as it stands (negative for a squat body): [I_G + m (h^2 - b_L b_R)] / I_R."""
         return (self.I_G + self.m * (self.h**2 - self.b_L * self.b_R)) / self.I_R
 
+    @property
+    def e_L(self) -> float:
+        """Theoretical restitution landing on the left edge: max(0, eq. 15); 0 is a plastic
+        impact (the body stops rocking at it).
+
+        >>> RockingParams.rectangular_block(b=0.5, h=0.3, m=500).e_L   # squat: eq. 15 gives -0.103
+        0.0
+        """
+        return max(0.0, self.e_L_raw)
+
+    @property
+    def e_R(self) -> float:
+        """Theoretical restitution landing on the right edge: max(0, eq. 15)."""
+        return max(0.0, self.e_R_raw)
+
+    def restitution_notes(self) -> list[str]:
+        """One line per side where eq. 15 is negative and the impact is taken as plastic."""
+        return [f"e_{side}: plastic impact (eq. 15 gives e = {raw:.3g} < 0): e_{side} = 0, the body stops "
+                f"rocking at the first impact on that edge"
+                for side, raw in (("L", self.e_L_raw), ("R", self.e_R_raw)) if raw < 0]
+
     def to_dict(self) -> dict:
-        """All base and derived quantities under the names of the module table."""
+        """All base and derived quantities under the names of the module table, and
+        eq. 15's unclipped restitution (``e_L_raw``, ``e_R_raw``)."""
         out = {k: getattr(self, k) for k in PARAM_KEYS}
+        out["e_L_raw"], out["e_R_raw"] = self.e_L_raw, self.e_R_raw
         out["direction_deg"] = self.direction_deg
         out["g"] = self.g
         return out

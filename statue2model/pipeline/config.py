@@ -7,7 +7,8 @@ a unit instead: ``"9mm"``, ``"0.075g"``; ``"auto"`` leaves a choice to the progr
 [prototype]  enabled, scale, board, glue, policy, tool, compensate, tolerance, rod,
              clearance, wall, sheet, margin, edge, feed, pass_depth, board_density,
              glue_density, rod_density, front, previews                 (``slice``)
-[model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol   (the 2D rocking model)
+[model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
+             mu_static
 [isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated           (spectra, variability,
                                                                          time histories)
@@ -117,6 +118,8 @@ class ModelConfig:
     e_L: float | None = None            # restitution; None = angular momentum (eq. 15)
     e_R: float | None = None
     rtol: float = 1e-7
+    mu_static: float = 0.7              # static friction of the base: dynamics.model.MU_STATIC, a typical
+                                        # value for stone on stone; uplift above mu_static g: slides first
 
 
 @dataclass(frozen=True)
@@ -413,6 +416,8 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
             bad(f"[model] {name} must be > 0 rad, got {v}")
     if not 0 < m.rtol < 1e-2:
         bad(f"[model] rtol must be in (0, 0.01), got {m.rtol}")
+    if not (math.isfinite(m.mu_static) and 0 < m.mu_static <= 10):
+        bad(f"[model] mu_static (static friction coefficient) must be in (0, 10], got {m.mu_static}")
     if not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):
