@@ -83,6 +83,10 @@ def _cmd_run(args) -> int:
             return 0
         res = run_project(target, out, cfg, stages=stages, force=args.force, executor=ex,
                           say=lambda m: print(m, flush=True))
+    if res.verdict:
+        print("\nAssessment\n  Recommendation: " + res.verdict["recommendation"])
+        for line in res.verdict["lines"]:
+            print("  " + line)
     print("\nSummary")
     w = max(len(n) for n in res.stages)
     for name, status, t in res.summary_rows():

@@ -11,7 +11,7 @@ from statue2model.cli import main
 from statue2model.geometry.base import SENSITIVITY_LIMIT
 from statue2model.geometry.body import body_from_mesh
 
-from scan_fixtures import RINGS, SECTORS, G, H, R, column  # noqa: E402
+from scan_fixtures import SECTORS, G, H, R, column  # noqa: E402
 
 
 def body(bottom, **kw):

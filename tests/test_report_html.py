@@ -1,7 +1,6 @@
 """The self-contained HTML report, and headless Chromium's view of its figures."""
 from __future__ import annotations
 
-import os
 import re
 import shutil
 from pathlib import Path
@@ -9,7 +8,6 @@ from pathlib import Path
 import pytest
 
 from statue2model.report.browser import (
-    DEBIAN_PACKAGE,
     ENV_VAR,
     FigureCheck,
     check_figures,
@@ -214,18 +212,6 @@ def test_failing_browser_is_one_line_error(good_report):
 
 
 # ---- headless Chromium -------------------------------------------------------------------------
-
-
-@pytest.fixture(scope="module")
-def chromium() -> str:
-    exe = find_chromium()
-    if exe is None:
-        msg = (f"no headless Chromium on PATH: install the Debian package {DEBIAN_PACKAGE} "
-               f"(.ci/install does) or set {ENV_VAR}")
-        if os.environ.get("CI"):
-            pytest.fail(msg)
-        pytest.skip(msg)
-    return exe
 
 
 def test_browser_loads_all_figures(chromium, good_report):

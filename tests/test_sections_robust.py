@@ -18,7 +18,6 @@ import math
 
 import numpy as np
 import pytest
-import shapely
 import trimesh
 from shapely.geometry import MultiPolygon, Polygon, box
 

@@ -25,7 +25,8 @@ TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sh
           "crosscheck": "3D cross-check (PyBullet)"}
 HEADLINE = {"params": ("mass", "h", "b_L / b_R", "uplift a_R", "weakest direction"),
             "isolator": ("design", "period T"),
-            "dynamics": ("lowest overturning PGA (fixed)", "lowest overturning PGA (isolated)"),
+            "dynamics": ("lowest overturning PGA (fixed)",
+                         "lowest failing PGA (isolated: overturning or capacity exceeded)"),
             "crosscheck": ("2D/3D agreement",)}
 STATUS = {"done": "done", "cached": "cached", "failed": "failed"}
 
@@ -54,7 +55,10 @@ def build_doc(res) -> dict:
         else:
             sec["text"].insert(0, f"stage {status}")
         sections.append(sec)
+    verdict = getattr(res, "verdict", None) or None
     return {"title": f"statue2model report: {res.mesh.stem}",
+            "verdict": None if not verdict else {"recommendation": verdict["recommendation"],
+                                                 "lines": verdict["lines"], "status": verdict.get("status", "warn")},
             "subtitle": f"{res.mesh.name}, {time.strftime('%Y-%m-%d %H:%M')}, statue2model {__version__}, "
                         f"stages {res.seconds:.1f} s",
             "summary": summary, "warnings": warnings, "sections": sections,

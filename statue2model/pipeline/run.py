@@ -3,7 +3,8 @@
     OUT/config.toml        the resolved configuration (every key; repeat the run with it)
     OUT/params/ OUT/prototype/ OUT/isolator/ OUT/dynamics/ OUT/crosscheck/
                            one folder per stage, each with its manifest stage.json
-    OUT/run.json           stages (status, seconds, cached, key, warnings) and their headline numbers;
+    OUT/run.json           the verdict (hazard, fixed base, isolator, recommendation: pipeline/verdict.py),
+                           stages (status, seconds, cached, key, warnings) and their headline numbers;
                            ``warnings``: every stage's warnings, [{stage, text}]
     OUT/report.html        the self-contained report
 
@@ -40,6 +41,7 @@ from ..files import atomic_write, prepare_dir, write_json
 from .cache import clean_partials, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, motion_files
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
+from .verdict import assess
 
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
 
@@ -55,6 +57,7 @@ class RunResult:
     stages: dict = field(default_factory=dict)
     report: Path | None = None
     seconds: float = 0.0
+    verdict: dict | None = None
 
     @property
     def warnings(self) -> list[dict]:
@@ -159,15 +162,17 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
         keys[name], dirs[name], manifests[name] = key, out / name, man
         results[name] = {**man, "status": status}
     write_config(cfg, out / "config.toml", mesh, out)
-    res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run)
+    verdict = assess(results, dirs, cfg)
+    res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run,
+                    verdict=verdict)
     write_json(out / "run.json", {"schema": "statue2model.run/1", "version": __version__, "mesh": str(mesh),
-                                  "mesh_sha256": mesh_hash, "seconds": res.seconds, "stages": results,
-                                  "warnings": res.warnings})
+                                  "mesh_sha256": mesh_hash, "seconds": res.seconds, "verdict": verdict,
+                                  "stages": results, "warnings": res.warnings})
     if report:
         from .report import write_html
 
         res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=res.seconds,
-                        report=write_html(res))
+                        report=write_html(res), verdict=verdict)
     return res
 
 
@@ -208,9 +213,11 @@ COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]"
                       ("params", "a_min", "weakest uplift [g]", 1 / 9.81),
                       ("params", "weakest_deg", "weakest direction [deg]", 1.0),
                       ("dynamics", "spectrum_overturn_fraction_fixed", "pulses overturning, fixed", 1.0),
-                      ("dynamics", "spectrum_overturn_fraction_isolated", "pulses overturning, isolated", 1.0),
+                      ("dynamics", "spectrum_overturn_fraction_isolated",
+                       "pulses overturning or exceeding the isolator's capacity, isolated", 1.0),
                       ("dynamics", "first_overturn_pga_fixed", "lowest overturning PGA fixed [g]", 1 / 9.81),
-                      ("dynamics", "first_overturn_pga_isolated", "lowest overturning PGA isolated [g]", 1 / 9.81),
+                      ("dynamics", "first_overturn_pga_isolated",
+                       "lowest failing PGA isolated (overturning or capacity exceeded) [g]", 1 / 9.81),
                       ("isolator", "R", "isolator R [m]", 1.0), ("isolator", "T", "isolator T [s]", 1.0),
                       ("isolator", "passed", "isolator passes", None))
 

@@ -64,9 +64,10 @@ class Context:
         from ..dynamics.model import RockingModel
 
         m, p = self.config.model, self.params()
+        mu_s = getattr(m, "mu_static", None)
         if m.kind == "housner":
-            return RockingModel.housner(p, m.e_L, m.e_R)
-        return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R)
+            return RockingModel.housner(p, m.e_L, m.e_R, mu_static=mu_s)
+        return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R, mu_static=mu_s)
 
     def design(self) -> dict | None:
         """The isolator design (dict) if the isolator stage ran and its design passed."""
@@ -181,39 +182,49 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
         text.append("CNC files: plates/bottom_plate.dxf, plates/top_plate.dxf (outline CUT_OUTSIDE, groove "
                     "openings POCKET, centres DRILL), solids as STL and 3MF.")
     else:
-        failed = [ck.name for ck in res.checks if ck.required and not ck.passed]
-        warnings.append(f"No isolator design meets every required check ({'; '.join(failed)}): no plates were "
-                        "written, and the analyses on the isolator are skipped.")
+        warnings.append(f"No isolator in range works: {res.failure}. No plates were written, and the analyses "
+                        "on the isolator are skipped.")
     warnings += [f"advisory check not met: {ck.name} ({ck.why})" for ck in res.checks
                  if not ck.required and not ck.passed]
-    rows = [[ck.name, _fmt(ck.value), _fmt(ck.limit), "pass" if ck.passed else ("fail" if ck.required else "note"),
-             ck.why] for ck in res.checks]
+    rows = [[ck.name, _fmt(ck.value), _fmt(ck.limit), ck.unit, _fmt(ck.ratio, 3),
+             "pass" if ck.passed else ("fail" if ck.required else "note"), ck.why] for ck in res.checks]
     summary = {"design": "PASS" if res.passed else "FAIL",
-               "grooves / balls": f"R {res.R:.3f} m, r {res.r * 1000:.1f} mm, {res.n_grooves} grooves",
+               "grooves / balls": f"R {res.R:.3f} m, r {res.r:.4f} m, {res.n_grooves} grooves",
                "period T": f"{res.T:.2f} s",
-               "plate": f"{res.side * 1000:.0f} x {res.side * 1000:.0f} x {res.thickness * 1000:.0f} mm",
-               "plate acceleration": f"{res.a_design:.4f} m/s^2 (limit {res.a_lim:.4f})",
-               "displacement": f"{res.d_design * 1000:.1f} mm (allowed {res.d_max * 1000:.1f})"}
+               "plate": f"{res.side:.3f} x {res.side:.3f} x {res.thickness:.3f} m",
+               "plate acceleration": f"{res.a_design:.4f} m/s^2 (limit {res.a_lim:.4f} m/s^2)",
+               "travel": f"{res.d_design:.4f} m x {res.margin:g} + mu R_hat = {res.travel_need:.4f} m "
+                         f"(capacity {res.capacity:.4f} m, {res.capacity_limited_by})"}
+    text.append(f"Chosen among {res.candidates.get('passing', 0)} passing of {res.candidates_tried} candidates: "
+                f"{res.criterion}.")
     return {"summary": summary, "text": text + list(res.notes), "warnings": warnings, "figures": figs,
-            "tables": [{"title": "Design checks", "columns": ["check", "value", "limit", "result", "why"],
-                        "rows": rows, "status_column": 3}],
+            "tables": [{"title": "Design checks (each passes when value <= limit; ratio = value / limit)",
+                        "columns": ["check", "value", "limit", "unit", "ratio", "result", "why"],
+                        "rows": rows, "status_column": 5}],
             "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
-                     "side": res.side, "n_grooves": res.n_grooves, "a_design": res.a_design}}
+                     "side": res.side, "n_grooves": res.n_grooves, "a_design": res.a_design,
+                     "d_design": res.d_design, "capacity": res.capacity, "travel_need": res.travel_need,
+                     "failure": res.failure}}
 
 
 # --- dynamics -------------------------------------------------------------------------------------
 def _spectrum_rows(sp, label):
+    """One row of the spectra table. Isolated spectra (codes may be CAPACITY): 'overturns'
+    and the lowest amplitude count overturning or capacity exceeded, the conservative failure."""
     from ..dynamics.batch import OUTCOMES
+    from ..dynamics.spectrum import label as code_label
+    from ..isolator.sweeps import CAPACITY, is_failure
 
     n = sp.codes.size
-    ot = sp.codes >= 3
-    amin = sp.min_overturning_amp()
+    bad = is_failure(sp.codes)
+    amin = sp.min_failure_amp() if hasattr(sp, "min_failure_amp") else sp.min_overturning_amp()
     lowest = np.nanmin(amin) if np.any(np.isfinite(amin)) else None
-    return [label, f"{np.sum(sp.codes >= 1) / n * 100:.1f} %", f"{ot.sum() / n * 100:.1f} %",
+    moved = (sp.codes >= 1) | (sp.codes == CAPACITY)
+    extra = sorted(int(c) for c in np.unique(sp.codes[sp.codes < 0]))
+    return [label, f"{np.sum(moved) / n * 100:.1f} %", f"{bad.sum() / n * 100:.1f} %",
             "-" if lowest is None else f"{lowest / G:.3f} g",
             ", ".join([f"{OUTCOMES[k]} {int(np.sum(sp.codes == k))}" for k in range(len(OUTCOMES))
-                       if np.any(sp.codes == k)] + ([f"solver failed {int(np.sum(sp.codes < 0))}"]
-                                                    if np.any(sp.codes < 0) else []))]
+                       if np.any(sp.codes == k)] + [f"{code_label(c)} {int(np.sum(sp.codes == c))}" for c in extra])]
 
 
 def _first_overturn(sw) -> float | None:
@@ -227,9 +238,9 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     from ..dynamics.spectrum import stability_spectrum
     from ..dynamics.sweeps import variability
     from ..isolator.coupled import simulate_coupled
-    from ..isolator.device import Isolator
+    from ..isolator.device import isolator_from_design
     from ..isolator.dynamics import simulate as plate_run
-    from ..isolator.sweeps import isolated_spectrum, isolated_variability
+    from ..isolator.sweeps import CAPACITY, FAILED, is_failure, isolated_spectrum, isolated_variability
     from ..report.dynamics_plots import plot_spectrum
     from ..report.pipeline_plots import plot_history_pair, plot_variability_pair
 
@@ -241,27 +252,43 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     motion = parse_spec(c.motion)[0]
     ex = {"executor": ctx.executor} if ctx.executor is not None else {}
     design = ctx.design() if c.isolated else None
-    iso = Isolator(R=design["R"], r=design["r"], M=design["M"], mu=design["mu"]) if design else None
+    iso = isolator_from_design(design) if design else None
 
-    figs, tables, text, data = [], [], [], {}
+    figs, tables, text, data, warnings = [], [], [], {}, []
     sp = stability_spectrum(model, freqs, amps, pulse=c.pulse, rtol=rtol, **ex)
     write_json(d / "spectrum_fixed.json", sp.to_dict())
     plot_spectrum(sp, d / "spectrum_fixed.png", f"fixed base: one-{c.pulse} pulses ({sp.codes.size} runs)")
     figs.append(_fig("spectrum_fixed.png", f"Stability spectrum on a fixed base: one-{c.pulse} pulses, "
                                            f"{sp.codes.size} runs"))
     spec_rows = [_spectrum_rows(sp, "fixed base")]
+    cap_txt = "not checked"
     if iso is not None:
+        cap = iso.capacity
+        cap_txt = f"{cap * 1000:.1f} mm" if np.isfinite(cap) else "not checked"
+        data["capacity_isolator"] = cap if np.isfinite(cap) else None
+        if not np.isfinite(cap):
+            warnings.append("The isolator design gives no capacity (largest plate displacement): the analyses on "
+                            "the isolator do not check whether the balls stay in their grooves.")
         spi = isolated_spectrum(iso, model, freqs, amps, pulse=c.pulse, rtol=rtol, executor=ctx.executor)
         write_json(d / "spectrum_isolated.json", spi.to_dict())
         plot_spectrum(spi, d / "spectrum_isolated.png",
-                      f"on the isolator (T = {design['T']:.2f} s): one-{c.pulse} pulses ({spi.codes.size} runs)")
+                      f"on the isolator (T = {design['T']:.2f} s, capacity {cap_txt}): one-{c.pulse} pulses "
+                      f"({spi.codes.size} runs)")
         figs.append(_fig("spectrum_isolated.png", f"Stability spectrum of the statue on the isolator (coupled plate "
-                                                  f"+ statue), the same {spi.codes.size} pulses"))
+                                                  f"+ statue), the same {spi.codes.size} pulses; 'isolator capacity "
+                                                  f"exceeded': the plate moved more than {cap_txt}"))
         spec_rows.append(_spectrum_rows(spi, "on the isolator"))
-        data["spectrum_overturn_fraction_isolated"] = float(np.mean(spi.codes >= 3))
+        n_cap_sp = int(np.sum(spi.codes == CAPACITY))
+        # conservative: overturning or capacity exceeded (the key the collection table reads)
+        data["spectrum_overturn_fraction_isolated"] = float(np.mean(is_failure(spi.codes)))
+        data["spectrum_failure_fraction_isolated"] = data["spectrum_overturn_fraction_isolated"]
+        data["spectrum_overturn_only_fraction_isolated"] = float(np.mean(spi.codes >= 3))
+        data["capacity_exceeded_fraction_isolated"] = float(n_cap_sp / spi.codes.size)
     data["spectrum_overturn_fraction_fixed"] = float(np.mean(sp.codes >= 3))
     tables.append({"title": f"Stability spectra: {freqs[0]:g}-{freqs[-1]:g} Hz x {amps[0] / G:.3g}-{amps[-1] / G:.3g} g",
-                   "columns": ["base", "moves", "overturns", "lowest overturning amplitude", "outcomes"],
+                   "columns": ["base", "moves", "overturns (on the isolator: or exceeds its capacity)",
+                               "lowest failing amplitude (overturning; on the isolator: or capacity exceeded)",
+                               "outcomes"],
                    "rows": spec_rows})
 
     sw = variability(model, motion, pgas, rtol=rtol, **ex)
@@ -272,38 +299,69 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
                                         {**swi.to_dict(), "plate_acc_abs_max": acc_i}})
     plot_variability_pair(sw, swi, acc_i, d / "variability.png")
     figs.append(_fig("variability.png", f"Variability: {motion.label} scaled to {pgas.size} PGAs, fixed base "
-                                        "and on the isolator"))
-    ot_f, ot_i = _first_overturn(sw), (_first_overturn(swi) if swi is not None else None)
-    var_rows = [["fixed base", "none" if ot_f is None else f"{ot_f / G:.3f} g",
+                                        "and on the isolator" + ("" if swi is None or swi.run.all() else
+                                                                 " (on the isolator: stopped at the first PGA "
+                                                                 "that exceeds the capacity)")))
+    ot_f = _first_overturn(sw)
+    var_rows = [["fixed base", "none" if ot_f is None else f"{ot_f / G:.3f} g", "-",
                  f"{sw.summary()['p50']:.3f}", f"{sw.summary()['max']:.3f}"]]
+    ot_i = cap_i = fail_i = None
     if swi is not None:
-        var_rows.append(["on the isolator", "none" if ot_i is None else f"{ot_i / G:.3f} g",
-                         f"{swi.summary()['p50']:.3f}", f"{swi.summary()['max']:.3f}"])
+        ot_i, cap_i, fail_i = _first_overturn(swi), swi.first_capacity_pga(), swi.first_failure_pga()
+        s_i = swi.summary()
+        what = ("" if fail_i is None else " (capacity exceeded)" if fail_i == cap_i and fail_i != ot_i else
+                " (overturning)")
+        var_rows.append(["on the isolator", "none" if fail_i is None else f"{fail_i / G:.3f} g{what}",
+                         "none" if cap_i is None else f"{cap_i / G:.3f} g", f"{s_i['p50']:.3f}", f"{s_i['max']:.3f}"])
+        if not swi.run.all():
+            text.append(f"Variability on the isolator: the capacity ({cap_txt}) was exceeded at "
+                        f"{cap_i / G:.3f} g, so the {int((~swi.run).sum())} higher PGAs were not run "
+                        "(variability.json: isolated.run, not_run_pga_m_s2).")
     tables.append({"title": f"Variability over PGA {pgas[0] / G:.3g}-{pgas[-1] / G:.3g} g",
-                   "columns": ["base", "lowest overturning PGA of the grid", "median |theta|max/delta", "max |theta|max/delta"],
+                   "columns": ["base", "lowest failing PGA of the grid (overturning; on the isolator: or capacity "
+                               "exceeded)", "capacity exceeded from", "median |theta|max/delta",
+                               "max |theta|max/delta"],
                    "rows": var_rows})
-    data.update(first_overturn_pga_fixed=ot_f, first_overturn_pga_isolated=ot_i)
+    # first_overturn_pga_isolated: the conservative value (overturning or capacity exceeded),
+    # the key the collection table reads; the separate ones beside it
+    data.update(first_overturn_pga_fixed=ot_f, first_overturn_pga_isolated=fail_i, first_failure_pga_isolated=fail_i,
+                first_overturn_only_pga_isolated=ot_i, first_capacity_pga_isolated=cap_i)
+    if swi is not None:
+        data["capacity_exceeded_points_isolated"] = {
+            "spectrum": n_cap_sp, "variability": int(np.sum((swi.codes == CAPACITY) & swi.run)),
+            "variability_not_run": int((~swi.run).sum())}
 
     fixed = rock(model, motion, rtol=rtol, dt_out=0.005)
     plate = coupled = None
     hist = {"fixed": fixed.to_dict()}
-    hrows = [["fixed base", fixed.outcome, f"{fixed.theta_max_over_delta:.4f}", f"{motion.pga / G:.3f} g", "-"]]
+    hrows = [["fixed base", fixed.outcome, f"{fixed.theta_max_over_delta:.4f}", f"{motion.pga / G:.3f} g", "-",
+              "-"]]
     if iso is not None:
         plate = plate_run(iso, motion, dt_out=0.005)
         coupled = simulate_coupled(iso, model, motion, t_end=float(plate.t[-1]), dt_out=0.005, rtol=rtol)
         hist["isolated"] = coupled.to_dict()
+        travel = (f"{coupled.u_max * 1000:.1f} mm of {cap_txt}" if np.isfinite(iso.capacity) else
+                  f"{coupled.u_max * 1000:.1f} mm (capacity not checked)")
+        if coupled.capacity_exceeded:
+            travel += f"; exceeded at t = {coupled.t_capacity:.3f} s"
         hrows.append(["on the isolator", coupled.outcome, f"{coupled.theta_max_over_delta:.4f}",
-                      f"{coupled.acc_abs_max / G:.3f} g", f"{coupled.efficiency:.3f}"])
-        data.update(efficiency=coupled.efficiency, outcome_isolated=coupled.outcome)
+                      f"{coupled.acc_abs_max / G:.3f} g", f"{coupled.efficiency:.3f}", travel])
+        data.update(efficiency=coupled.efficiency, outcome_isolated=coupled.outcome,
+                    capacity_exceeded_history=coupled.capacity_exceeded, t_capacity_history=coupled.t_capacity,
+                    u_max_history=coupled.u_max)
+        if coupled.capacity_exceeded:
+            warnings.append(f"On the isolator under {motion.label}: the plate passes the capacity {cap_txt} at "
+                            f"t = {coupled.t_capacity:.3f} s (a ball leaves its groove or the top plate tips); "
+                            "the run stops there: a failure, as bad as overturning.")
     data.update(outcome_fixed=fixed.outcome, theta_max_over_delta_fixed=fixed.theta_max_over_delta)
     write_json(d / "history.json", hist)
     plot_history_pair(fixed, plate, coupled, d / "history.png")
     figs.append(_fig("history.png", f"Time history under {motion.label}: rotation on a fixed base and on the "
                                     "isolator; ground and plate accelerations"))
     tables.append({"title": f"Time history: {motion.label}",
-                   "columns": ["base", "outcome", "|theta|max/delta", "peak acceleration felt", "efficiency"],
+                   "columns": ["base", "outcome", "|theta|max/delta", "peak acceleration felt", "efficiency",
+                               "plate travel (of the capacity)"],
                    "rows": hrows})
-    warnings = []
     if c.isolated and iso is None and enabled("isolator", ctx.config):
         warnings.append("The analyses on the isolator were skipped: no passing isolator design "
                         "(see the isolator section).")
@@ -314,18 +372,29 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     if iso is not None:
         runs += [("isolated spectrum", spi.codes), ("isolated variability", swi.codes)]
     for what, codes in runs:
-        if codes is not None and np.any(codes < 0):
-            warnings.append(f"{what}: the solver could not finish {int(np.sum(codes < 0))} of {codes.size} runs "
-                            "(counted as 'solver failed', not as an outcome)")
+        if codes is not None and np.any(codes == FAILED):
+            warnings.append(f"{what}: the solver could not finish {int(np.sum(codes == FAILED))} of {codes.size} "
+                            "runs (counted as 'solver failed', not as an outcome)")
     lim_up, lim_dn = model.uplift_limits
     text.insert(0, f"Rocking model: {model.kind}; the statue lifts at +{lim_up / G:.4f} g / -{lim_dn / G:.4f} g.")
+    if iso is not None:
+        text.insert(1, f"On the isolator, every run watches the plate displacement against the capacity ({cap_txt}: "
+                       "the largest before a ball leaves its groove or the top plate tips); a run that passes it "
+                       "stops with the outcome 'isolator capacity exceeded', counted as a failure like "
+                       "overturning: the isolated 'overturns' and 'lowest failing PGA' figures are the lower of "
+                       "the two.")
     summary = {"spectrum overturns (fixed)": f"{data['spectrum_overturn_fraction_fixed'] * 100:.1f} % of pulses",
                "lowest overturning PGA (fixed)": var_rows[0][1],
                f"{motion.label} (fixed)": f"{fixed.outcome}, |theta|max/delta {fixed.theta_max_over_delta:.3g}"}
     if iso is not None:
-        summary["spectrum overturns (isolated)"] = f"{data['spectrum_overturn_fraction_isolated'] * 100:.1f} % of pulses"
-        summary["lowest overturning PGA (isolated)"] = var_rows[1][1]
-        summary[f"{motion.label} (isolated)"] = f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}"
+        summary["spectrum overturns or exceeds capacity (isolated)"] = (
+            f"{data['spectrum_overturn_fraction_isolated'] * 100:.1f} % of pulses (overturn "
+            f"{data['spectrum_overturn_only_fraction_isolated'] * 100:.1f} %, capacity exceeded "
+            f"{data['capacity_exceeded_fraction_isolated'] * 100:.1f} %: {n_cap_sp} pulses)")
+        summary["lowest failing PGA (isolated: overturning or capacity exceeded)"] = var_rows[1][1]
+        summary["isolator capacity"] = cap_txt
+        summary[f"{motion.label} (isolated)"] = (f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}, "
+                                                 f"plate travel {travel}")
     return {"summary": summary, "text": text, "warnings": warnings, "tables": tables, "figures": figs, "data": data}
 
 
@@ -338,6 +407,18 @@ def _error_and_target(cd: dict) -> tuple[str, str]:
 
 
 # --- crosscheck -----------------------------------------------------------------------------------
+def _why_missed(cd: dict) -> str:
+    """The case's own diagnosis when it misses its target; the bare numbers when it has none."""
+    if cd.get("met"):
+        return ""
+    why = "; ".join(x for x in (cd.get("why"), cd.get("note")) if x)
+    if why:
+        return why
+    err, target = _error_and_target(cd)
+    return f"2D and 3D differ by {err} (target {target}); no cause was diagnosed for this case"
+
+
+
 def crosscheck_stage(ctx: Context, d: Path) -> dict:
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.isolator_scene import IsolatorScene
@@ -363,7 +444,7 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     for case in comp.cases:
         cd = case.to_dict()
         rows.append([cd["name"], cd.get("unit", ""), _fmt(cd.get("value_2d")), _fmt(cd.get("value_3d")),
-                     *_error_and_target(cd), "pass" if cd.get("met") else "fail"])
+                     *_error_and_target(cd), "pass" if cd.get("met") else "fail", _why_missed(cd)])
     s = cc_summary(comp.cases)
     figs = [_fig(p.name, f"2D (reduced model) and 3D (PyBullet) time histories: {name}")
             for name, p in paths.items() if name != "json"]
@@ -379,7 +460,7 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     return {"summary": {"2D/3D agreement": f"{s['n_met']} of {s['n_cases']} cases within target"},
             "text": text, "warnings": warnings, "figures": figs,
             "tables": [{"title": "2D model against 3D physics", "columns": ["case", "unit", "2D", "3D", "error",
-                                                                            "target", "met"],
+                                                                            "target", "met", "why (when missed)"],
                         "rows": rows, "status_column": 6}],
             "data": {"n_cases": s["n_cases"], "n_met": s["n_met"]}}
 

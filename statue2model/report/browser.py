@@ -168,6 +168,21 @@ def parse_figure_attributes(dom: str) -> FigureCheck:
     return FigureCheck(total=total, loaded=loaded, broken=broken, missing=missing)
 
 
+def dump_dom(html_path: str | os.PathLike, timeout: float = 30, browser: str | None = None) -> str:
+    """The DOM of ``html_path`` after headless Chromium loaded it and ran its scripts."""
+    exe = _browser(browser)
+    budget_ms = int(max(1.0, min(10.0, timeout / 2)) * 1000)
+    return _run(exe, [f"--virtual-time-budget={budget_ms}", "--dump-dom"], Path(html_path), timeout).stdout
+
+
+def body_attributes(dom: str) -> dict:
+    """The attributes of ``<body>`` in a dumped DOM (e.g. data-verdict-height)."""
+    parser = _BodyAttrs()
+    parser.feed(dom)
+    parser.close()
+    return dict(parser.attrs or {})
+
+
 def check_figures(
     html_path: str | os.PathLike, timeout: float = 30, browser: str | None = None
 ) -> FigureCheck:
@@ -176,10 +191,7 @@ def check_figures(
     Raises ``RuntimeError`` (one line) when no browser is found, the browser fails
     or times out, or the page's load handler did not run.
     """
-    exe = _browser(browser)
-    budget_ms = int(max(1.0, min(10.0, timeout / 2)) * 1000)
-    proc = _run(exe, [f"--virtual-time-budget={budget_ms}", "--dump-dom"], Path(html_path), timeout)
-    return parse_figure_attributes(proc.stdout)
+    return parse_figure_attributes(dump_dom(html_path, timeout, browser))
 
 
 def screenshot(

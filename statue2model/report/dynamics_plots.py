@@ -20,6 +20,10 @@ from ..files import atomic_write
 from .plots import _pyplot
 
 OUTCOME_COLOURS = ["#ffffff", "#c6dbef", "#6baed6", "#fdae6b", "#e6550d", "#a63603"]
+EXTRA_COLOURS = {-1: "#969696", -2: "#e5f5e0", -3: "#6a3d9a"}
+"""Colours of the negative codes: -1 solver failed (grey), -2 not applicable (pale green),
+-3 isolator capacity exceeded (purple: a failure of its own, apart from the overturning reds)."""
+CAPACITY_CODE = -3
 
 
 def _save(fig, path) -> Path:
@@ -56,25 +60,38 @@ def plot_time_history(result, path) -> Path:
 
 
 def plot_spectrum(sp, path, title: str | None = None) -> Path:
-    """Outcome map over (frequency, amplitude/g), thesis Fig. 65-68 style."""
+    """Outcome map over (frequency, amplitude/g), thesis Fig. 65-68 style. Negative codes
+    (isolator capacity exceeded, not applicable, solver failed) get classes and colours of
+    their own; an isolated spectrum with a finite capacity always lists 'isolator capacity
+    exceeded' in its legend."""
     plt = _pyplot()
     from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     from ..dynamics.batch import OUTCOMES
+    from ..dynamics.spectrum import label
 
     g = sp.model.params.g
-    fig, ax = plt.subplots(figsize=(8, 6))
-    cmap = ListedColormap(OUTCOME_COLOURS)
-    norm = BoundaryNorm(np.arange(-0.5, 6.5), cmap.N)
-    ax.pcolormesh(sp.freqs, sp.amps / g, sp.codes.T, cmap=cmap, norm=norm, shading="nearest")
+    codes = np.asarray(sp.codes, dtype=np.int64)
+    extra = sorted({int(c) for c in np.unique(codes[codes < 0])}
+                   | ({CAPACITY_CODE} if np.isfinite(getattr(sp, "capacity", np.inf)) else set()), reverse=True)
+    classes = list(range(len(OUTCOMES))) + extra
+    colours = OUTCOME_COLOURS[:len(OUTCOMES)] + [EXTRA_COLOURS.get(c, "#000000") for c in extra]
+    index = np.vectorize({c: i for i, c in enumerate(classes)}.__getitem__, otypes=[np.int64])(codes)
+    fig, ax = plt.subplots(figsize=(10, 6))
+    cmap = ListedColormap(colours)
+    norm = BoundaryNorm(np.arange(-0.5, len(classes) + 0.5), cmap.N)
+    ax.pcolormesh(sp.freqs, sp.amps / g, index.T, cmap=cmap, norm=norm, shading="nearest")
     lim_up, lim_dn = sp.model.uplift_limits
     ax.axhline(min(lim_up, lim_dn) / g, color="k", lw=0.6, ls=":")
     ax.set_xlabel("pulse frequency [Hz]")
-    ax.set_ylabel("pulse amplitude / g")
+    ax.set_ylabel("pulse amplitude [g]")
     ax.set_title(title or f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs)")
-    ax.legend(handles=[Patch(fc=c, ec="0.5", label=n) for c, n in zip(OUTCOME_COLOURS, OUTCOMES)],
-              loc="upper left", fontsize=8, framealpha=0.9)
+    names = list(OUTCOMES) + [label(c) for c in extra]
+    handles = [Patch(fc=c, ec="0.5", label=n) for c, n in zip(colours, names)]
+    handles.append(Line2D([], [], color="k", lw=0.6, ls=":", label="uplift acceleration"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)   # off the data
     fig.tight_layout()
     return _save(fig, path)
 

@@ -11,6 +11,9 @@ The document::
     doc = {
         "title": "statue2model report: dancing_girl",
         "subtitle": "meshes/dancing_girl.ply, ...",            # optional
+        "verdict": {"recommendation": "isolate with ...",      # optional: the assessment box, first
+                    "lines": ["Hazard: ...", "Fixed base: ..."],
+                    "status": "ok"},                        # ok | warn | fail (the box's colour)
         "summary": [("weakest direction", "90.0 deg"), ...],    # optional key/value rows
         "warnings": [("params", "Rocking parameters", "units unsure: ..."), ...],
                                     # optional (section id, title, text) or plain text: a block at the top
@@ -44,6 +47,9 @@ Rules:
 * ``warnings`` (document) are listed at the top of the page, above the summary, in a
   ``<div class="warning warnings" id="all-warnings">``, each with a link to its section;
   a section's ``warnings`` show under its heading as ``<p class="warning">warning: ...</p>``.
+* ``verdict`` is rendered first, above the warnings, as ``<div class="verdict
+  verdict-<status>" id="verdict">``: the recommendation in bold, then one paragraph
+  per line.
 * Section ``status`` shows as a badge ``badge badge-<status>`` in the heading and
   in the table of contents.
 
@@ -54,6 +60,9 @@ inline script runs on the window ``load`` event and writes on ``<body>``
 * ``data-figures-loaded``: those with ``complete && naturalWidth > 0``,
 * ``data-figures-broken``: a JSON list of the ``alt`` texts of the others
   (it also marks their ``<figure>`` with class ``broken`` so they show in red).
+
+* ``data-verdict-height`` and ``data-verdict-first``: the rendered height (px) of the
+  verdict box and whether it stands above the first section (only with a verdict).
 
 ``data-figures-missing`` is written by the renderer itself (figures whose file
 was absent, so no ``<img>`` exists for them).
@@ -178,6 +187,13 @@ figure.broken figcaption::before { content: "figure failed to load: "; color: va
 .missing, .warning { color: var(--warn); background: var(--warn-bg); border-left: 4px solid var(--warn);
                      padding: .5rem .75rem; font-size: .92rem; }
 .missing { margin: 1rem 0; }
+.verdict { border: 2px solid var(--accent); border-radius: 6px; padding: .75rem 1rem; margin: 1rem 0; }
+.verdict h2 { margin: 0 0 .4rem; border: 0; padding: 0; font-size: 1.15rem; }
+.verdict p { margin: .3rem 0; }
+.verdict .recommendation { font-weight: 700; font-size: 1.05rem; }
+.verdict-ok { border-color: var(--ok); background: var(--ok-bg); }
+.verdict-warn { border-color: var(--warn); background: var(--warn-bg); }
+.verdict-fail { border-color: var(--bad); background: var(--bad-bg); }
 .warnings { margin: 1rem 0; }
 .warnings p { margin: 0; }
 .warnings ul { margin: .35rem 0 0; padding-left: 1.25rem; }
@@ -207,6 +223,12 @@ window.addEventListener("load", function () {
   document.body.dataset.figuresTotal = String(imgs.length);
   document.body.dataset.figuresLoaded = String(imgs.length - broken.length);
   document.body.dataset.figuresBroken = JSON.stringify(broken);
+  var v = document.getElementById("verdict"), first = document.querySelector("section");
+  if (v) {
+    var box = v.getBoundingClientRect();
+    document.body.dataset.verdictHeight = String(Math.round(box.height));
+    document.body.dataset.verdictFirst = String(!first || box.top < first.getBoundingClientRect().top);
+  }
 });
 """
 
@@ -437,6 +459,14 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         head.append(f'<p class="subtitle">{_esc(doc["subtitle"])}</p>')
 
     top: list[str] = []
+    verdict = doc.get("verdict")
+    if verdict:
+        status = verdict.get("status", "warn")
+        status = status if status in ("ok", "warn", "fail") else "warn"
+        lines = "".join(f"<p>{_esc(p)}</p>" for p in _paragraphs(verdict.get("lines")))
+        top.append(f'<div class="verdict verdict-{status}" id="verdict"><h2>Assessment</h2>'
+                   f'<p class="recommendation">Recommendation: {_esc(verdict.get("recommendation", ""))}</p>'
+                   f"{lines}</div>")
     warnings = [(None, None, w) if isinstance(w, str) else tuple(w) for w in doc.get("warnings", ()) or ()]
     if warnings:
         ids = {s["id"] for s in sections}

@@ -76,11 +76,18 @@ def plot_variability_pair(fixed, isolated, acc_isolated, path) -> Path:
         ax.plot(x, y, "o-", ms=3, lw=0.9, color=colour, label=label)
         if sw.overturned.any():
             ax.plot(x[sw.overturned], np.ones(sw.overturned.sum()), "x", color=colour, ms=7)
-    ax.axhline(1, color="0.5", lw=0.6, ls="--")
-    ax.set_xlabel("PGA / g")
-    ax.set_ylabel("|theta|max / delta  (x: overturned)")
-    ax.set_ylim(0, 1.1)
-    ax.legend(loc="upper left")
+    peak = max(float(np.nanmax(np.where(sw.overturned, 1.0, sw.theta_max_over_delta))) if sw is not None else 0.0
+               for sw in (fixed, isolated))
+    if peak >= 0.3:
+        ax.axhline(1, color="0.5", lw=0.6, ls="--")
+        ax.set_ylim(0, 1.1)
+    else:
+        ax.set_ylim(0, max(peak, 1e-6) * 1.25)
+        ax.text(0.01, 0.97, "overturning at 1 (off the scale)", transform=ax.transAxes, fontsize=7, va="top",
+                color="0.4")
+    ax.set_xlabel("PGA [g]")
+    ax.set_ylabel("|theta|max / delta [-]  (x: overturned)")
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), ncol=2, fontsize=8)
     ax.set_title(f"{fixed.motion.label}", fontsize=9)
     if acc_isolated is not None:
         ax = axes[0, 1]
@@ -88,35 +95,57 @@ def plot_variability_pair(fixed, isolated, acc_isolated, path) -> Path:
         ax.plot(fixed.values / g, fixed.values / g, color="0.6", lw=0.8, label="ground (PGA)")
         up, dn = isolated.model.uplift_limits if isolated is not None else fixed.model.uplift_limits
         ax.axhline(min(up, dn) / g, color="C1", ls=":", lw=0.8, label="statue uplift limit")
-        ax.set_xlabel("PGA / g")
-        ax.set_ylabel("acceleration / g")
-        ax.legend(loc="upper left", fontsize=8)
+        ax.set_xlabel("PGA [g]")
+        ax.set_ylabel("peak acceleration [g]")
+        ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), ncol=3, fontsize=8)
         ax.set_title("what the statue feels on the isolator", fontsize=9)
     fig.tight_layout()
     return _save(fig, path)
 
 
+def _response_axis(ax, peak: float, label: str) -> None:
+    """theta/delta axis that shows the response: the overturning lines at +-1 only when
+    the response comes within 30 % of them, otherwise an axis scaled to the response
+    and a note that +-1 is off the scale."""
+    if peak >= 0.3:
+        for y in (1, -1):
+            ax.axhline(y, color="0.5", lw=0.6, ls="--")
+        ax.set_ylim(-1.15, 1.15)
+    else:
+        top = max(peak, 1e-6) * 1.25
+        ax.set_ylim(-top, top)
+        ax.text(0.01, 0.97, "overturning at +-1 (off the scale)", transform=ax.transAxes, fontsize=7,
+                va="top", color="0.4")
+    ax.set_ylabel(label)
+
+
 def plot_history_pair(fixed, plate, coupled, path) -> Path:
     """One time history on a fixed base (RockingResult with history) and on the
     isolator (IsolatorResult of the plate and the CoupledResult of plate + statue; both
-    may be None): theta/delta, and the ground and plate accelerations."""
+    may be None): theta/delta, the ground and plate accelerations, and the plate's
+    displacement against the isolator's capacity. Legends sit outside the axes; each
+    axis is scaled to what it shows."""
     plt = _pyplot()
     p = fixed.model.params
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    rows = 3 if plate is not None else 2
+    fig, axes = plt.subplots(rows, 1, figsize=(11, 2.6 * rows + 1), sharex=True,
+                             gridspec_kw={"height_ratios": [3, 2, 2][:rows]})
+    ax1, ax2 = axes[0], axes[1]
     h = fixed.history
     th = h["theta"]
-    ax1.plot(h["t"], np.where(th >= 0, th / p.delta_R, th / p.delta_L), lw=0.9, color="C3",
-             label=f"fixed base: {fixed.outcome}")
+    rel = np.where(th >= 0, th / p.delta_R, th / p.delta_L)
+    peak = float(np.abs(rel).max()) if len(rel) else 0.0
+    ax1.plot(h["t"], rel, lw=0.9, color="C3", label=f"fixed base: {fixed.outcome}")
     if coupled is not None and coupled.uplift:
         tc = coupled.theta
-        ax1.plot(coupled.t, np.where(tc >= 0, tc / p.delta_R, tc / p.delta_L), lw=0.9, color="C0",
-                 label=f"on the isolator: {coupled.outcome}")
+        rc = np.where(tc >= 0, tc / p.delta_R, tc / p.delta_L)
+        peak = max(peak, float(np.abs(rc).max()))
+        ax1.plot(coupled.t, rc, lw=0.9, color="C0", label=f"on the isolator: {coupled.outcome}")
     elif coupled is not None:
-        ax1.plot([h["t"][0], h["t"][-1]], [0, 0], lw=0.9, color="C0", label="on the isolator: no motion")
-    for y in (1, -1):
-        ax1.axhline(y, color="0.5", lw=0.6, ls="--")
-    ax1.set_ylabel("theta / delta  (+ right pivot)")
-    ax1.legend(loc="upper right", fontsize=8)
+        ax1.plot([h["t"][0], h["t"][-1]], [0, 0], lw=0.9, color="C0",
+                 label=f"on the isolator: {coupled.outcome}")
+    _response_axis(ax1, peak, "theta / delta [-]  (+ right pivot)")
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     ax1.set_title(fixed.motion.label, fontsize=9)
     t = h["t"]
     ax2.plot(t, fixed.motion.acc(t) / p.g, lw=0.6, color="0.4", label="ground u_g''")
@@ -124,9 +153,19 @@ def plot_history_pair(fixed, plate, coupled, path) -> Path:
         ax2.plot(plate.t, plate.acc_abs / p.g, lw=0.8, color="C0", label="plate (absolute)")
     lim_up, lim_dn = fixed.model.uplift_limits
     ax2.axhline(lim_up / p.g, color="C1", lw=0.6, ls=":")
-    ax2.axhline(-lim_dn / p.g, color="C1", lw=0.6, ls=":", label="uplift limits")
-    ax2.set_ylabel("acceleration / g")
-    ax2.set_xlabel("t [s]")
-    ax2.legend(loc="upper right", fontsize=8)
+    ax2.axhline(-lim_dn / p.g, color="C1", lw=0.6, ls=":", label="statue uplift limits")
+    ax2.set_ylabel("acceleration [g]")
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    if plate is not None:
+        ax3 = axes[2]
+        ax3.plot(plate.t, plate.u * 1000, lw=0.8, color="C0", label="plate displacement u_o")
+        cap = getattr(plate.isolator, "capacity", float("inf"))
+        if np.isfinite(cap):
+            for sgn in (1, -1):
+                ax3.axhline(sgn * cap * 1000, color="C3", lw=0.8, ls="--",
+                            label="isolator capacity" if sgn > 0 else None)
+        ax3.set_ylabel("u_o [mm]")
+        ax3.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    axes[-1].set_xlabel("t [s]")
     fig.tight_layout()
     return _save(fig, path)

@@ -1,0 +1,222 @@
+"""The assessment a conservator reads first: hazard, fixed base, isolator, recommendation.
+
+Built from what the stages wrote (their manifests and the isolator's design.json),
+so a run taken from the cache gets the same verdict. Every margin is a ratio
+capacity / demand with what it compares, so > 1 means the statue is on the safe
+side, < 1 that it is not:
+
+    hazard     the design spectrum ([isolator] spectrum: code, ground or soil type,
+               a_g) and its peak ground acceleration PGA = a_g S at the site
+    fixed      lifts?    uplift acceleration (alpha-reduced for the imperfect model)
+                         against the design PGA  (a quasi-static criterion: the ground
+                         acceleration that starts rocking)
+               overturns? the lowest PGA of the variability sweep at which the statue
+                         overturned ([dynamics] motion scaled), against the design PGA
+               slides?   lifting needs a ground acceleration g b/h; sliding starts at
+                         mu_s g: when b/h > mu_s the body slides before it rocks and the
+                         rocking results do not apply
+    isolated   travel    the isolator's capacity against the design displacement demand
+               felt      the uplift acceleration against what the statue feels on the
+                         plate (the design's Se(T) + mu g)
+               travel    margin = capacity / SDe(T): the design itself asks for more
+                         (DISPLACEMENT_MARGIN x SDe + mu R_hat, isolator/design.py)
+               analyses  the lowest PGA at which the statue on the isolator overturned or
+                         the isolator's capacity was exceeded, against the design PGA
+
+The recommendation is one plain line; the same verdict goes to run.json, the console
+summary and the top of report.html.
+
+Example
+-------
+>>> v = assess({"params": {"status": "done", "data": {"a_min": 2.71, "a_L": 4.16, "a_R": 2.71, "h": 0.73,
+...            "b_L": 0.31, "b_R": 0.20}}}, {}, None)
+>>> v["fixed"]["lifts"], round(v["hazard"]["pga"] / 9.81, 4)
+(True, 0.2874)
+>>> v["recommendation"]
+'the statue lifts at the design level (uplift 0.276 g < design PGA 0.287 g) and no isolator was designed: run the isolator stage'
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+G = 9.81
+DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
+
+
+def _data(stages: dict, name: str) -> dict | None:
+    man = stages.get(name) or {}
+    if man.get("status") not in ("done", "cached"):
+        return None
+    return man.get("data") or {}
+
+
+def _g(x: float | None) -> str:
+    return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"
+
+
+def _ratio(cap: float | None, demand: float | None) -> float | None:
+    if cap is None or demand is None or demand <= 0 or not math.isfinite(demand):
+        return None
+    return cap / demand
+
+
+def hazard(cfg) -> dict:
+    """The design earthquake of the configuration: code, ground/soil, a_g, S, PGA (m/s^2)."""
+    from ..isolator.design_spectrum import parse_spectrum
+
+    text = DEFAULT_SPECTRUM
+    if cfg is not None and getattr(cfg, "isolator", None) is not None and cfg.isolator.spectrum:
+        text = cfg.isolator.spectrum
+    sp = parse_spectrum(text)
+    fields = dict(kv.split("=", 1) for kv in text.split(":", 1)[-1].split(",") if "=" in kv)
+    soil = fields.get("ground") or fields.get("soil") or "A"
+    out = {"spectrum": text, "code": sp.code, "soil": soil, "a_g": sp.a_g, "S": sp.S, "pga": sp.a_g * sp.S,
+           "limit_state": fields.get("ls") or fields.get("limit") or None, "floor": fields.get("floor")}
+    out["text"] = (f"{sp.code} spectrum, ground/soil {soil}, a_g {sp.a_g / G:.3f} g, S {sp.S:.2f}: design PGA "
+                   f"{out['pga'] / G:.3f} g" + (f", limit state {out['limit_state']}" if out["limit_state"] else "")
+                   + (f", floor {out['floor']}" if out["floor"] else ""))
+    return out
+
+
+def assess(stages: dict, dirs: dict, cfg) -> dict:
+    """The verdict (see the module docstring) from the stages' manifests ``stages``
+    (name -> manifest with status and data), their folders ``dirs`` and the config."""
+    hz = hazard(cfg)
+    pga = hz["pga"]
+    out = {"hazard": hz, "fixed": {}, "isolated": {}, "lines": [], "recommendation": ""}
+    params = _data(stages, "params")
+    if params is None:
+        out["recommendation"] = "no verdict: the params stage did not run"
+        return out
+    model = getattr(cfg, "model", None) if cfg is not None else None
+    alpha = 1.0
+    if model is not None and getattr(model, "kind", "housner") == "imperfect":
+        alpha = min(model.alpha_L, model.alpha_R)
+    uplift = alpha * params.get("a_min", params.get("a_R"))
+    fixed = {"uplift": uplift, "alpha": alpha, "lifts": uplift <= pga, "uplift_margin": _ratio(uplift, pga)}
+    b_over_h = min(params.get("b_L", math.inf), params.get("b_R", math.inf)) / params.get("h", math.nan)
+    mu_s = getattr(model, "mu_static", None) if model is not None else None
+    fixed["slides"] = bool(mu_s is not None and math.isfinite(b_over_h) and b_over_h > mu_s)
+    dyn = _data(stages, "dynamics")
+    if dyn is not None:
+        ot = dyn.get("first_overturn_pga_fixed")
+        fixed["first_overturn_pga"] = ot
+        fixed["overturn_margin"] = _ratio(ot, pga)
+        fixed["overturns"] = ot is not None and ot <= pga
+    out["fixed"] = fixed
+    lines = [f"Hazard: {hz['text']}."]
+    state = ("slides before it rocks (b/h {:.2f} > mu_s {:.2f}): the rocking results do not apply"
+             .format(b_over_h, mu_s) if fixed["slides"] else
+             ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
+    line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
+            f"margin {fixed['uplift_margin']:.2f})")
+    if "overturn_margin" in fixed:
+        if fixed["first_overturn_pga"] is None:
+            line += "; it did not overturn at any PGA of the variability sweep"
+        else:
+            line += (f"; it overturned from {_g(fixed['first_overturn_pga'])} in the variability sweep "
+                     f"(margin {fixed['overturn_margin']:.2f} on the design PGA)")
+    lines.append(line + ".")
+
+    iso = _data(stages, "isolator")
+    design = None
+    if iso is not None and "isolator" in dirs:
+        path = Path(dirs["isolator"]) / "design.json"
+        if path.is_file():
+            import json
+
+            design = json.loads(path.read_text())
+    isolated = {}
+    if design is not None:
+        cap = design.get("capacity", design.get("d_max"))
+        demand = design.get("d_design")
+        felt = design.get("a_design")
+        if felt is not None:
+            felt = felt + design.get("mu", 0.0) * G       # Se(T) + the rolling friction the plate passes on
+        isolated = {"passed": bool(design.get("passed")), "capacity": cap, "travel_demand": demand,
+                    "travel_margin": _ratio(cap, demand), "felt": felt,
+                    "felt_margin": _ratio(uplift, felt), "T": design.get("T"),
+                    "R": design.get("R"), "r": design.get("r"), "n_grooves": design.get("n_grooves")}
+        if dyn is not None:
+            fail = dyn.get("first_failure_pga_isolated", dyn.get("first_overturn_pga_isolated"))
+            isolated["first_failure_pga"] = fail
+            isolated["failure_margin"] = _ratio(fail, pga)
+            cap_pga = dyn.get("first_capacity_pga_isolated")
+            isolated["failure_kind"] = ("isolator capacity exceeded" if fail is not None and cap_pga == fail
+                                        else "overturned" if fail is not None else None)
+            if cfg is not None and getattr(cfg, "dynamics", None) is not None:
+                isolated["record"] = cfg.dynamics.motion
+        if isolated["passed"]:
+            line = (f"On the isolator (R {isolated['R']:.2f} m, r {isolated['r'] * 1000:.1f} mm, "
+                    f"{isolated['n_grooves']} grooves, T {isolated['T']:.2f} s): travel demand "
+                    f"{demand * 1000:.0f} mm vs capacity {cap * 1000:.0f} mm (margin {isolated['travel_margin']:.2f}); "
+                    f"the statue feels {_g(isolated['felt'])} vs its uplift {_g(uplift)} "
+                    f"(margin {isolated['felt_margin']:.2f})")
+            if "first_failure_pga" in isolated:
+                f_ = isolated["first_failure_pga"]
+                line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
+                         f"; it overturned or exceeded the capacity from {_g(f_)} in the sweep "
+                         f"(margin {isolated['failure_margin']:.2f} on the design PGA)")
+            lines.append(line + ".")
+        else:
+            isolated["reason"] = design.get("failure") or design_failure(design)
+            lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).")
+    out["isolated"] = isolated
+    out["lines"] = lines
+    out["recommendation"] = recommend(fixed, isolated, pga)
+    out["status"] = status(out["recommendation"])
+    return out
+
+
+def status(recommendation: str) -> str:
+    """'ok' when nothing is to be done or the isolator protects, 'fail' when nothing in
+    range protects, else 'warn' (the colour of the report's box)."""
+    if recommendation.startswith(("no isolator needed", "isolate with")):
+        return "ok"
+    if recommendation.startswith(("no isolator in range works", "the designed isolator does not protect")):
+        return "fail"
+    return "warn"
+
+
+def design_failure(design: dict) -> str:
+    """The failing required checks of a design, with value and limit."""
+    bad = [c for c in design.get("checks", []) if c.get("required", True) and not c.get("passed")]
+    if not bad:
+        return "see design.json"
+    return "; ".join(f"{c['name']}: {c.get('value', float('nan')):.4g} vs {c.get('limit', float('nan')):.4g}"
+                     + (f" {c['unit']}" if c.get("unit") else "") for c in bad[:3])
+
+
+def recommend(fixed: dict, isolated: dict, pga: float) -> str:
+    """One plain line: what to do."""
+    if fixed.get("slides"):
+        return ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the rocking analyses "
+                "and the isolator design do not apply")
+    ok_margin = lambda m: m is not None and m >= 1.0
+    if not fixed["lifts"] and not fixed.get("overturns", False):
+        return (f"no isolator needed at the design level: the statue stays in full contact (uplift margin "
+                f"{fixed['uplift_margin']:.2f})")
+    if not isolated:
+        return (f"the statue lifts at the design level (uplift {_g(fixed['uplift'])} < design PGA {_g(pga)}) and no "
+                "isolator was designed: run the isolator stage")
+    if not isolated.get("passed"):
+        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
+    travel, felt = isolated.get("travel_margin"), isolated.get("felt_margin")
+    fail_margin = isolated.get("failure_margin")
+    swept_ok = "first_failure_pga" not in isolated or isolated["first_failure_pga"] is None or ok_margin(fail_margin)
+    if ok_margin(travel) and ok_margin(felt) and swept_ok:
+        return (f"isolate with the designed device: travel margin {travel:.2f}, the statue stays in full contact "
+                f"(felt-acceleration margin {felt:.2f})")
+    why = []
+    if not ok_margin(travel):
+        why.append(f"travel demand {isolated['travel_demand'] * 1000:.0f} mm > capacity "
+                   f"{isolated['capacity'] * 1000:.0f} mm")
+    if not ok_margin(felt):
+        why.append(f"the statue feels {_g(isolated['felt'])} > its uplift {_g(fixed['uplift'])}")
+    if not swept_ok:
+        kind = f" ({isolated['failure_kind']})" if isolated.get("failure_kind") else ""
+        record = f" under {isolated['record']}" if isolated.get("record") else ""
+        why.append(f"on the isolator it fails from {_g(isolated['first_failure_pga'])}{kind}{record} "
+                   f"< design PGA {_g(pga)}")
+    return "the designed isolator does not protect at the design level: " + "; ".join(why)

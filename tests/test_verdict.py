@@ -1,0 +1,102 @@
+"""The assessment that opens every run: hazard, fixed base, isolator, one recommendation,
+from the stages' numbers; and the box that shows it first in the report (headless Chromium)."""
+import json
+
+import pytest
+
+from statue2model.pipeline.config import ProjectConfig
+from statue2model.pipeline.verdict import assess, hazard, recommend
+from statue2model.report.browser import body_attributes, dump_dom
+from statue2model.report.html import render_report
+
+G = 9.81
+PARAMS = {"status": "done", "data": {"a_min": 2.71, "a_L": 4.16, "a_R": 2.71, "h": 0.73, "b_L": 0.31, "b_R": 0.20}}
+
+
+def _design(tmp_path, **kw):
+    d = {"passed": True, "R": 0.9, "r": 0.0095, "n_grooves": 3, "T": 2.68, "capacity": 0.30, "d_design": 0.15,
+         "a_design": 1.2 - 0.0073 * G, "mu": 0.0073, "checks": []}
+    d.update(kw)
+    (tmp_path / "isolator").mkdir(exist_ok=True)
+    (tmp_path / "isolator" / "design.json").write_text(json.dumps(d))
+    return {"isolator": tmp_path / "isolator"}
+
+
+def test_hazard_is_the_configured_design_spectrum():
+    hz = hazard(ProjectConfig())
+    assert hz["code"] == "EC8-1" and hz["soil"] == "C"
+    assert hz["pga"] == pytest.approx(0.25 * 9.80665 * 1.15)     # a_g S
+    assert "design PGA 0.287 g" in hz["text"]
+
+
+def test_statue_that_lifts_and_an_isolator_that_protects(tmp_path):
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}},
+              "dynamics": {"status": "done", "data": {"first_overturn_pga_fixed": 0.7 * G,
+                                                      "first_failure_pga_isolated": None}}}
+    v = assess(stages, _design(tmp_path), ProjectConfig())
+    assert v["fixed"]["lifts"] and v["fixed"]["uplift_margin"] == pytest.approx(2.71 / v["hazard"]["pga"])
+    assert v["fixed"]["overturn_margin"] == pytest.approx(0.7 * G / v["hazard"]["pga"])
+    assert v["isolated"]["travel_margin"] == pytest.approx(2.0)
+    assert v["isolated"]["felt_margin"] == pytest.approx(2.71 / 1.2)
+    assert v["recommendation"].startswith("isolate with the designed device: travel margin 2.00")
+    assert v["status"] == "ok"
+    assert any(line.startswith("Hazard: EC8-1") for line in v["lines"])
+
+
+def test_travel_demand_above_capacity_is_said_with_both_numbers(tmp_path):
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}}}
+    v = assess(stages, _design(tmp_path, capacity=0.21, d_design=0.41), ProjectConfig())
+    assert v["recommendation"] == ("the designed isolator does not protect at the design level: travel demand "
+                                   "410 mm > capacity 210 mm")
+    assert v["status"] == "fail"
+
+
+def test_isolated_failure_below_the_design_pga_is_not_hidden(tmp_path):
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}},
+              "dynamics": {"status": "done", "data": {"first_failure_pga_isolated": 0.2 * G}}}
+    v = assess(stages, _design(tmp_path), ProjectConfig())
+    assert "on the isolator it fails from 0.200 g (overturned) under synthetic:" in v["recommendation"]
+    assert "< design PGA 0.287 g" in v["recommendation"]
+
+
+def test_no_design_in_range_names_the_failing_check(tmp_path):
+    checks = [{"name": "travel within capacity", "passed": False, "required": True, "value": 0.41, "limit": 0.21,
+               "unit": "m"}]
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}}}
+    v = assess(stages, _design(tmp_path, passed=False, checks=checks), ProjectConfig())
+    assert v["recommendation"] == "no isolator in range works: travel within capacity: 0.41 vs 0.21 m"
+
+
+def test_statue_that_does_not_lift_needs_no_isolator():
+    strong = {"status": "done", "data": {"a_min": 0.5 * G, "h": 0.3, "b_L": 0.15, "b_R": 0.15}}
+    v = assess({"params": strong}, {}, ProjectConfig())
+    assert not v["fixed"]["lifts"]
+    assert v["recommendation"].startswith("no isolator needed at the design level")
+
+
+def test_imperfect_model_reduces_the_uplift_acceleration():
+    from dataclasses import replace
+
+    cfg = ProjectConfig()
+    cfg = replace(cfg, model=replace(cfg.model, kind="imperfect", alpha_L=0.5, alpha_R=0.5))
+    v = assess({"params": PARAMS}, {}, cfg)
+    assert v["fixed"]["uplift"] == pytest.approx(0.5 * 2.71)
+
+
+def test_sliding_body_is_not_given_rocking_advice():
+    fixed = {"slides": True, "lifts": True, "uplift": 1.0, "uplift_margin": 0.5}
+    assert recommend(fixed, {}, 3.0).startswith("the statue slides before it rocks")
+
+
+def test_verdict_box_is_rendered_first_in_the_browser(chromium, tmp_path):
+    doc = {"title": "statue2model report: demo",
+           "verdict": {"recommendation": "isolate with <the> designed device", "status": "ok",
+                       "lines": ["Hazard: EC8-1 spectrum", "Fixed base: the statue lifts"]},
+           "summary": [("uplift a_R", "0.276 g")],
+           "sections": [{"id": "params", "title": "Rocking parameters", "status": "done", "text": ["x"]}]}
+    path = render_report(doc, tmp_path / "report.html", base_dir=tmp_path)
+    dom = dump_dom(path, browser=chromium)
+    attrs = body_attributes(dom)
+    assert int(attrs["data-verdict-height"]) > 40
+    assert attrs["data-verdict-first"] == "true"
+    assert "Recommendation: isolate with &lt;the&gt; designed device" in dom
