@@ -13,18 +13,27 @@
     statue2model config [--out project.toml]                  the project file with every default
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
-exit status 2; set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors.
+exit status 2 (also a refused output folder: one holding the user's files, or in use
+by another statue2model command). An output that cannot be written (disk full,
+quota, permission, read-only file system, name too long) is one line naming the
+file, exit status 3, and leaves no file that looks complete. Ctrl-C: status 130.
+Set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors (status 1).
 """
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import sys
 from pathlib import Path
 
 from . import __version__
 from .argtypes import finite_float, join_dash_values, positive_float
-from .errors import InputError
+from .errors import InputError, OutputError
+from .files import _REASONS as _OUTPUT_REASONS
+from .files import output_error
+
+OUTPUT_ERRNOS = frozenset(_OUTPUT_REASONS)   # ENOSPC, EDQUOT, EACCES, EROFS, ENAMETOOLONG, ...
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -74,7 +83,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_props(args) -> int:
-    from .files import prepare_dir
+    from .files import claim_files
     from .geometry.body import load_body
     from .paths import default_scan
     from .props import write_props
@@ -84,7 +93,8 @@ def _cmd_props(args) -> int:
     out = Path(args.json) if args.json else Path("outputs") / mesh.stem / "props.json"
     if out.exists() and out.is_dir():
         raise InputError(f"--json {out} is a folder; give a file name")
-    prepare_dir(out.parent)
+    written = (out, out.with_name(out.stem + "_rose.csv"), out.with_suffix(".png"))
+    claim_files(written, "props")     # refuses a name statue2model did not write, before any work
     body = load_body(
         mesh, units=args.units, up=args.up, height=args.height, density=args.density,
         mass=args.mass, base_tol=args.base_tol,
@@ -102,18 +112,41 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         return args.func(args)
+    except OutputError as exc:
+        print(f"statue2model: error: {exc}", file=sys.stderr)
+        return 3
     except InputError as exc:
         print(f"statue2model: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("statue2model: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:
+        if exc.errno not in OUTPUT_ERRNOS or os.environ.get("STATUE2MODEL_DEBUG"):
+            return _internal(exc)
+        print(f"statue2model: error: {_os_error_line(exc)}", file=sys.stderr)
+        return 3
+    except MemoryError:  # a request no budget check caught
+        print("statue2model: error: the request does not fit in this machine's memory: use smaller grids, "
+              "a coarser --dt-out or a shorter --t-end", file=sys.stderr)
+        return 2
     except Exception as exc:  # a bug: still one line unless debugging
-        if os.environ.get("STATUE2MODEL_DEBUG"):
-            raise
-        print(f"statue2model: internal error: {type(exc).__name__}: {exc} "
-              "(set STATUE2MODEL_DEBUG=1 for the traceback)", file=sys.stderr)
-        return 1
+        return _internal(exc)
+
+
+def _os_error_line(exc: OSError) -> str:
+    """One line for an OSError no output helper translated (e.g. a library writing directly)."""
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
+        return str(output_error(exc, exc.filename if exc.filename is not None else "an output file"))
+    return f"{_OUTPUT_REASONS[exc.errno]}" + (f": {exc.filename}" if exc.filename is not None else "")
+
+
+def _internal(exc: BaseException) -> int:
+    if os.environ.get("STATUE2MODEL_DEBUG"):
+        raise exc
+    print(f"statue2model: internal error: {type(exc).__name__}: {exc} "
+          "(set STATUE2MODEL_DEBUG=1 for the traceback)", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

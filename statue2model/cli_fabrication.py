@@ -60,12 +60,16 @@ def add_parsers(sub) -> None:
     m.add_argument("--front", type=finite_float, metavar="DEG",
                    help="plan direction the engraved arrows point to (default: the scan's front)")
     p.add_argument("--no-previews", action="store_true", help="skip the PNG/SVG sheet previews")
-    p.add_argument("--out", metavar="DIR", help="output folder (default: outputs/<scan name>/slice)")
+    p.add_argument("--out", metavar="DIR", help="output folder (default: outputs/<scan name>/slice): new, empty or "
+                   "a previous slice's; a symlink is followed")
+    p.add_argument("--reuse", action="store_true", help="write into an --out that holds files statue2model did not "
+                   "write (they are never touched; a name that collides with one is refused), or go on with an "
+                   "older slice made before output manifests")
     p.set_defaults(func=_cmd_slice)
 
 
 def _cmd_slice(args) -> int:
-    from .fabrication.output import check_out_dir, write_slice
+    from .fabrication.output import open_slice_dir, write_slice
     from .fabrication.slicing import slice_body
     from .fabrication.spec import SliceSpec
     from .geometry.body import load_body
@@ -80,14 +84,14 @@ def _cmd_slice(args) -> int:
         feed=args.feed / 60000.0, pass_depth=args.pass_depth, osb_density=args.board_density,
         glue_density=args.glue_density, rod_density=args.rod_density,
     )
-    check_out_dir(out)
-    t0 = time.perf_counter()
-    body = load_body(mesh, units=args.units, up=args.up, height=args.height)
-    t_load = time.perf_counter() - t0
-    res = slice_body(body, spec, direction_deg=args.direction, front_deg=args.front)
-    t1 = time.perf_counter()
-    write_slice(res, out, previews=not args.no_previews)
-    t_write = time.perf_counter() - t1
+    with open_slice_dir(out, reuse=args.reuse) as od:     # checked and locked before any work
+        t0 = time.perf_counter()
+        body = load_body(mesh, units=args.units, up=args.up, height=args.height)
+        t_load = time.perf_counter() - t0
+        res = slice_body(body, spec, direction_deg=args.direction, front_deg=args.front)
+        t1 = time.perf_counter()
+        write_slice(res, od, previews=not args.no_previews)
+        t_write = time.perf_counter() - t1
     print(summary(res, out))
     print(f"\ntime: load {t_load:.2f} s, " + ", ".join(f"{k} {v:.2f} s" for k, v in res.timings.items())
           + f", files {t_write:.2f} s")

@@ -1,7 +1,11 @@
 """Command line of the whole pipeline: ``statue2model run`` and ``statue2model config``.
 
     statue2model run [MESH | FOLDER] [--config project.toml] [--out DIR] [--stages a,b]
-                     [--force] [--workers N | --scheduler ADDRESS]
+                     [--force] [--reuse] [--workers N | --scheduler ADDRESS]
+
+--out is new, empty or a previous run's (its .statue2model.json lists what it wrote);
+a folder with other files is refused unless --reuse (they are never touched), and a
+folder another statue2model command is writing is refused at once (its lock).
     statue2model config [--out project.toml]       the project file with every default
 """
 from __future__ import annotations
@@ -25,6 +29,9 @@ def add_parsers(sub) -> None:
     p.add_argument("--stages", metavar="LIST", help="comma list of params, prototype, isolator, dynamics, "
                    "crosscheck (default: every enabled stage); the stages they read are run or taken from the cache")
     p.add_argument("--force", action="store_true", help="recompute every stage asked for, cached or not")
+    p.add_argument("--reuse", action="store_true", help="write into an --out that holds files statue2model did not "
+                   "write (they are never touched; a name that collides with one is refused), or go on with an "
+                   "older statue2model run made before output manifests")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, metavar="N", help="local worker processes for the sweeps "
                    "(default: [run] workers, else one per core)")
@@ -44,10 +51,10 @@ def _executor(args, cfg):
     if args.scheduler:                       # the command line wins over [run]
         return make_executor(scheduler=args.scheduler)
     if args.workers is not None:
-        return make_executor(workers=args.workers)
-    if cfg.run.scheduler:
-        return make_executor(scheduler=cfg.run.scheduler)
-    return make_executor(workers=cfg.run.workers)
+        return make_executor(workers=args.workers, cap=True)
+    from .executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
+
+    return config_executor(cfg.run.scheduler, cfg.run.workers, cfg.source)
 
 
 def _cmd_run(args) -> int:
@@ -66,7 +73,8 @@ def _cmd_run(args) -> int:
     with _executor(args, cfg) as ex:
         print(f"statue2model run: {target} -> {out}/ (sweeps on {ex.describe()})", flush=True)
         if target.is_dir():
-            data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex)
+            data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex,
+                                  reuse=args.reuse)
             print(_collection_table(data))
             print(f"\n{len(data['scans'])} scans in {time.perf_counter() - t0:.1f} s; wrote {out}/collection.json, "
                   f"collection.csv and one folder (with report.html) per scan")
@@ -82,7 +90,7 @@ def _cmd_run(args) -> int:
                                                                               for r in errors))
             return 0
         res = run_project(target, out, cfg, stages=stages, force=args.force, executor=ex,
-                          say=lambda m: print(m, flush=True))
+                          say=lambda m: print(m, flush=True), reuse=args.reuse)
     if res.verdict:
         print("\nAssessment\n  Recommendation: " + res.verdict["recommendation"])
         for line in res.verdict["lines"]:

@@ -282,7 +282,7 @@ def test_refuses_a_foreign_folder_and_an_unwritable_one(tmp_path, capsys):
     foreign.mkdir()
     (foreign / "notes.txt").write_text("keep me")
     assert main(["slice", "--out", str(foreign)]) == 2
-    assert "is not empty and holds no previous slice" in capsys.readouterr().err
+    assert "holds files statue2model did not write (notes.txt)" in capsys.readouterr().err
     assert (foreign / "notes.txt").read_text() == "keep me"
     blocked = tmp_path / "file"
     blocked.write_text("x")

@@ -17,36 +17,69 @@ leaves a folder that looks complete.
                                   the errors against the scaled scan with their
                                   likely causes, warnings (written last)
 
-Everything is written into a hidden sibling folder first and moved into place
-at the end. An existing DIR is replaced only if it holds a previous slice (a
-slice.json); any other non-empty folder is refused, so nothing else is lost.
+DIR is new, empty, or a previous slice's (its DIR/.statue2model.json lists what
+statue2model wrote there); a folder with other files is refused, unless
+``reuse`` (--reuse): then the slice is written beside them and they are never
+touched (a name that collides with one is refused). DIR is locked against a
+second writer; a symlinked DIR is followed (the link stays). The folders are
+built hidden (.layers.partial-PID) and swapped in, files are written atomically,
+the previous slice.json is removed first and the new one written last: an
+interrupted write never leaves a slice that looks complete.
 """
 from __future__ import annotations
 
-import csv
-import io
+import os
 import shutil
-import tempfile
 from pathlib import Path
 
 from .. import __version__
-from ..errors import InputError
-from ..files import atomic_write, prepare_dir, swap_in, write_json
+from ..csvsafe import csv_text
+from ..files import OutputDir, atomic_write, open_output, output_error, swap_in, write_json
 from ..props import props_dict
 from .dxf import Drawing, write_dxf
 from .prototype import CHECKED, ERROR_LIMIT
 from .slicing import SliceResult
 
 
-def check_out_dir(out: Path) -> None:
-    """Refuse an output folder that exists with foreign content, before any work."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out} is a file; give a folder")
-    if out.is_dir() and any(out.iterdir()) and not (out / "slice.json").exists():
-        raise InputError(f"--out {out} is not empty and holds no previous slice; choose a new folder")
-    parent = out.parent if str(out.parent) else Path(".")
-    prepare_dir(parent)
+SLICE_NAMES = ("layers", "sheets", "bom.csv", "assembly.txt", "prototype.stl", "prototype.json", "slice.json")
+
+
+def older_slice(folder: Path) -> list[str]:
+    """The names of a slice written before output manifests: its slice.json has the
+    statue2model.slice schema, and layers/ and sheets/ hold only what a slice writes
+    there (a user's file inside them would be lost by the swap: then nothing is taken)."""
+    import json
+    import re
+
+    folder = Path(folder)
+    try:
+        info = json.loads((folder / "slice.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    if not (isinstance(info, dict) and str(info.get("schema", "")).startswith("statue2model.slice/")):
+        return []
+    allowed = {"layers": re.compile(r"^layer_\d+\.dxf$"), "sheets": re.compile(r"^sheet_\d+\.(dxf|png|svg)$")}
+    for sub, pattern in allowed.items():
+        if (folder / sub).is_dir() and not all(pattern.match(p.name) and p.is_file() for p in (folder / sub).iterdir()):
+            return []
+    return [n for n in SLICE_NAMES if (folder / n).exists()]
+
+
+def open_slice_dir(out: Path, reuse: bool = False) -> OutputDir:
+    """Open (create, check, lock) the output folder of a slice before any work; refuses
+    a folder with files statue2model did not write unless ``reuse``."""
+    od = open_output(out, "slice", reuse=reuse, command="slice", adopt=older_slice)
+    try:
+        od.claim(SLICE_NAMES)                 # a name that collides with a user's file: refused now
+    except BaseException:
+        od.close()
+        raise
+    return od
+
+
+def check_out_dir(out: Path, reuse: bool = False) -> None:
+    """Refuse an output folder with foreign content (or in use), before any work."""
+    open_slice_dir(out, reuse).close()
 
 
 def _drawing(part, hole: float, placement=None) -> Drawing:
@@ -125,11 +158,9 @@ def bom_rows(res: SliceResult) -> list[dict]:
 
 
 def _csv_text(rows: list[dict]) -> str:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    return buf.getvalue()
+    """Quoted by the csv module; text that a spreadsheet would run as a formula is neutralised."""
+    fields = list(rows[0])
+    return csv_text(fields, ([r.get(k, "") for k in fields] for r in rows))
 
 
 def assembly_text(res: SliceResult) -> str:
@@ -274,41 +305,57 @@ def prototype_dict(res: SliceResult) -> dict:
     return out
 
 
-def write_slice(res: SliceResult, out: Path, previews: bool = True) -> Path:
-    """Write every output of the module docstring into ``out`` (see there)."""
+def write_slice(res: SliceResult, out: Path | OutputDir, previews: bool = True, reuse: bool = False) -> Path:
+    """Write every output of the module docstring into ``out`` (a folder, or one
+    opened with :func:`open_slice_dir`; see the module docstring)."""
     import trimesh
 
     from ..report.fabrication_plots import plot_sheet
 
-    out = Path(out)
-    check_out_dir(out)
-    parent = out.parent if str(out.parent) else Path(".")
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
+    od = out if isinstance(out, OutputDir) else open_slice_dir(Path(out), reuse)
     try:
+        d = od.path
+        od.clean()
+        od.claim(SLICE_NAMES)
+        od.remove("slice.json")                     # the completeness marker goes first, comes back last
         spec = res.spec
-        (tmp / "layers").mkdir()
-        (tmp / "sheets").mkdir()
         width = max(3, len(str(res.n_layers)))
         by_layer: dict[int, list] = {}
         for part in res.parts:
             by_layer.setdefault(part.layer, []).append(part)
+        tmp = _fresh(d / f".layers.partial-{os.getpid()}")
         for k in range(res.n_layers):
             drawings = [_drawing(p, spec.hole) for p in by_layer.get(k, [])]
-            write_dxf(tmp / "layers" / f"layer_{k + 1:0{width}d}.dxf", drawings, title=f"layer {k + 1}")
+            write_dxf(tmp / f"layer_{k + 1:0{width}d}.dxf", drawings, title=f"layer {k + 1}")
+        swap_in(tmp, d / "layers")
+        tmp = _fresh(d / f".sheets.partial-{os.getpid()}")
         for s in range(res.nesting.n_sheets):
             placed = res.nesting.parts_on(s)
             drawings = [_drawing(res.parts[p.part], spec.hole, p) for p in placed]
-            path = write_dxf(tmp / "sheets" / f"sheet_{s + 1:02d}.dxf", drawings, title=f"sheet {s + 1}")
+            path = write_dxf(tmp / f"sheet_{s + 1:02d}.dxf", drawings, title=f"sheet {s + 1}")
             if previews:
                 plot_sheet(res, s, drawings, path.with_suffix(""))
-        atomic_write(tmp / "bom.csv", lambda p: p.write_text(_csv_text(bom_rows(res))))
-        atomic_write(tmp / "assembly.txt", lambda p: p.write_text(assembly_text(res)))
+        swap_in(tmp, d / "sheets")
+        atomic_write(d / "bom.csv", lambda p: p.write_text(_csv_text(bom_rows(res))))
+        atomic_write(d / "assembly.txt", lambda p: p.write_text(assembly_text(res)))
         v, f = res.mesh
-        trimesh.Trimesh(v, f, process=False).export(tmp / "prototype.stl")
-        write_json(tmp / "prototype.json", prototype_dict(res))
-        write_json(tmp / "slice.json", slice_dict(res))
-        swap_in(tmp, out)
+        mesh = trimesh.Trimesh(v, f, process=False)
+        atomic_write(d / "prototype.stl", lambda p: mesh.export(p, file_type="stl"))
+        write_json(d / "prototype.json", prototype_dict(res))
+        write_json(d / "slice.json", slice_dict(res))
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        od.clean()                                   # this write's partial folders; slice.json stays absent
         raise
-    return out
+    finally:
+        if od is not out:
+            od.close()
+    return Path(out.path if isinstance(out, OutputDir) else out)
+
+
+def _fresh(tmp: Path) -> Path:
+    shutil.rmtree(tmp, ignore_errors=True)
+    try:
+        tmp.mkdir()
+    except OSError as exc:
+        raise output_error(exc, tmp) from None
+    return tmp
