@@ -62,7 +62,7 @@ def _executor(args):
         return contextlib.nullcontext(None)
     from .executors import make_executor
 
-    ex = make_executor(scheduler=args.scheduler, workers=args.workers)
+    ex = make_executor(scheduler=args.scheduler, workers=args.workers, cap=True)
     print(f"running on {ex.describe()}")
     return ex
 
@@ -144,16 +144,26 @@ def _motion(spec: str):
 
 
 # --- rock -------------------------------------------------------------------------------
+ROCK_BYTES_PER_SAMPLE = 256
+"""Bytes one history sample of ``rock`` costs: the arrays of the run (72), the CSV lines (about 150)
+and the plot's copy."""
+
+
 def cmd_rock(args) -> int:
-    from .dynamics.engine import simulate
+    from .dynamics.engine import FREE_TIME, simulate
     from .files import atomic_write, write_json
     from .report.dynamics_plots import plot_time_history
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
-    out = _out(args, "rock.json")
     if args.t_end is not None and args.t_end <= 0:
         raise InputError(f"--t-end must be positive, got {args.t_end}")
+    from .budget import check_history
+
+    # the history, its CSV text and its plot, before anything is allocated
+    check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out, ROCK_BYTES_PER_SAMPLE,
+                  t_name="--t-end", dt_name="--dt-out")
+    out = _out(args, "rock.json")
     r = simulate(model, motion, theta0=theta0, t_end=args.t_end, rtol=args.rtol or 1e-8, dt_out=args.dt_out)
     p = model.params
     rows = [("model", f"{model.kind}{' (linearised)' if model.linearised else ''}"),

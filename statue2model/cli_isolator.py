@@ -189,6 +189,12 @@ def _cmd_simulate(args) -> int:
         motion = motions.free()
     else:
         motion = parse_spec(spec)[0]
+    from .budget import check_history
+    from .isolator.dynamics import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
+
+    # the run and its CSV (about 80 characters a sample), before anything is allocated
+    check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out,
+                  HISTORY_BYTES_PER_SAMPLE + 200, t_name="--t-end", dt_name="--dt-out")
     iso = _isolator(args)
     res = simulate(iso, motion, u0=u0, v0=v0, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol,
                    end_stop=args.end_stop, e_stop=args.e_stop)

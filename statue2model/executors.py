@@ -47,6 +47,7 @@ import math
 import os
 import re
 import signal
+import sys
 from collections.abc import Callable, Iterable
 
 import numpy as np
@@ -156,10 +157,59 @@ class SerialExecutor(Executor):
         return "serial, 1 worker (this process)"
 
 
-def _init_process_worker() -> None:
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells it,
+    else ``os.cpu_count()``)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - macOS, Windows
+        return max(1, os.cpu_count() or 1)
+
+
+_PR_SET_PDEATHSIG = 1      # linux/prctl.h
+
+
+def _die_with_parent(parent_pid: int, use_pdeathsig: bool) -> None:
+    """End this worker when its parent ends, even on SIGKILL of the parent (nothing runs
+    in a killed process, so the parent cannot stop its workers itself).
+
+    * Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``, the kernel kills this process when
+      the thread that started it ends (``use_pdeathsig``: the pool was made by the
+      main thread, whose end is the end of the parent).
+    * Everywhere: a daemon thread that ends the process once ``os.getppid()`` is no
+      longer the parent (checked every 0.5 s, between the GIL-holding steps of a task).
+    """
+    import threading
+
+    if use_pdeathsig and sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):  # pragma: no cover - no prctl: the watchdog remains
+            pass
+    if os.getppid() != parent_pid:         # the parent ended before the line above ran
+        os._exit(1)
+
+    def watch() -> None:
+        import time
+
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="statue2model-parent-watchdog", daemon=True).start()
+
+
+def _init_process_worker(parent_pid: int | None = None, use_pdeathsig: bool = False) -> None:
     """Initializer of each worker process: one numba and one BLAS thread per process;
-    Ctrl-C is the parent's to handle (it cancels the pool), not the workers'."""
+    Ctrl-C is the parent's to handle (it cancels the pool), not the workers'; the
+    worker ends with its parent (:func:`_die_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if parent_pid is not None:
+        _die_with_parent(parent_pid, use_pdeathsig)
     _single_numba_thread()
     _single_blas_thread()
 
@@ -172,21 +222,35 @@ class ProcessExecutor(Executor):
     second) and is reused by later maps until :meth:`close`.
 
     ``workers=1`` is still one separate process (not this one), so timings
-    compare like with like; use :class:`SerialExecutor` to stay in-process."""
+    compare like with like; use :class:`SerialExecutor` to stay in-process.
+
+    ``cap=True`` limits ``workers`` to :func:`available_cores` (more processes than
+    cores only slow the runs down); ``asked`` keeps the number asked for and
+    :meth:`describe` says when it was capped. The workers end with this process,
+    even when it is killed (:func:`_die_with_parent`)."""
 
     name = "processes"
 
-    def __init__(self, workers: int | None = None):
-        self.workers = _check_workers(workers if workers is not None else (os.cpu_count() or 1))
+    def __init__(self, workers: int | None = None, cap: bool = False):
+        self.asked = _check_workers(workers if workers is not None else available_cores())
+        self.workers = min(self.asked, available_cores()) if cap else self.asked
         self._pool = None
+
+    def describe(self) -> str:
+        line = super().describe()
+        if self.workers < self.asked:
+            line += f" ({self.asked} asked: capped to the {self.workers} cores of this machine)"
+        return line
 
     def _get_pool(self):
         if self._pool is None:
             import multiprocessing
+            import threading
             from concurrent.futures import ProcessPoolExecutor
 
+            main = threading.current_thread() is threading.main_thread()
             self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"),
-                                             initializer=_init_process_worker)
+                                             initializer=_init_process_worker, initargs=(os.getpid(), main))
         return self._pool
 
     def map(self, fn: Callable, items: Iterable, *, desc: str | None = None) -> list:
@@ -238,17 +302,29 @@ def _dask_call(item, fn):
     return fn(item)
 
 
+class _DropReconnectLog:
+    """A logging filter dropping distributed's 'Failed to reconnect to scheduler' record."""
+
+    def filter(self, record) -> bool:
+        return "reconnect to scheduler" not in str(getattr(record, "msg", ""))
+
+
 class DaskExecutor(Executor):
     """The workers of a Dask distributed cluster at ``address`` (e.g.
     ``tcp://10.0.0.5:8786``); connects at once and raises :class:`InputError` if
     the scheduler does not answer within ``timeout`` s. ``workers`` is the
     number of worker threads the scheduler reports when connecting.
 
-    The items are scattered to the workers (large arrays do not travel inside the
-    task graph) and each task runs on one numba thread; workers must be able to
-    import statue2model (the same version)."""
+    Each task carries its item (inputs are not scattered: scattered data dies with
+    the worker that holds it), so the tasks of a lost worker are run again on
+    another one (``retries``) with identical inputs, hence identical numbers. A lost
+    scheduler ends the map with one line (InputError). Each task runs on one numba
+    thread; workers must be able to import statue2model (the same version)."""
 
     name = "dask"
+
+    retries = 3
+    """Times a task is run again when the worker running it is lost."""
 
     def __init__(self, address: str, timeout: float = 10.0):
         try:
@@ -271,23 +347,57 @@ class DaskExecutor(Executor):
         client = self._client
         if client is None:
             raise RuntimeError("this DaskExecutor is closed")
-        data = client.scatter(items, hash=False)
-        futures = client.map(_dask_call, data, fn=fn, pure=False)
+        import warnings
+
+        with warnings.catch_warnings():      # the items travel inside the graph, on purpose (see the class)
+            warnings.filterwarnings("ignore", message=".*[Ll]arge object.*")
+            warnings.filterwarnings("ignore", message=".*[Ss]ending large graph.*")
+            futures = client.map(_dask_call, items, fn=fn, pure=False, retries=self.retries)
         bar = _bar(desc, len(futures))
+        import logging
+
+        quiet = _DropReconnectLog()     # our one line says it: not also distributed's log
+        logging.getLogger("distributed.client").addFilter(quiet)
         try:
             for f in as_completed(futures, loop=client.loop):  # not the default client: give its loop
                 if f.status == "error":
                     f.result()  # raise the worker's exception here
+                elif f.status != "finished":      # cancelled: the scheduler went away
+                    raise self._lost(None)
                 if bar is not None:
                     bar.update(1)
             return client.gather(futures)
+        except InputError:
+            raise
+        except Exception as exc:
+            if self._scheduler_lost(exc):
+                raise self._lost(exc) from None
+            client.cancel(futures)
+            raise
         except BaseException:
             client.cancel(futures)
             raise
         finally:
+            logging.getLogger("distributed.client").removeFilter(quiet)
             if bar is not None:
                 bar.close()
-            client.cancel(data)
+
+    def _scheduler_lost(self, exc: BaseException) -> bool:
+        """Whether ``exc`` says the client lost its scheduler (not a failure of a task)."""
+        import asyncio
+        import concurrent.futures
+
+        from distributed.comm.core import CommClosedError
+
+        if isinstance(exc, (CommClosedError, asyncio.CancelledError, concurrent.futures.CancelledError,
+                            ConnectionError, TimeoutError)):
+            return True
+        return getattr(self._client, "status", "running") not in ("running", "connecting")
+
+    def _lost(self, exc: BaseException | None) -> InputError:
+        why = f" ({_one_line(exc)})" if exc is not None else ""
+        return InputError(f"lost the Dask scheduler at {self.address} during the run{why}: the sweep did not "
+                          "finish; start the scheduler again, or run without --scheduler on local workers")
 
     def describe(self) -> str:
         return f"dask at {self.address}, {self.workers} worker{'s' if self.workers != 1 else ''}"
@@ -308,17 +418,61 @@ def _check_workers(workers) -> int:
     return n
 
 
-def make_executor(scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0) -> Executor:
+def make_executor(scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0,
+                  cap: bool = False) -> Executor:
     """``scheduler`` given: a :class:`DaskExecutor` on it (``workers`` must then be
     None: the cluster decides); else a :class:`ProcessExecutor` of ``workers``
-    local processes (None: one per CPU). ``workers=1`` is one worker process."""
+    local processes (None: one per CPU). ``workers=1`` is one worker process.
+    ``cap``: at most one local worker per core (see :class:`ProcessExecutor`)."""
     if scheduler is not None:
         if workers is not None:
             raise InputError("give either a Dask scheduler or a number of local workers, not both")
-        if not re.fullmatch(r"(tcp|tls|ws|wss|ucx|inproc)://[^\s/:]+(:\d+)?/?|[^\s/:]+:\d+", str(scheduler).strip()):
-            raise InputError(f"not a Dask scheduler address: {scheduler!r} (e.g. tcp://127.0.0.1:8786)")
+        check_scheduler_address(scheduler)
         return DaskExecutor(str(scheduler).strip(), timeout=timeout)
-    return ProcessExecutor(None if workers is None else _check_workers(workers))
+    return ProcessExecutor(None if workers is None else _check_workers(workers), cap=cap)
+
+
+def check_scheduler_address(address: str) -> str:
+    """The host of a Dask scheduler address (``tcp://host:8786``, ``host:8786``,
+    ``tcp://[::1]:8786``), or an InputError if it is not one. No connection is made."""
+    text = str(address).strip()
+    m = re.fullmatch(r"(?:(tcp|tls|ws|wss|ucx|inproc)://)?(\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+)(:\d+)?/?", text)
+    if not m or (m.group(1) is None and m.group(3) is None):
+        raise InputError(f"not a Dask scheduler address: {address!r} (e.g. tcp://127.0.0.1:8786)")
+    return m.group(2).strip("[]")
+
+
+def is_local_address(address: str) -> bool:
+    """Whether a scheduler address names this machine: localhost, 127.0.0.0/8 or ::1
+    (no name is looked up)."""
+    import ipaddress
+
+    host = check_scheduler_address(address).lower()
+    if str(address).strip().lower().startswith("inproc://"):
+        return True
+    if host in ("localhost", "localhost.localdomain", "ip6-localhost"):
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def config_executor(scheduler: str | None, workers: int | None, source: str | None = None,
+                    cap: bool = True) -> Executor:
+    """The executor of a project file's ``[run]`` section. A scheduler there is used
+    only when it is on this machine (localhost, 127.0.0.0/8, ::1): a project file
+    received from someone else must not send the scan's numbers to a machine the
+    user did not name; otherwise an InputError (one line, nothing contacted) asks to
+    confirm it with ``--scheduler`` on the command line."""
+    if scheduler:
+        if not is_local_address(scheduler):
+            where = f"{source}: " if source else ""
+            raise InputError(f"{where}[run] scheduler = {str(scheduler).strip()!r} is not on this machine: not used "
+                             f"without confirmation; give --scheduler {str(scheduler).strip()} to run there, or "
+                             f"--workers N to run here")
+        return make_executor(scheduler=scheduler)
+    return make_executor(workers=workers, cap=cap)
 
 
 def chunks(n: int, executor: Executor | int, *, per_worker: int = 4, min_chunk: int = 8) -> list[np.ndarray]:

@@ -30,12 +30,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..budget import check_history
 from ..errors import InputError
 from . import kernel as K
 from .model import RockingModel
 from .motions import GroundMotion
 
 FREE_TIME = 20.0  # s of free motion simulated after the ground stops, by default
+HISTORY_BYTES_PER_SAMPLE = 72
+"""Bytes one history sample costs :func:`simulate`: t and (theta, theta', phase) while integrating,
+the same again in the result, and the time index (9 float64)."""
 NOT_APPLICABLE = "not applicable (slides before it rocks)"
 """The outcome of a run in which the body slides before it rocks (see RockingModel.applicability)."""
 
@@ -196,7 +200,7 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
     if dt_out is not None:
         if not (math.isfinite(dt_out) and dt_out > 0):
             raise InputError(f"dt_out must be a positive time step, got {dt_out}")
-        n = int(math.floor(t_end / dt_out + 1e-9)) + 1
+        n = check_history(t_end, dt_out, HISTORY_BYTES_PER_SAMPLE)      # before any allocation
         out_t = np.arange(n) * dt_out
     else:
         out_t = np.empty(0)

@@ -187,7 +187,7 @@ def read_time_series(path, quantity: str) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"record file not found: {path}")
     rows = []
     ncol = 0
-    for j, line in enumerate(path.read_text(errors="replace").splitlines(), start=1):
+    for j, line in enumerate(path.read_text(encoding="utf-8-sig", errors="replace").splitlines(), start=1):  # BOM
         parts = [x for x in line.replace(";", ",").replace("\t", ",").replace(" ", ",").split(",") if x]
         if not parts or parts[0].startswith("#"):
             continue

@@ -142,6 +142,11 @@ class GroundMotion:
             dt = 1e-3
         if not (math.isfinite(dt) and dt > 0):
             raise InputError(f"sampling time step dt must be positive, got {dt}")
+        from ..budget import check_history, num
+
+        # t, u and the table's velocity, displacement and their temporaries: about 10 arrays
+        check_history(self.end, dt, 80, what="its samples", head=f"{self.label}: {num(self.end)} s sampled "
+                      f"every {num(dt)} s", fix="use a coarser dt")
         n = max(int(math.ceil(self.end / dt - 1e-9)), 1)
         t = np.arange(n + 1) * dt
         u = self.acc(t)
@@ -241,6 +246,11 @@ def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 
             raise InputError(f"synthetic record: {name} must be positive, got {value}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"synthetic record: seed must be a non-negative integer, got {seed!r}")
+    from ..budget import check_history, num
+
+    # the noise, its filtered copy, t, the envelope and the baseline: about 8 arrays of n samples
+    check_history(duration, dt, 64, what="its samples", head=f"a synthetic record of {num(duration)} s at "
+                  f"dt {num(dt)} s", fix="use a shorter duration or a coarser dt")
     n = int(round(duration / dt)) + 1
     if n < 10:
         raise InputError(f"synthetic record: duration {duration:g} s is shorter than 10 time steps of {dt:g} s")
@@ -264,7 +274,7 @@ _NUM = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
 
 
 def _read_at2(path: Path) -> GroundMotion:
-    lines = path.read_text(errors="replace").splitlines()
+    lines = path.read_text(encoding="utf-8-sig", errors="replace").splitlines()   # with or without a BOM
     head = None
     for i, line in enumerate(lines[:10]):
         if re.search(r"NPTS", line, re.I) and re.search(r"DT", line, re.I):
@@ -299,7 +309,8 @@ _CELL_SEP = re.compile(r"[,;\s]+")
 
 def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
     rows, line_no = [], []
-    for j, line in enumerate(path.read_text(errors="replace").splitlines(), start=1):
+    # utf-8-sig: a byte-order mark (Excel's "CSV UTF-8") would otherwise make the first number a header
+    for j, line in enumerate(path.read_text(encoding="utf-8-sig", errors="replace").splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
             continue

@@ -35,6 +35,20 @@ from .engine import FREE_TIME, NOT_APPLICABLE
 from .model import RockingModel
 
 PULSES = {"cosine": math.pi / 2, "sine": 0.0}
+BYTES_PER_RUN = 640
+"""Bytes one grid point costs a spectrum: its rows of the batch (about 380 B measured) and its
+JSON and CSV output (about 200 B)."""
+
+
+def check_grid(n_freqs: int, n_amps: int, what: str = "the spectrum grid (frequencies x amplitudes)",
+               fix: str = "use fewer frequencies or amplitudes") -> None:
+    """Refuse, before any allocation, a grid of ``n_freqs x n_amps`` runs beyond
+    :data:`~statue2model.budget.MAX_RUNS` or the memory budget (InputError naming
+    ``what`` and ``fix``)."""
+    from ..budget import check_runs
+
+    n = float(n_freqs) * float(n_amps)
+    check_runs(n, BYTES_PER_RUN, f"{what}: {n_freqs} x {n_amps} = {n:.3g} runs", fix)
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,6 +138,7 @@ def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", 
         raise InputError("pulse frequencies must be positive numbers of Hz")
     if not (np.all(np.isfinite(amps)) and np.all(amps >= 0)):
         raise InputError("pulse amplitudes must be >= 0 (m/s^2)")
+    check_grid(freqs.size, amps.size)
     F, A = np.meshgrid(freqs, amps, indexing="ij")
     n = F.size
     M = np.zeros((n, K.N_M))

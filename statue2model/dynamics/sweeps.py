@@ -31,14 +31,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..budget import check_runs
 from ..errors import InputError
 from . import kernel as K
 from .batch import NOT_APPLICABLE_CODE, outcome_codes, run_batch
 from .engine import FREE_TIME, simulate
-from .spectrum import label
+from .spectrum import BYTES_PER_RUN, label
 from .model import RockingModel
 from .motions import GroundMotion
 
+SWEEP_BYTES_PER_RUN = 1024
+"""Bytes one value of :func:`parameter_sweep` costs: its own RockingModel and its rows (about 700 B
+measured) and its output."""
 SWEEPABLE = ("alpha_L", "alpha_R", "alpha", "theta_L", "theta_R", "theta", "e_L", "e_R", "e")
 
 
@@ -131,6 +135,7 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
         raise InputError("PGA values must be finite and >= 0 (m/s^2)")
     if motion.pga == 0:
         raise InputError(f"motion {motion.label!r} is zero everywhere")
+    check_runs(pgas.size, BYTES_PER_RUN, f"{pgas.size} PGA levels", "use fewer PGA values")
     kind, M0, samples = motion.kernel_args()
     n = pgas.size
     M = np.tile(M0, (n, 1))
@@ -183,6 +188,7 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise InputError(f"sweep values of {name} must be finite numbers")
+    check_runs(values.size, SWEEP_BYTES_PER_RUN, f"{values.size} values of {name}", "use fewer values")
     models = _models(model, name, values)
     n = values.size
     t_end = motion.end + free_time

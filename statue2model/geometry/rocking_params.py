@@ -37,6 +37,7 @@ Example
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -169,7 +170,25 @@ class RockingParams:
         missing = [k for k in ("m", "h", "b_L", "b_R", "I_G") if k not in data]
         if missing:
             raise InputError(f"rocking parameters are missing {', '.join(missing)}")
-        return cls(**{k: float(v) for k, v in data.items() if k in names})
+        values = {}
+        for k, v in data.items():
+            if k not in names:
+                continue
+            # bool is an int in Python, and float("1e3") would take a string: only JSON numbers
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+                raise InputError(f"rocking parameter {k} must be a number, got {json_text(v)}")
+            values[k] = float(v)
+        return cls(**values)
+
+
+def json_text(v) -> str:
+    """A value as JSON writes it (true, "1.2", null), for messages."""
+    import json
+
+    try:
+        return json.dumps(v)
+    except (TypeError, ValueError):
+        return repr(v)
 
 
 def unit_vectors(direction_deg: float) -> tuple[np.ndarray, np.ndarray]:

@@ -236,10 +236,10 @@ def _check(iso, model, motion, u0, v0, theta0, omega0, t_end, dt_out, rtol, rest
         raise InputError(f"rtol must lie in [1e-14, 1e-2], got {rtol}")
     if not (math.isfinite(rest_tol) and 0 < rest_tol < 1):
         raise InputError(f"rest_tol must lie in (0, 1), got {rest_tol}")
-    n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1
-    if n_out > 50_000_000:
-        raise InputError(f"{n_out} output samples: raise dt_out")
-    return n_out
+    from ..budget import check_history
+
+    # plate (t, u, v, acc_abs, z) and statue (theta, theta', phase) outputs, and the plate screening run
+    return check_history(t_end, dt_out, 128, what="the coupled history")
 
 
 def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9, end_stop: str = "stop",

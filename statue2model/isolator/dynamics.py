@@ -56,6 +56,11 @@ END_STOP_RESTITUTION = 0.5
 CAPACITY_EXCEEDED = "isolator capacity exceeded"
 
 
+HISTORY_BYTES_PER_SAMPLE = 160
+"""Bytes one output sample of :func:`simulate` may cost: 5 arrays of the plate and their time
+index, and the statue's coupled run on them (:func:`statue_on_plate`)."""
+
+
 def check_end_stop(end_stop: str, e_stop: float) -> None:
     if end_stop not in END_STOPS:
         raise InputError(f"end_stop must be one of {', '.join(END_STOPS)}, got {end_stop!r}")
@@ -163,9 +168,10 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
     if end_stop == "impact" and abs(u0) > cap:
         raise InputError(f"u0 = {u0} m starts beyond the end stop at the capacity {cap} m")
     stop = 0 if end_stop == "stop" else 1
-    n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1
-    if n_out > 50_000_000:
-        raise InputError(f"{n_out} output samples: raise dt_out")
+    from ..budget import check_history
+
+    # the outputs (t, u, v, acc_abs, z), their copies in the result and the coupled run of a statue on it
+    n_out = check_history(t_end, dt_out, HISTORY_BYTES_PER_SAMPLE, what="the plate history")
     kind, M, samples = motion.kernel_args()
     out_u = np.zeros(n_out)
     out_v = np.zeros(n_out)

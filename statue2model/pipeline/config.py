@@ -240,6 +240,10 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             return None
         raise InputError(f"{name} = {value!r}: needs a value (default {_show(default)})")
     try:
+        # bool is an int in Python: without this, board = true would read as a 1 m board
+        if not isinstance(default, bool) and (isinstance(value, bool) or isinstance(value, (list, tuple))
+                                              and any(isinstance(x, bool) for x in value)):
+            raise ValueError("true/false where a value is due")
         if (sec, key) in _CHOICES:
             v = str(value).strip().lower()
             if v not in _CHOICES[sec, key]:
@@ -444,6 +448,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         motion, theta0 = parse_spec(spec)
         if motion.kind == "none" or theta0 != 0 or not motion.pga > 0:
             bad(f"{name} must be a ground motion (not zero), got {spec!r}")
+        _check_sizes(name, motion, d, freqs, amps, pgas, where)
     if c.iterations < 1 or not c.pulse_freq > 0:
         bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
     if not 1e-5 <= c.dt <= 5e-3:
@@ -452,6 +457,38 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[crosscheck] grid must be 0 or in 0.5..50 mm, got {c.grid}")
     if r.workers is not None and r.workers < 1:
         bad(f"[run] workers must be >= 1, got {r.workers}")
+
+
+def _check_sizes(name: str, motion, d: DynamicsConfig, freqs, amps, pgas, where: str) -> None:
+    """Refuse, before any work, analyses beyond the memory budget or the run cap
+    (:mod:`statue2model.budget`): the spectrum grids, the PGA levels (each level's task
+    carries the record: levels x samples), the histories of the motion."""
+    from ..budget import check_bytes, check_history, check_runs, num
+    from ..dynamics.engine import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
+    from ..dynamics.spectrum import BYTES_PER_RUN, check_grid
+
+    def named(fn, *a, **kw):
+        try:
+            fn(*a, **kw)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+
+    end = motion.end + FREE_TIME
+    if name == "[dynamics] motion":
+        named(check_grid, freqs.size, amps.size, "[dynamics] freq x amp (fixed base and isolated spectra)",
+              "use fewer frequencies or amplitudes (the N of START:STOP:N)")
+        samples = 0 if motion.samples is None else motion.samples.size
+        named(check_runs, pgas.size, BYTES_PER_RUN, f"[dynamics] pga: {pgas.size} levels", "use fewer PGA levels")
+        named(check_bytes, 8.0 * pgas.size * max(samples, 1), f"[dynamics] pga: {pgas.size} levels x {samples} "
+              "samples of the motion (each level's task carries the record)", "use fewer PGA levels or a shorter motion")
+        named(check_history, end, 0.005, 2 * HISTORY_BYTES_PER_SAMPLE, what="the time histories",
+              head=f"[dynamics] motion of {num(motion.end)} s (+{num(FREE_TIME)} s free) sampled every 5 ms",
+              fix="use a shorter motion")
+    else:
+        # the 2D threshold times of the cross-check sample the 2D history every 0.1 ms
+        named(check_history, end, 1e-4, HISTORY_BYTES_PER_SAMPLE, what="the 2D histories",
+              head=f"[crosscheck] motion of {num(motion.end)} s (+{num(FREE_TIME)} s free) sampled every 0.1 ms",
+              fix="use a shorter motion")
 
 
 def default_toml() -> str:
