@@ -12,6 +12,11 @@ Example
 True
 >>> 'class="warnings"' in page                  # the bundled scan raises no warning
 False
+
+A manifest (stage.json) is input too: it may have been edited. Its figures are
+embedded only when they resolve inside the stage's own folder under OUT
+(:func:`statue2model.pipeline.cache.safe_figures`), else the page says "figure
+refused"; a malformed table is left out with a note, never an exception.
 """
 from __future__ import annotations
 
@@ -19,6 +24,7 @@ import time
 from pathlib import Path
 
 from .. import __version__
+from .cache import safe_figures
 
 TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sheets",
           "isolator": "Rolling-ball isolator", "dynamics": "2D analyses: fixed base and isolator",
@@ -37,7 +43,7 @@ def build_doc(res) -> dict:
     for name, man in res.stages.items():
         status = man.get("status", "not run")
         sec = {"id": name, "title": TITLES.get(name, name), "status": STATUS.get(status, "skipped"),
-               "text": list(man.get("text", [])), "warnings": [str(w) for w in man.get("warnings", ()) or ()],
+               "text": _texts(man.get("text")), "warnings": [str(w) for w in man.get("warnings", ()) or ()],
                "tables": [], "figures": []}
         warnings += [(name, sec["title"], w) for w in sec["warnings"]]
         if status in ("done", "cached"):
@@ -47,8 +53,10 @@ def build_doc(res) -> dict:
             sec["text"].insert(0, f"{note}; files in {name}/.")
             if rows:
                 sec["tables"].append({"title": "Summary", "columns": ["quantity", "value"], "rows": rows})
-            sec["tables"] += man.get("tables", [])
-            sec["figures"] = [{"path": f"{name}/{f['path']}", "caption": f["caption"]} for f in man.get("figures", [])]
+            tables, bad = _tables(man.get("tables"))
+            sec["tables"] += tables
+            sec["text"] += [f"{bad} table{'s' if bad != 1 else ''} left out: malformed in {name}/stage.json"] if bad else []
+            sec["figures"] = _figures(man, Path(res.out), name)
             for k in HEADLINE.get(name, ()):
                 if k in man.get("summary", {}):
                     summary.append((k, str(man["summary"][k])))
@@ -64,6 +72,44 @@ def build_doc(res) -> dict:
             "summary": summary, "warnings": warnings, "sections": sections,
             "footer": "The resolved configuration is config.toml beside this report (statue2model run MESH "
                       "--config config.toml repeats the run); run.json holds every stage's numbers."}
+
+
+def _texts(text) -> list[str]:
+    if text is None:
+        return []
+    return [text] if isinstance(text, str) else [str(t) for t in text] if isinstance(text, list) else [str(text)]
+
+
+def _tables(tables) -> tuple[list[dict], int]:
+    """(the well-formed tables of a manifest, how many were left out)."""
+    good, bad = [], 0
+    for t in tables if isinstance(tables, list) else ():
+        cols, rows = (t.get("columns"), t.get("rows", [])) if isinstance(t, dict) else (None, None)
+        sc = t.get("status_column") if isinstance(t, dict) else None
+        ok = (isinstance(cols, list) and isinstance(rows, list)
+              and all(isinstance(r, list) and len(r) == len(cols) for r in rows)
+              and (sc is None or (type(sc) is int and 0 <= sc < len(cols))))
+        if ok:
+            good.append({"title": str(t.get("title") or ""), "columns": cols, "rows": rows, "status_column": sc})
+        else:
+            bad += 1
+    return good, bad
+
+
+def _figures(man: dict, out: Path, name: str) -> list[dict]:
+    """The stage's figures, each embedded only if it resolves inside OUT/<name>/
+    (itself a folder inside OUT, not a link out of it)."""
+    folder = out / name
+    try:
+        inside = not folder.is_symlink() and (not folder.exists()
+                                              or folder.resolve(strict=True).parent == out.resolve(strict=True))
+    except (OSError, RuntimeError):
+        inside = False
+    figs = safe_figures(man, folder)
+    if inside:
+        return figs
+    return [{"path": str(f.get("path")), "caption": f.get("caption", ""), "refused": "path outside the stage folder"}
+            for f in figs]
 
 
 def write_html(res) -> Path:

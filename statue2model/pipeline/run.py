@@ -7,6 +7,9 @@
                            stages (status, seconds, cached, key, warnings) and their headline numbers;
                            ``warnings``: every stage's warnings, [{stage, text}]
     OUT/report.html        the self-contained report
+    OUT/.statue2model.json what statue2model wrote in OUT (files.open_output): only these names are
+                           ever replaced; a folder with other files is refused unless ``reuse``
+    OUT/.statue2model.lock one run per folder at a time (PID, host, start time); released at the end
 
 A stage whose inputs (scan bytes, the configuration sections it reads, the stages
 it reads, the package's code) did not change is taken from its folder; ``force``
@@ -36,9 +39,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import __version__
+from ..csvsafe import write_csv
 from ..errors import InputError
-from ..files import atomic_write, prepare_dir, write_json
-from .cache import clean_partials, completed, file_hash, run_stage, stage_key
+from ..files import atomic_write, open_output, write_json
+from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, motion_files
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
 from .verdict import assess
@@ -106,22 +110,70 @@ def _needed(asked: list[str], cfg: ProjectConfig) -> list[str]:
 
 def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None = None, *,
                 stages: list[str] | None = None, force: bool = False, executor=None, report: bool = True,
-                say=print) -> RunResult:
-    """Run ``stages`` (default: all enabled) on ``mesh`` into folder ``out``."""
+                say=print, reuse: bool = False) -> RunResult:
+    """Run ``stages`` (default: all enabled) on ``mesh`` into folder ``out``: new, empty
+    or a previous run's (its manifest .statue2model.json); ``reuse``: a folder holding
+    other files too, which are never touched (see files.open_output). One run per folder
+    at a time (a lock)."""
     cfg = ProjectConfig() if config is None else config
     mesh = Path(mesh)
     if not mesh.is_file():
         raise InputError(f"scan not found: {mesh}")
-    out = prepare_dir(out)
-    clean_partials(out)
     asked = check_stage_names(stages) if stages else [n for n in STAGES if enabled(n, cfg)]
     off = [n for n in asked if not enabled(n, cfg)]
     if off and stages:
         raise InputError(f"stage(s) {', '.join(off)} asked for but disabled in the configuration "
                          f"({', '.join(f'[{n}] enabled = false' for n in off)})")
     order = _needed(asked, cfg)
-    for stale in ("report.html", "run.json", "config.toml"):   # written again at the end, together
-        (out / stale).unlink(missing_ok=True)
+    with open_output(out, "run", reuse=reuse, command="run", adopt=older_run) as od:
+        return _run_stages(mesh, Path(out), od, cfg, order, force=force, executor=executor, report=report, say=say)
+
+
+RUN_FILES = ("config.toml", "run.json", "report.html")
+
+
+def older_run(folder: Path) -> list[str]:
+    """The names of a run made before output manifests (stage folders with their
+    stage.json, run.json, config.toml and report.html written by statue2model)."""
+    import json
+
+    def head(p: Path, n: int = 65536) -> str:
+        try:
+            with open(p, encoding="utf-8", errors="replace") as f:
+                return f.read(n)
+        except OSError:
+            return ""
+
+    names = []
+    for n in STAGES:
+        try:
+            m = json.loads((folder / n / MANIFEST).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if isinstance(m, dict) and m.get("stage") == n and isinstance(m.get("key"), str):
+            names.append(n)
+    try:
+        run = json.loads((folder / "run.json").read_text(encoding="utf-8"))
+        if isinstance(run, dict) and str(run.get("schema", "")).startswith("statue2model.run/"):
+            names.append("run.json")
+    except (OSError, ValueError):
+        pass
+    if not names:
+        return []
+    if head(folder / "config.toml", 200).startswith("# statue2model"):
+        names.append("config.toml")
+    if "statue2model" in head(folder / "report.html"):
+        names.append("report.html")
+    return names
+
+
+def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str], *, force, executor, report,
+                say) -> RunResult:
+    """The stages ``order`` into the opened (locked) output folder ``od`` (path ``out``)."""
+    od.clean()
+    od.claim([*order, *RUN_FILES])         # before writing: a clash with a user's file refuses here
+    for stale in RUN_FILES:                 # written again at the end, together
+        od.remove(stale)
     mesh_hash = file_hash(mesh)
     t_run = time.perf_counter()
     keys, dirs, manifests, results = {}, {}, {}, {}
@@ -140,7 +192,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
                   "upstream": {dep: keys.get(dep) for dep in (*required, *optional)}}
         key = stage_key(name, inputs)
         if name not in order:           # not asked for: taken from its folder when complete
-            man = completed(out / name, key)
+            man = completed(out / name, key) if od.owns(name) else None
             if man is not None:
                 keys[name], dirs[name], manifests[name] = key, out / name, man
                 results[name] = {**man, "status": "cached"}
@@ -177,12 +229,34 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
 
 
 def write_config(cfg: ProjectConfig, path: Path, mesh: Path | None = None, out: Path | None = None) -> Path:
-    """The resolved configuration, with the command that repeats the run (absolute paths)."""
-    again = (f"statue2model run {Path(mesh).resolve() if mesh else 'MESH'} --config {Path(path).resolve()}"
-             + (f" --out {Path(out).resolve()}" if out else ""))
+    """The resolved configuration, with the command that repeats the run (absolute paths,
+    shell-quoted: a newline or control character in a path cannot end the comment line)."""
+    again = (f"statue2model run {shell_arg(Path(mesh).resolve()) if mesh else 'MESH'} "
+             f"--config {shell_arg(Path(path).resolve())}"
+             + (f" --out {shell_arg(Path(out).resolve())}" if out else ""))
     head = (f"# statue2model {__version__}: the resolved configuration of this run.\n"
             f"# Repeat it with: {again}\n\n")
     return atomic_write(path, lambda p: p.write_text(head + cfg.to_toml(), encoding="utf-8"))
+
+
+def shell_arg(value) -> str:
+    """``value`` as one POSIX shell word on one line: ``shlex.quote`` when every character
+    is printable, else bash's ``$'...'`` with escapes (newlines, CR, control characters).
+
+    >>> shell_arg("/tmp/a b"), shell_arg("/tmp/x\\n[run] workers = 3")
+    ("'/tmp/a b'", "$'/tmp/x\\\\n[run] workers = 3'")
+    """
+    import shlex
+
+    text = str(value)
+    if text.isprintable():
+        return shlex.quote(text)
+    named = {"\n": "\\n", "\r": "\\r", "\t": "\\t", "\\": "\\\\", "'": "\\'"}
+    body = "".join(named.get(c) or (c if c.isprintable() else
+                                    f"\\x{ord(c):02x}" if ord(c) < 0x100 else
+                                    f"\\u{ord(c):04x}" if ord(c) < 0x10000 else f"\\U{ord(c):08x}")
+                   for c in text)
+    return f"$'{body}'"
 
 
 # --- a folder of scans ----------------------------------------------------------------------------
@@ -197,10 +271,10 @@ def scans_in(folder: str | Path) -> list[Path]:
 
 def _scan_task(task) -> dict:
     """One scan of a collection (module level: runs in worker processes or on Dask workers)."""
-    mesh, out, cfg, stages, force = task
+    mesh, out, cfg, stages, force, *rest = task
     try:
         res = run_project(mesh, out, cfg, stages=stages, force=force, executor=None, report=True,
-                          say=lambda m: None)
+                          say=lambda m: None, reuse=bool(rest and rest[0]))
     except InputError as exc:
         return {"scan": Path(mesh).name, "error": str(exc)}
     return {"scan": Path(mesh).name, "out": str(res.out), "report": str(res.report) if res.report else None,
@@ -223,16 +297,29 @@ COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]"
 
 
 def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | None = None, *,
-                   stages: list[str] | None = None, force: bool = False, executor=None, say=print) -> dict:
+                   stages: list[str] | None = None, force: bool = False, executor=None, say=print,
+                   reuse: bool = False) -> dict:
     """Every scan of ``folder`` as one sweep: OUT/<scan name>/ per scan (its own
-    cached stages and report), OUT/collection.json and collection.csv."""
-    cfg = ProjectConfig() if config is None else config
+    cached stages and report), OUT/collection.json and collection.csv. OUT is opened
+    as in :func:`run_project` (manifest, lock, ``reuse``)."""
     scans = scans_in(folder)
-    out = prepare_dir(out)
     names = [s.stem for s in scans]
     if len(set(names)) != len(names):
         raise InputError(f"two scans in {folder} share a name ({', '.join(names)}); rename one")
-    tasks = [(s, out / s.stem, cfg, stages, force) for s in scans]
+    def older(f: Path) -> list[str]:          # a collection written before output manifests
+        subs = [n for n in names if (f / n).is_dir() and older_run(f / n)]
+        return subs + [n for n in ("collection.json", "collection.csv", "config.toml") if subs and (f / n).is_file()]
+
+    with open_output(out, "collection", reuse=reuse, command="run", adopt=older) as od:
+        od.clean()
+        od.claim([*names, "config.toml", "collection.json", "collection.csv"])
+        return _run_collection(folder, Path(out), config, scans, stages=stages, force=force, executor=executor,
+                               say=say, reuse=reuse)
+
+
+def _run_collection(folder, out: Path, config, scans, *, stages, force, executor, say, reuse) -> dict:
+    cfg = ProjectConfig() if config is None else config
+    tasks = [(s, out / s.stem, cfg, stages, force, reuse) for s in scans]
     say(f"{len(scans)} scans in {folder} on {executor.describe() if executor is not None else 'this process'}")
     t0 = time.perf_counter()
     rows = executor.map(_scan_task, tasks, desc="scans") if executor is not None else [_scan_task(t) for t in tasks]
@@ -256,6 +343,6 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
     def cell(v):
         return "" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v))
 
-    csv = ",".join(cols) + "\n" + "".join(",".join(cell(row.get(c)) for c in cols) + "\n" for row in table)
-    atomic_write(out / "collection.csv", lambda p: p.write_text(csv))
+    # the csv module quotes commas and quotes in scan names; safe_cell neutralises formulas
+    write_csv(out / "collection.csv", cols, ([cell(row.get(c)) for c in cols] for row in table))
     return data

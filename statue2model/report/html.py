@@ -33,7 +33,15 @@ The document::
 
 Rules:
 
-* All text is HTML-escaped; nothing in ``doc`` can inject markup.
+* All text is HTML-escaped (attribute values too, and always quoted); the only
+  URLs are ``#<section id>`` (ids are checked against the pattern above) and
+  ``data:`` URIs of a fixed MIME type, so nothing in ``doc`` can inject markup.
+* A figure may carry ``"root"``: a folder its file must resolve inside (symlinks
+  followed), else it is not read and the page shows "figure refused: path outside
+  the stage folder: name"; a figure with ``"refused": reason`` (set by the caller,
+  e.g. :func:`statue2model.pipeline.cache.safe_figures`) is never read either.
+  Refused figures are listed at the top and counted in ``data-figures-refused``
+  (and in ``data-figures-missing``: they have no ``<img>``).
 * Figure paths are absolute or relative to ``base_dir`` (default: the directory
   of the report file). A figure whose file is missing (or whose type cannot be
   embedded) becomes a visible "figure missing: name" note, is counted in
@@ -300,6 +308,42 @@ def _figure_problem(path: Path) -> str | None:
     return None
 
 
+REFUSED_OUTSIDE = "path outside the stage folder"
+
+
+def _contained(path: Path, root: str | os.PathLike) -> tuple[Path | None, str | None]:
+    """(the resolved ``path``, None) when it is an existing file inside ``root`` (symlinks
+    followed), else (None, why): "missing" or a refusal."""
+    try:
+        real_root = Path(root).resolve(strict=True)
+        real = path.resolve(strict=True)
+    except FileNotFoundError:
+        return None, "missing"
+    except (OSError, RuntimeError):
+        return None, "unreadable figure path"
+    if real == real_root or not real.is_relative_to(real_root):
+        return None, REFUSED_OUTSIDE
+    return real, None
+
+
+def _figure_state(fig: Mapping[str, Any], base_dir: Path) -> tuple[Path, str | None, str | None]:
+    """(path to read, problem, refusal) of one figure entry: ``refused`` (set by the
+    caller) and ``root`` (the folder the file must resolve inside) are honoured."""
+    path = _resolve(fig["path"], base_dir)
+    if fig.get("refused"):
+        return path, None, str(fig["refused"])
+    if fig.get("root") is not None:
+        if path.suffix.lower() not in MIME_TYPES:
+            return path, _figure_problem(path), None
+        real, why = _contained(path, fig["root"])
+        if why == "missing":
+            return path, "missing", None
+        if why is not None:
+            return path, None, why
+        path = real
+    return path, _figure_problem(path), None
+
+
 def figure_count(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = None) -> FigureCount:
     """How many figures ``doc`` references, and the names of those that cannot be embedded.
 
@@ -311,8 +355,8 @@ def figure_count(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = No
     for section in doc.get("sections", ()):
         for fig in section.get("figures", ()) or ():
             total += 1
-            path = _resolve(fig["path"], base)
-            if _figure_problem(path) is not None:
+            path, problem, refused = _figure_state(fig, base)
+            if problem is not None or refused is not None:
                 missing.append(path.name)
     return FigureCount(total, tuple(missing))
 
@@ -328,7 +372,7 @@ def _validate(doc: Mapping[str, Any]) -> None:
     seen: set[str] = set()
     for i, section in enumerate(doc.get("sections", ())):
         sid = section.get("id")
-        if not isinstance(sid, str) or not _ID_RE.match(sid):
+        if not isinstance(sid, str) or not _ID_RE.fullmatch(sid):
             raise ValueError(f"section {i}: id {sid!r} must start with a letter and hold only letters, digits, '-', '_', '.'")
         if sid in seen:
             raise ValueError(f"section {i}: duplicate id {sid!r}")
@@ -411,17 +455,21 @@ def _table(table: Mapping[str, Any]) -> str:
     return "".join(out)
 
 
-def _figure(fig: Mapping[str, Any], base_dir: Path) -> tuple[str, str | None]:
-    """(html, name of the figure if it is missing)."""
-    path = _resolve(fig["path"], base_dir)
+def _figure(fig: Mapping[str, Any], base_dir: Path) -> tuple[str, str | None, str | None]:
+    """(html, name of the figure if it is missing, name of the figure if it was refused)."""
+    path, problem, refused = _figure_state(fig, base_dir)
     caption = str(fig.get("caption") or "")
-    problem = _figure_problem(path)
+    if refused is not None:
+        note = f'<p class="missing refused">figure refused: {_esc(refused)}: {_esc(path.name)}'
+        if caption:
+            note += f" ({_esc(caption)})"
+        return note + "</p>", None, path.name
     if problem is not None:
         what = "figure missing" if problem == "missing" else f"figure missing ({problem})"
         note = f'<p class="missing">{_esc(what)}: {_esc(path.name)}'
         if caption:
             note += f" ({_esc(caption)})"
-        return note + "</p>", path.name
+        return note + "</p>", path.name, None
     mime = MIME_TYPES[path.suffix.lower()]
     data = base64.b64encode(path.read_bytes()).decode("ascii")
     alt = caption or path.name
@@ -429,7 +477,7 @@ def _figure(fig: Mapping[str, Any], base_dir: Path) -> tuple[str, str | None]:
     if caption:
         parts.append(f"<figcaption>{_esc(caption)}</figcaption>")
     parts.append("</figure>")
-    return "".join(parts), None
+    return "".join(parts), None, None
 
 
 def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = None) -> str:
@@ -440,6 +488,7 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
 
     body: list[str] = []
     missing: list[str] = []
+    refused: list[str] = []
     for section in sections:
         sid = section["id"]
         part = [f'<section id="{_esc(sid)}">', f"<h2>{_esc(section['title'])}{_badge(section.get('status'))}</h2>"]
@@ -447,10 +496,12 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         part += [f"<p>{_esc(p)}</p>" for p in _paragraphs(section.get("text"))]
         part += [_table(t) for t in section.get("tables", ()) or ()]
         for fig in section.get("figures", ()) or ():
-            markup, miss = _figure(fig, base)
+            markup, miss, refuse = _figure(fig, base)
             part.append(markup)
             if miss is not None:
                 missing.append(miss)
+            if refuse is not None:
+                refused.append(refuse)
         part.append("</section>")
         body.append("\n".join(part))
 
@@ -489,6 +540,12 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         top.append(
             f'<p class="warning">{n} figure{"s" if n != 1 else ""} missing: {_esc(", ".join(missing))}</p>'
         )
+    if refused:
+        n = len(refused)
+        top.append(
+            f'<p class="warning">{n} figure{"s" if n != 1 else ""} refused (not a file the stage wrote inside '
+            f'its folder): {_esc(", ".join(refused))}</p>'
+        )
     if sections:
         items = "".join(
             f'<li><a href="#{_esc(s["id"])}">{_esc(s["title"])}</a>{_badge(s.get("status"))}</li>' for s in sections
@@ -509,7 +566,7 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
             f"<style>{CSS}</style>",
             f"<script>{SCRIPT}</script>",
             "</head>",
-            f'<body data-figures-missing="{len(missing)}">',
+            f'<body data-figures-missing="{len(missing) + len(refused)}" data-figures-refused="{len(refused)}">',
             "<main>",
             "<header>" + "".join(head) + "</header>",
             *top,

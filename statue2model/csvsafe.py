@@ -1,0 +1,72 @@
+"""CSV files that a spreadsheet opens as plain data: quoted by the csv module, and
+cells that a spreadsheet would run as a formula neutralised.
+
+A cell that starts with ``=``, ``+``, ``-``, ``@``, a tab, a carriage return or a
+line feed (also after leading spaces) is prefixed with a single quote ``'``, as
+OWASP advises against CSV injection; numbers (``-1.5``, ``2e-3``, ``nan``) stay
+numbers. Commas, quotes and newlines inside a cell are quoted by :mod:`csv`, so
+every row has the header's number of cells.
+
+Example
+-------
+>>> import csv, io, tempfile, pathlib
+>>> safe_cell("=1+2"), safe_cell("@SUM(1+1)"), safe_cell(-1.5), safe_cell("-0.25"), safe_cell(None)
+("'=1+2", "'@SUM(1+1)", -1.5, '-0.25', '')
+>>> path = write_csv(pathlib.Path(tempfile.mkdtemp()) / "t.csv", ["scan", "h [m]"], [["a,b", 1.25]])
+>>> list(csv.reader(io.StringIO(path.read_text())))
+[['scan', 'h [m]'], ['a,b', '1.25']]
+"""
+from __future__ import annotations
+
+import csv
+import io
+import numbers
+import os
+import re
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from .files import atomic_write
+
+TRIGGERS = ("=", "+", "-", "@", "\t", "\r", "\n")
+_NUMBER = re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^[-+]?(?:nan|inf|infinity)$", re.IGNORECASE)
+
+
+def safe_cell(value: Any) -> Any:
+    """``value`` as a CSV cell that no spreadsheet evaluates: None -> "", numbers
+    unchanged, text that could start a formula prefixed with ``'``."""
+    if value is None:
+        return ""
+    if isinstance(value, (bool, numbers.Number)):
+        return value
+    text = str(value)
+    if _NUMBER.match(text):
+        return text
+    if text.lstrip(" ").startswith(TRIGGERS):
+        return "'" + text
+    return text
+
+
+def csv_text(header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> str:
+    """The CSV text (header line, then one line per row, ``\\n`` line ends) with every cell
+    passed through :func:`safe_cell`; a row of another length than the header is an error."""
+    header = list(header)
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow([safe_cell(h) for h in header])
+    for i, row in enumerate(rows):
+        row = list(row)
+        if len(row) != len(header):
+            raise ValueError(f"CSV row {i} has {len(row)} cells for {len(header)} columns")
+        writer.writerow([safe_cell(v) for v in row])
+    return buf.getvalue()
+
+
+def write_csv(path: str | os.PathLike, header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> Path:
+    """Write :func:`csv_text` to ``path`` atomically (UTF-8) and return the path."""
+    text = csv_text(header, rows)
+    return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8", newline=""))
+
+
+__all__ = ["TRIGGERS", "csv_text", "safe_cell", "write_csv"]
