@@ -80,15 +80,17 @@ class StabilitySpectrum:
         j = int(np.argmin(np.abs(self.amps - amp)))
         return label(self.codes[i, j])
 
+    def first_amp_where(self, mask: np.ndarray) -> np.ndarray:
+        """Smallest amplitude of the grid where ``mask`` (n_freqs, n_amps) holds, per
+        frequency (nan if nowhere)."""
+        hit = mask.any(axis=1)
+        out = np.full(self.freqs.size, np.nan)
+        out[hit] = self.amps[np.argmax(mask[hit], axis=1)]
+        return out
+
     def min_overturning_amp(self) -> np.ndarray:
         """Smallest amplitude of the grid that overturns, per frequency (nan if none)."""
-        ot = self.codes >= 3
-        out = np.full(self.freqs.size, np.nan)
-        for i in range(self.freqs.size):
-            j = np.flatnonzero(ot[i])
-            if j.size:
-                out[i] = self.amps[j[0]]
-        return out
+        return self.first_amp_where(self.codes >= 3)
 
     def counts(self) -> dict:
         out = {name: int(np.sum(self.codes == k)) for k, name in enumerate(OUTCOMES)}

@@ -82,13 +82,7 @@ class IsolatedSpectrum(StabilitySpectrum):
     def min_failure_amp(self) -> np.ndarray:
         """Smallest amplitude of the grid that overturns or exceeds the capacity, per
         frequency (nan if none): the conservative counterpart of min_overturning_amp."""
-        bad = is_failure(self.codes)
-        out = np.full(self.freqs.size, np.nan)
-        for i in range(self.freqs.size):
-            j = np.flatnonzero(bad[i])
-            if j.size:
-                out[i] = self.amps[j[0]]
-        return out
+        return self.first_amp_where(is_failure(self.codes))
 
     def counts(self) -> dict:
         out = super().counts()
