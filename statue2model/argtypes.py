@@ -76,25 +76,48 @@ def sheet_size(text: str) -> tuple[float, float]:
     return w / per_metre, h / per_metre
 
 
-def scale_ratio(text: str) -> float:
-    """Model scale as '1:2', '1/2' or a factor '0.5'; returns lambda (prototype length =
-    real length / lambda).
+def scale_ratio(text: str | float) -> float:
+    """Model scale as '1:2', '1/2' or a ratio prototype/statue '0.5' (a string, or a number
+    from a project file); returns lambda (prototype length = real length / lambda).
 
-    >>> scale_ratio("1:2"), scale_ratio("1/4"), scale_ratio("0.5")
-    (2.0, 4.0, 2.0)
+    A bare number above 1 is refused: '2' could mean 1:2 or 2:1 (one meaning everywhere).
+
+    >>> scale_ratio("1:2"), scale_ratio("1/4"), scale_ratio("0.5"), scale_ratio(0.25), scale_ratio("1")
+    (2.0, 4.0, 2.0, 4.0, 1.0)
+    >>> scale_ratio("2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: scale 2 is ambiguous: write 1:2 (prototype half the size) or 0.5
     """
-    t = text.strip().replace("/", ":")
+    t = str(text).strip().replace("/", ":")
     try:
         if ":" in t:
             a, b = (float(p) for p in t.split(":"))
             lam = b / a
         else:
-            lam = 1.0 / float(t)
+            ratio = float(t)
+            if math.isfinite(ratio) and ratio > 1:
+                raise argparse.ArgumentTypeError(
+                    f"scale {ratio:g} is ambiguous: write 1:{ratio:g} (prototype "
+                    f"{'half' if ratio == 2 else f'1/{ratio:g} of'} the size) or {1 / ratio:.4g}")
+            lam = 1.0 / ratio
     except (ValueError, ZeroDivisionError):
         raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)") from None
     if not (math.isfinite(lam) and lam > 0):
         raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)")
     return lam
+
+
+def scale_text(lam: float) -> str:
+    """lambda -> the scale as written ('1:2'); reads back with :func:`scale_ratio` to the same float.
+
+    >>> scale_text(2.0), scale_text(2.5), scale_ratio(scale_text(1 / 0.3)) == 1 / 0.3
+    ('1:2', '1:2.5', True)
+    """
+    s = f"{lam:.15g}"
+    if float(s) != lam:
+        s = repr(float(lam))
+    return f"1:{s}"
 
 
 DASH_VALUES = {"--up": ("-x", "-y", "-z")}

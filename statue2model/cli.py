@@ -94,11 +94,17 @@ def _cmd_props(args) -> int:
     if out.exists() and out.is_dir():
         raise InputError(f"--json {out} is a folder; give a file name")
     written = (out, out.with_name(out.stem + "_rose.csv"), out.with_suffix(".png"))
-    claim_files(written, "props")     # refuses a name statue2model did not write, before any work
+    # refuse a name statue2model did not write before any work; a folder that is not there yet
+    # (nothing in it can clash) is made only once the scan loaded: a bad scan leaves no empty folder
+    early = out.parent.is_dir()
+    if early:
+        claim_files(written, "props")
     body = load_body(
         mesh, units=args.units, up=args.up, height=args.height, density=args.density,
         mass=args.mass, base_tol=args.base_tol,
     )
+    if not early:
+        claim_files(written, "props")
     params = body.rocking(args.direction)
     rose = body.rose()
     print(props_table(body, params, rose))

@@ -77,7 +77,6 @@ def _cmd_crosscheck(args) -> int:
     if not (args.grid == 0 or 0.5 <= args.grid <= 50):
         raise InputError(f"--grid must be 0 or in 0.5..50 mm, got {args.grid}")
     settings = SimSettings(dt=args.dt, solver_iterations=args.iterations)
-    out = prepare_dir(args.out)
     motion, _ = parse_spec(args.motion)
     scene = load_scene(args.source, args.direction)
     iso = None
@@ -87,6 +86,7 @@ def _cmd_crosscheck(args) -> int:
             raise InputError(f"{args.isolator}: not an isolator design")
         iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
                                         grid=args.grid / 1000 if args.grid > 0 else None)
+    out = prepare_dir(args.out)           # only once the inputs are read: a bad input leaves no folder
     contact = ContactSettings()
     from .dynamics.model import RockingModel
 

@@ -14,7 +14,7 @@ from .errors import InputError
 
 SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
              "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=LAMBDA][,units=g] | "
-             "synthetic[:duration=S,dt=S,pga=A,seed=N]; A in m/s^2 or with a g suffix (0.3g); "
+             "synthetic[:duration=S,dt=S,pga=A,seed=N]; A with a unit: 0.3g or 2.94m/s2 (a bare 0.3 is refused); "
              "amp > 0 accelerates the ground toward +x; add start=S to delay a pulse")
 
 
@@ -371,7 +371,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--pulse", choices=["cosine", "sine"], default="cosine")
     p.add_argument("--freq", default="0.5:10:100", metavar="F0:F1:N", help="frequencies in Hz (default 0.5:10:100)")
     p.add_argument("--amp", default="0.01g:1.5g:100", metavar="A0:A1:N",
-                   help="amplitudes, m/s^2 or with g (default 0.01g:1.5g:100)")
+                   help="amplitudes with a unit, g or m/s2 (default 0.01g:1.5g:100)")
     p.add_argument("--json", metavar="OUT", help="output JSON (default: spectrum_<pulse>.json beside PARAMS.json)")
     _executor_options(p)
     p.set_defaults(func=cmd_spectrum)

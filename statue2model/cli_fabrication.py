@@ -7,10 +7,12 @@ Lengths take a unit (mm, cm, m, in); a bare number is millimetres.
 """
 from __future__ import annotations
 
+import argparse
 import time
 from pathlib import Path
 
 from .argtypes import finite_float, length, positive_float, scale_ratio, sheet_size
+from .errors import InputError
 
 
 def add_parsers(sub) -> None:
@@ -25,7 +27,8 @@ def add_parsers(sub) -> None:
     p.add_argument("--units", default="auto", choices=["auto", "m", "mm", "cm", "in"], help="length unit of the file")
     p.add_argument("--up", default="auto", choices=["auto", "x", "y", "z", "-x", "-y", "-z"], help="file axis pointing up")
     p.add_argument("--height", type=positive_float, metavar="H", help="rescale the scan to this real height in m first")
-    p.add_argument("--scale", type=scale_ratio, default=2.0, metavar="1:N", help="prototype scale (default 1:2)")
+    p.add_argument("--scale", default="1:2", metavar="1:N",
+                   help="prototype scale: 1:N, 1/N or the ratio prototype/statue (0.5); default 1:2")
     g = p.add_argument_group("boards and tools (lengths: 9mm, 0.9cm, ...; bare numbers are mm)")
     g.add_argument("--board", type=length, default=0.009, metavar="T", help="board thickness (default 9mm)")
     g.add_argument("--glue", type=length, default=0.0005, metavar="T", help="glue film thickness (default 0.5mm)")
@@ -75,10 +78,14 @@ def _cmd_slice(args) -> int:
     from .geometry.body import load_body
     from .paths import default_scan
 
+    try:
+        scale = scale_ratio(args.scale)         # a bare 2 is refused with one line (1:2 or 2:1?)
+    except argparse.ArgumentTypeError as exc:
+        raise InputError(f"--scale {args.scale}: {exc}") from None
     mesh = Path(args.mesh) if args.mesh else default_scan()
     out = Path(args.out) if args.out else Path("outputs") / mesh.stem / "slice"
     spec = SliceSpec(
-        scale=args.scale, board=args.board, glue=args.glue, tool=args.tool, rod=args.rod,
+        scale=scale, board=args.board, glue=args.glue, tool=args.tool, rod=args.rod,
         clearance=args.clearance, wall=args.wall, sheet=args.sheet, margin=args.margin, edge=args.edge,
         policy=args.policy, compensate=args.compensate, tolerance=args.tolerance,
         feed=args.feed / 60000.0, pass_depth=args.pass_depth, osb_density=args.board_density,

@@ -37,7 +37,7 @@ def add_parsers(sub) -> None:
     src.add_argument("--motion", metavar="SPEC", help="a ground motion simulated on every candidate (as for `rock`)")
     d.add_argument("--mu", type=finite_float, required=True, help="rolling friction coefficient (Tables 19, 25)")
     d.add_argument("--target", type=_accel, metavar="A",
-                   help="stricter limit for the plate acceleration, m/s^2 (or 0.03g)")
+                   help="stricter limit for the plate acceleration, with a unit: 0.03g or 0.29m/s2")
     d.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
     d.add_argument("--alpha-L", type=finite_float, metavar="A")
     d.add_argument("--alpha-R", type=finite_float, metavar="A")
@@ -46,7 +46,7 @@ def add_parsers(sub) -> None:
                    help="plate thickness (30mm, 0.03m; a bare number is mm; default: the lightest passing of "
                         "20, 30, 40, 50 mm)")
     d.add_argument("--fuse-release", type=_accel, metavar="A",
-                   help="add a release mechanism (fuse) that lets go at A m/s^2 (or e.g. 0.075g with the g suffix)")
+                   help="add a release mechanism (fuse) that lets go at A, with a unit: 0.075g or 0.736m/s2")
     d.add_argument("--json", metavar="OUT", required=True, help="design JSON; OUT.txt gets the report")
     d.set_defaults(func=_cmd_design)
 
@@ -116,7 +116,7 @@ def _statue(path):
 
 
 def _accel(text: str) -> float:
-    """An acceleration in m/s^2, or with a g suffix (0.075g)."""
+    """An acceleration with a unit (0.075g, 0.736m/s2)."""
     import argparse
 
     from .dynamics.motions import parse_accel

@@ -6,6 +6,39 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 
+CHECKOUT_OUTPUTS = Path(__file__).resolve().parents[1] / "outputs"
+
+
+def _outputs_listing(root: Path = CHECKOUT_OUTPUTS) -> dict:
+    """{relative path: mtime_ns (files) or None (folders)} of everything under ``root``
+    but ``.gitkeep``."""
+    found = {}
+    for folder, dirs, files in os.walk(root):
+        for name in dirs + files:
+            p = Path(folder) / name
+            rel = p.relative_to(root).as_posix()
+            if rel == ".gitkeep":
+                continue
+            try:
+                found[rel] = None if name in dirs else p.lstat().st_mtime_ns
+            except FileNotFoundError:
+                pass
+    return found
+
+
+@pytest.fixture(scope="session", autouse=True)
+def checkout_outputs_untouched():
+    """The suite never writes into the checkout's outputs/: a command's default output
+    (outputs/<name>/) must be sent to tmp_path (--out/--json, or monkeypatch.chdir)."""
+    before = _outputs_listing()
+    yield
+    after = _outputs_listing()
+    changed = sorted(k for k in before.keys() | after.keys() if before.get(k, "-") != after.get(k, "-"))
+    if changed:
+        more = f" and {len(changed) - 8} more" if len(changed) > 8 else ""
+        pytest.fail(f"the tests wrote into the checkout's {CHECKOUT_OUTPUTS}: {', '.join(changed[:8])}{more} "
+                    "(give the command --out/--json under tmp_path or monkeypatch.chdir(tmp_path))", pytrace=False)
+
 
 @pytest.fixture(scope="module")
 def chromium() -> str:

@@ -138,6 +138,6 @@ def test_unwritable_output_folder(tmp_path, capsys):
 
 def test_console_entry_point_exit_code(tmp_path):
     r = subprocess.run([sys.executable, "-m", "statue2model", "props", str(tmp_path / "x.stl")],
-                       capture_output=True, text=True)
+                       capture_output=True, text=True, cwd=tmp_path)   # the default outputs/x/ is under tmp_path
     assert r.returncode == 2
     assert r.stderr.strip() == f"statue2model: error: file not found: {tmp_path / 'x.stl'}"

@@ -237,11 +237,11 @@ def test_frozen_and_to_dict():
 
 @pytest.mark.parametrize("text,ref", [
     ("ec8:ag=0.25g,ground=C,type=1,xi=5", lambda: D.ec8(0.25 * G, "C", 1, 5.0)),
-    ("EC8: ag = 2.4516625 , ground = c", lambda: D.ec8(2.4516625, "C")),
+    ("EC8: ag = 2.4516625 m/s2 , ground = c", lambda: D.ec8(2.4516625, "C")),
     ("ec8:ag=0.3g,type=2,ground=D,xi=15", lambda: D.ec8(0.3 * G, "D", 2, 15.0)),
-    ("ec8:ag=3", lambda: D.ec8(3.0)),
+    ("ec8:ag=3m/s2", lambda: D.ec8(3.0)),
     ("ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1", lambda: D.ntc2018(0.2 * G, 2.4, 0.3, "B", "T1")),
-    ("ntc2018:ag=1.5,f0=2.6,tc=0.45,soil=e,topo=t3,xi=10", lambda: D.ntc2018(1.5, 2.6, 0.45, "E", "T3", 10.0)),
+    ("ntc2018:ag=1.5m/s^2,f0=2.6,tc=0.45,soil=e,topo=t3,xi=10", lambda: D.ntc2018(1.5, 2.6, 0.45, "E", "T3", 10.0)),
     ("ntc2018:ag=0.1g,F0=2.5,Tc=0.28", lambda: D.ntc2018(0.1 * G, 2.5, 0.28)),
 ])
 def test_parse_spectrum(text, ref):
@@ -251,10 +251,10 @@ def test_parse_spectrum(text, ref):
 def test_parse_round_trip_through_to_dict():
     sp = D.parse_spectrum("ec8:ag=0.35g,ground=E,type=2,xi=12")
     d = sp.to_dict()
-    again = D.parse_spectrum(f"ec8:ag={d['a_g']!r},ground=E,type={d['code'][-1]},xi={d['xi']!r}")
+    again = D.parse_spectrum(f"ec8:ag={d['a_g']!r}m/s2,ground=E,type={d['code'][-1]},xi={d['xi']!r}")
     assert again == sp
     sp = D.parse_spectrum("ntc2018:ag=0.22g,F0=2.45,Tc=0.33,soil=D,topo=T2,xi=7")
-    again = D.parse_spectrum(f"ntc2018:ag={sp.a_g!r},F0={sp.F0!r},Tc=0.33,soil=D,topo=T2,xi={sp.xi!r}")
+    again = D.parse_spectrum(f"ntc2018:ag={sp.a_g!r}m/s2,F0={sp.F0!r},Tc=0.33,soil=D,topo=T2,xi={sp.xi!r}")
     assert again == sp
 
 

@@ -173,5 +173,5 @@ def test_cli_workers_and_scheduler_give_the_same_numbers(params, tmp_path, capsy
     assert e0["theta_max_over_delta"] == e1["theta_max_over_delta"] and e0["outcome"] == e1["outcome"]
     capsys.readouterr()
 
-    assert main(["variability", str(params), "--motion", "cosine:amp=1,freq=2", "--workers", "0"]) == 2
+    assert main(["variability", str(params), "--motion", "cosine:amp=1g,freq=2", "--workers", "0"]) == 2
     assert "workers must be" in capsys.readouterr().err

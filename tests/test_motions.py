@@ -161,14 +161,14 @@ def test_parse_spec_pulses():
     assert th == 0.0 and m.kind == "harmonic"
     assert m.amp == pytest.approx(0.3 * G_SPEC, rel=1e-15) and m.freq == 2.0 and m.end == 0.5
     assert m.acc(0.0) == pytest.approx(0.3 * G_SPEC)  # a cosine
-    m, _ = M.parse_spec("COSINE: amp = 2.5 , freq = 2 , start = 0.1")
+    m, _ = M.parse_spec("COSINE: amp = 2.5 m/s^2 , freq = 2 , start = 0.1")
     assert m.amp == 2.5 and m.start == 0.1 and m.acc(0.1) == pytest.approx(2.5)
-    m, _ = M.parse_spec("sine:amp=-1.2,freq=3")
+    m, _ = M.parse_spec("sine:amp=-1.2m/s2,freq=3")
     assert m.amp == -1.2 and m.end == pytest.approx(1 / 3) and m.acc(0.0) == 0.0
     assert m.acc(1 / 12) == pytest.approx(-1.2)
     m, _ = M.parse_spec("rect:amp=0.2G,dur=0.25")
     assert m.kind == "rect" and m.amp == pytest.approx(0.2 * G_SPEC) and m.end == 0.25
-    m, _ = M.parse_spec("sines:amp=1,freq=2,cycles=3")
+    m, _ = M.parse_spec("sines:amp=1M/S2,freq=2,cycles=3")
     assert m.end == pytest.approx(1.5) and m.acc(1.375) == pytest.approx(-1.0)
 
 
@@ -196,7 +196,7 @@ def test_parse_spec_file_forms(tmp_path):
     assert m.dt == pytest.approx(0.01 / math.sqrt(2)) and m.pga == 2.0
     m, _ = M.parse_spec("file:path=rec.csv,units=g", base_dir=tmp_path)
     np.testing.assert_allclose(m.samples, a * G_FILE, rtol=1e-15)
-    m, _ = M.parse_spec("file:path=one.txt,dt=0.02,pga=1,scale=4,units=g", base_dir=tmp_path)
+    m, _ = M.parse_spec("file:path=one.txt,dt=0.02,pga=1m/s2,scale=4,units=g", base_dir=tmp_path)
     assert m.pga == pytest.approx(1.0) and m.dt == pytest.approx(0.01)
 
 
@@ -219,29 +219,29 @@ def test_parse_spec_synthetic():
     ("sines:amp=1,freq=2", "missing cycles"),
     ("file:dt=0.01", "missing path"),
     ("free:", "missing theta0"),
-    ("cosine:amp=1,freq=2,dur=3", "unknown key"),
+    ("cosine:amp=1g,freq=2,dur=3", "unknown key"),
     ("free:theta0=0.1,amp=1", "unknown key"),
     ("synthetic:amp=1", "unknown key"),
-    ("cosine:amp=1,freq=2,amp=2", "twice"),
+    ("cosine:amp=1g,freq=2,amp=2g", "twice"),
     ("cosine:amp,freq=2", "key=value"),
     ("cosine:amp=abc,freq=2", "number"),
     ("cosine:amp=,freq=2", "number"),
-    ("cosine:amp=1,freq=two", "number"),
+    ("cosine:amp=1g,freq=two", "number"),
     ("free:theta0=x", "number"),
     ("cosine:amp=nan,freq=2", "finite"),
     ("cosine:amp=nang,freq=2", "finite"),
-    ("cosine:amp=1,freq=nan", "finite"),
-    ("cosine:amp=1,freq=inf", "finite"),
+    ("cosine:amp=1g,freq=nan", "finite"),
+    ("cosine:amp=1g,freq=inf", "finite"),
     ("free:theta0=nan", "finite"),
-    ("cosine:amp=1,freq=-2", "positive"),
-    ("sine:amp=1,freq=0", "positive"),
-    ("rect:amp=1,dur=-0.5", "positive"),
-    ("rect:amp=1,dur=0", "positive"),
-    ("sines:amp=1,freq=2,cycles=-1", "positive"),
-    ("cosine:amp=1,freq=2,start=-1", "start"),
+    ("cosine:amp=1g,freq=-2", "positive"),
+    ("sine:amp=1g,freq=0", "positive"),
+    ("rect:amp=1g,dur=-0.5", "positive"),
+    ("rect:amp=1g,dur=0", "positive"),
+    ("sines:amp=1g,freq=2,cycles=-1", "positive"),
+    ("cosine:amp=1g,freq=2,start=-1", "start"),
     ("synthetic:seed=-1", "seed"),
     ("synthetic:seed=1.5", "seed"),
-    ("synthetic:pga=-1", "pga"),
+    ("synthetic:pga=-1g", "pga"),
     ("synthetic:dt=0", "positive"),
     ("synthetic:duration=0.05", "duration"),
     ("file:path=/nonexistent/statue2model/rec.csv", "not found"),
@@ -253,7 +253,7 @@ def test_parse_spec_rejects(spec, word):
 
 def test_parse_spec_file_rejects(tmp_path):
     _write_two_column(tmp_path / "rec.csv", 0.01 * np.arange(4), [0.0, 1.0, 2.0, 0.0])
-    for spec, word in [("file:path=rec.csv,pga=-1", "PGA"), ("file:path=rec.csv,scale=0", "positive"),
+    for spec, word in [("file:path=rec.csv,pga=-1m/s2", "PGA"), ("file:path=rec.csv,scale=0", "positive"),
                        ("file:path=rec.csv,units=furlongs", "units"), ("file:path=rec.csv,dt=0.5", "contradicts"),
                        ("file:path=rec.csv,dt=-1", "positive")]:
         with pytest.raises(InputError, match=word):
@@ -261,7 +261,8 @@ def test_parse_spec_file_rejects(tmp_path):
 
 
 def test_parse_accel():
-    assert M.parse_accel("2.5") == 2.5
+    assert M.parse_accel("2.5m/s2") == M.parse_accel("2.5 m/s^2") == M.parse_accel("2.5M/S**2") == 2.5
+    assert M.parse_accel("0") == 0.0                     # zero is zero in any unit
     assert M.parse_accel(" 0.3g ") == pytest.approx(0.3 * 9.81, rel=1e-15)
     assert M.parse_accel("-1e-1G") == pytest.approx(-0.981)
     for bad in ("g", "abc", "inf", "0.3gg"):

@@ -97,7 +97,7 @@ def test_default_file_round_trips(tmp_path):
     ("[prototype]\ncompensate = 1\n", "true or false"),
     ("scan = 3\n", "must be a [section]"),
     ("[scan\n", "not valid TOML"),
-    ("[prototype]\nscale = \"auto\"\n", "[prototype] scale = 'auto': needs a value (default 2.0)"),
+    ("[prototype]\nscale = \"auto\"\n", "[prototype] scale = 'auto': needs a value (default \"1:2\")"),
     ("[dynamics]\nenabled = \"auto\"\n", "needs a value (default true)"),
     ("[model]\nkind = \"auto\"\n", "[model] kind"),
     ("[isolator]\nthickness = \"-30mm\"\n", "[isolator] thickness"),

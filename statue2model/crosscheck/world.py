@@ -27,6 +27,8 @@ True
 from __future__ import annotations
 
 import math
+import os
+import sys
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -35,6 +37,55 @@ from typing_extensions import Self
 from ..errors import InputError
 
 G = 9.81
+
+
+def import_pybullet():
+    """The ``pybullet`` module, imported without its build banner ("pybullet build time: ...").
+
+    The C extension prints the banner at import, below Python (printf/fprintf: to fd 1 in
+    some builds, fd 2 in others), so ``contextlib.redirect_stdout`` cannot catch it: fds 1
+    and 2 point at /dev/null around the first import (C's buffers flushed before they are
+    restored). A command's stdout then holds its results only and its stderr the one error
+    line. Every import of pybullet in statue2model goes through here.
+    """
+    if "pybullet" in sys.modules:
+        return sys.modules["pybullet"]
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, OSError, ValueError):
+            pass
+    try:
+        saved = [os.dup(1), os.dup(2)]
+    except OSError:                    # no fd 1 or 2 to guard: nothing to keep clean
+        import pybullet
+
+        return pybullet
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, 1)
+            os.dup2(null, 2)
+            import pybullet
+        finally:
+            _flush_c_stdio()
+            os.close(null)
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        os.close(saved[0])
+        os.close(saved[1])
+    return pybullet
+
+
+def _flush_c_stdio() -> None:
+    """fflush(NULL): C's stdout is fully buffered on a pipe; flushed now, the banner goes to /dev/null."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):
+        pass
 
 
 def real_time_factor(steps: int, dt: float, wall_time: float) -> float:
@@ -98,7 +149,7 @@ class World:
         self.p = None
 
     def __enter__(self) -> Self:
-        import pybullet
+        pybullet = import_pybullet()
 
         self.p = pybullet
         self.client = pybullet.connect(pybullet.DIRECT)

@@ -425,18 +425,44 @@ def table_displacement(motion: GroundMotion, dt: float | None = None):
 
 
 # --- SPEC strings ------------------------------------------------------------------
-def parse_accel(text: str, what: str = "acceleration") -> float:
-    """'2.5' (m/s^2) or '0.3g' (times 9.81)."""
-    s = text.strip().lower()
-    factor = 1.0
-    if s.endswith("g"):
-        s, factor = s[:-1], 9.81
+G_SPEC = 9.81
+"""The g of an acceleration written '0.3g' (SPEC strings, grids, project files)."""
+
+ACCEL_UNITS = (("m/s^2", 1.0), ("m/s**2", 1.0), ("m/s²", 1.0), ("m/s2", 1.0), ("g", None))
+"""Unit spellings of an acceleration (case-insensitive) -> factor to m/s^2 (None: g)."""
+
+
+def parse_accel(text: str, what: str = "acceleration", key: str | None = None, g: float = G_SPEC) -> float:
+    """'0.3g' (times ``g`` = 9.81) or '2.94m/s2' ('m/s^2', 'm/s**2', 'm/s²') -> m/s^2.
+
+    A number without a unit is refused (it once meant m/s^2 and read as 'no motion' to
+    whoever meant g); only 0 may go without one. ``key`` names the value in the
+    message as the user wrote it (``amp=0.3``).
+
+    >>> parse_accel("0.3g"), parse_accel("2.5 m/s^2"), parse_accel("0")
+    (2.943, 2.5, 0.0)
+    >>> parse_accel("0.3", key="amp")
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: amp=0.3 has no unit: write amp=0.3g or amp=2.94m/s2
+    """
+    raw = str(text).strip()
+    s = raw.lower()
+    factor = None
+    for unit, f in ACCEL_UNITS:
+        if s.endswith(unit):
+            s, factor = s[: -len(unit)].strip(), (g if f is None else f)
+            break
     try:
-        value = float(s) * factor
+        value = float(s) * (1.0 if factor is None else factor)
     except ValueError:
-        raise InputError(f"{what} must be a number in m/s^2 or with a g suffix (0.3g), got {text!r}") from None
+        raise InputError(f"{what} must be a number with a unit (0.3g or 2.94m/s2), got {text!r}") from None
     if not math.isfinite(value):
         raise InputError(f"{what} must be finite, got {text!r}")
+    if factor is None and value != 0:
+        name = f"{key}=" if key else ""
+        head = f"{name}{raw}" if key else f"{what}: {raw}"
+        raise InputError(f"{head} has no unit: write {name}{raw}g or {name}{value * g:.3g}m/s2")
     return value
 
 
@@ -504,7 +530,7 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
         theta0 = _num("theta0", args["theta0"])
         return free(), theta0
     if kind in ("cosine", "sine", "sines"):
-        amp = parse_accel(args["amp"], "pulse amplitude")
+        amp = parse_accel(args["amp"], "pulse amplitude", key="amp")
         freq = _num("freq", args["freq"], positive=True)
         if kind == "cosine":
             return cosine_pulse(amp, freq, start), 0.0
@@ -512,12 +538,12 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
             return sine_pulse(amp, freq, start), 0.0
         return sine_train(amp, freq, _num("cycles", args["cycles"], positive=True), start), 0.0
     if kind == "rect":
-        return rect_pulse(parse_accel(args["amp"], "pulse amplitude"), _num("dur", args["dur"], positive=True),
+        return rect_pulse(parse_accel(args["amp"], "pulse amplitude", key="amp"), _num("dur", args["dur"], positive=True),
                           start), 0.0
     if kind == "synthetic":
         motion = synthetic_record(duration=_num("duration", args.get("duration", "20"), True),
                                   dt=_num("dt", args.get("dt", "0.01"), True),
-                                  pga=parse_accel(args.get("pga", "0.3g"), "pga"),
+                                  pga=parse_accel(args.get("pga", "0.3g"), "pga", key="pga"),
                                   seed=_seed(args.get("seed", "0")),
                                   f_g=_num("fg", args.get("fg", "2.5"), True))
         return motion, 0.0
@@ -527,7 +553,7 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
     motion = read_record(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
                          units=args.get("units"))
     if "pga" in args:
-        motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga"))
+        motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga", key="pga"))
     if "scale" in args:
         motion = motion.froude(_num("scale", args["scale"], positive=True))
     return motion, 0.0

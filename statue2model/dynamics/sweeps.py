@@ -215,7 +215,7 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
 
 def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:
     """'START:STOP:N' -> N equally spaced values (inclusive, N in 1..1e6); 'a,b,c' -> a
-    list. With ``accel``, values may carry a g suffix ('0.05g:1g:20'), returned in m/s^2."""
+    list. With ``accel``, values carry a unit ('0.05g:1g:20', '0.5m/s2:9m/s2:20'), returned in m/s^2."""
     from .motions import parse_accel
 
     conv = (lambda v: parse_accel(v, what)) if accel else float
@@ -229,6 +229,8 @@ def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:
             out = np.linspace(conv(a), conv(b), n)
         else:
             out = np.array([conv(x) for x in text.split(",") if x.strip()])
+    except InputError:          # an acceleration's own message (e.g. no unit)
+        raise
     except ValueError:
         raise InputError(f"{what}: expected START:STOP:N (N in 1..1e6) or a comma list of numbers, "
                          f"got {text!r}") from None

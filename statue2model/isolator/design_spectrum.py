@@ -222,16 +222,10 @@ def ntc2018(a_g: float, F0: float, Tc_star: float, soil: str = "A", topography: 
 
 # --- command-line form ---------------------------------------------------------------
 def _accel(key: str, text: str) -> float:
-    s = text.strip().lower()
-    factor = 1.0
-    if s.endswith("g"):
-        s, factor = s[:-1], G
-    try:
-        value = float(s) * factor
-    except ValueError:
-        raise InputError(f"spectrum: {key} must be an acceleration in m/s^2 or with a g suffix "
-                         f"(0.25g), got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
+    from ..dynamics.motions import parse_accel     # one reading of an acceleration: 0.25g or 2.45m/s2
+
+    value = parse_accel(text, f"spectrum: {key}", key=key, g=G)
+    if not value > 0:
         raise InputError(f"spectrum: {key} must be a positive finite acceleration, got {text!r}")
     return value
 
@@ -252,7 +246,7 @@ _KEYS = {"ec8": ({"ag"}, {"ground", "type", "xi"}),
 
 def parse_spectrum(text: str) -> ElasticSpectrum:
     """A spectrum from its command-line form, e.g. "ec8:ag=0.25g,ground=C,type=1,xi=5" or
-    "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1" (ag in m/s^2 or with a g suffix;
+    "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1" (ag with a unit, g or m/s2;
     keys are case-insensitive)."""
     if not isinstance(text, str):
         raise InputError(f"spectrum must be a string like 'ec8:ag=0.25g,ground=C', got {text!r}")

@@ -1,7 +1,9 @@
 """The project file: every choice of a ``statue2model run``, in one TOML file.
 
 Sections and keys (SI units: metres, kilograms, seconds, m/s^2; a string may carry
-a unit instead: ``"9mm"``, ``"0.075g"``; ``"auto"`` leaves a choice to the program):
+a unit instead: ``"9mm"``, ``"0.075g"``; ``"auto"`` leaves a choice to the program).
+An acceleration inside a string (motions ``amp=``, ``pga=``, spectra ``ag=``, grids) needs
+its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 
 [scan]       units, up, height, density, mass, direction, base_tol      (``props``)
 [prototype]  enabled, scale, board, glue, policy, tool, compensate, tolerance, rod,
@@ -15,6 +17,9 @@ a unit instead: ``"9mm"``, ``"0.075g"``; ``"auto"`` leaves a choice to the progr
 [crosscheck] enabled, quick, motion, dt, iterations, grid, pulse_freq, isolator
 [run]        workers, scheduler                                         (where sweeps run;
                                                                          never changes a result)
+
+The scale is written ``"1:2"`` (or the ratio prototype/statue, ``0.5``); a bare 2 is
+refused (1:2 or 2:1?).
 
 The defaults are the thesis' choices: a 1:2 prototype of 9 mm OSB boards (620 kg/m^3)
 glued with 0.5 mm films, a 3 mm cutter, 8 mm steel alignment rods, 2500 x 1250 mm
@@ -55,7 +60,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argtypes import length, scale_ratio, sheet_size
+from ..argtypes import length, scale_ratio, scale_text, sheet_size
 from ..errors import InputError
 
 if sys.version_info >= (3, 11):
@@ -84,7 +89,7 @@ class PrototypeConfig:
     """The stacked-board prototype (see ``statue2model slice``)."""
 
     enabled: bool = True
-    scale: float = 2.0                  # lambda of a 1:lambda prototype
+    scale: float = 2.0                  # lambda of a 1:lambda prototype (written "1:2" or 0.5 in the file)
     board: float = 0.009                # m
     glue: float = 0.0005                # m
     policy: str = "mid"                 # mid | envelope | core
@@ -220,6 +225,7 @@ class ProjectConfig:
             return v
 
         data = {name: {k: clean(v) for k, v in sec.items()} for name, sec in self.to_dict().items()}
+        data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
         return tomli_w.dumps(data)
 
     def with_section(self, name: str, **changes) -> ProjectConfig:
@@ -238,7 +244,8 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             return AUTO
         if nullable:
             return None
-        raise InputError(f"{name} = {value!r}: needs a value (default {_show(default)})")
+        shown = f'"{scale_text(default)}"' if key == "scale" else _show(default)
+        raise InputError(f"{name} = {value!r}: needs a value (default {shown})")
     try:
         # bool is an int in Python: without this, board = true would read as a 1 m board
         if not isinstance(default, bool) and (isinstance(value, bool) or isinstance(value, (list, tuple))
@@ -254,9 +261,12 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
         elif (sec, key) in _ACCELS:
             from ..dynamics.motions import parse_accel
 
-            v = parse_accel(value, name) if isinstance(value, str) else float(value)
+            try:                            # a string needs its unit (0.075g); a number is m/s^2
+                v = parse_accel(value, key, key=key) if isinstance(value, str) else float(value)
+            except InputError as exc:       # its whole message ("fuse_release=0.3 has no unit: ...")
+                raise ValueError(str(exc)) from None
         elif key == "scale":
-            v = scale_ratio(value) if isinstance(value, str) else float(value)
+            v = scale_ratio(value)         # "1:2" or 0.5; a bare 2 is refused (1:2 or 2:1?)
         elif key == "sheet":
             v = sheet_size(value) if isinstance(value, str) else tuple(float(x) for x in value)
             if len(v) != 2:
@@ -426,10 +436,16 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):
         bad("[isolator] give exactly one of spectrum and motion")
+    def named(fn, name, spec):
+        try:
+            return fn(spec)
+        except InputError as exc:
+            raise InputError(f"{where}: {name} = {spec!r}: {exc}") from None
+
     if i.enabled and i.spectrum:
-        parse_spectrum(i.spectrum)
+        named(parse_spectrum, "[isolator] spectrum", i.spectrum)
     if i.enabled and i.motion:
-        parse_spec(i.motion)
+        named(parse_spec, "[isolator] motion", i.motion)
     for name, v in (("thickness", i.thickness), ("target", i.target), ("fuse_release", i.fuse_release)):
         if v is not None and not v > 0:
             bad(f"[isolator] {name} must be positive, got {v}")
@@ -445,7 +461,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     for name, spec, on in (("[dynamics] motion", d.motion, d.enabled), ("[crosscheck] motion", c.motion, c.enabled)):
         if not on:
             continue
-        motion, theta0 = parse_spec(spec)
+        motion, theta0 = named(parse_spec, name, spec)
         if motion.kind == "none" or theta0 != 0 or not motion.pga > 0:
             bad(f"{name} must be a ground motion (not zero), got {spec!r}")
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
