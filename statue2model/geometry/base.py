@@ -36,23 +36,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .footprint import convex_hull_2d, hull_edge_distances, polygon_area
-from .orient import BASE_BAND
+from .orient import BASE_BAND, base_faces
 
 BASE_TOL = 1e-3
 """Least contact tolerance as a fraction of the body's height (1.8 mm on 1.8 m)."""
 SENSITIVITY_LIMIT = 0.10
 """Relative change of a_min between half and double the tolerance above which the
 base contact is reported as uncertain."""
-
-
-def _down_faces(vertices: np.ndarray, faces: np.ndarray, band: float) -> np.ndarray:
-    """Faces facing down (within 20 deg) with every vertex within ``band`` of z = 0."""
-    low_v = vertices[:, 2] <= band
-    idx = np.flatnonzero(low_v[faces].all(axis=1))
-    a, b, c = (vertices[faces[idx, j]] for j in range(3))
-    av = np.cross(b - a, c - a)
-    down = -av[:, 2] > 0.94 * np.linalg.norm(av, axis=1)
-    return idx[down]
 
 
 @dataclass(frozen=True)
@@ -71,9 +61,9 @@ class BaseSurface:
     n_points: int
 
 
-def base_surface(vertices: np.ndarray, faces: np.ndarray, height: float) -> BaseSurface:
+def base_surface(vertices: np.ndarray, faces: np.ndarray) -> BaseSurface:
     """Resolution, roughness and warp of the base of a body resting on z = 0."""
-    sel = _down_faces(vertices, faces, BASE_BAND * height)
+    sel, _ = base_faces(vertices, faces)
     if not len(sel):
         return BaseSurface(0.0, 0.0, 0.0, 0)
     f = faces[sel]

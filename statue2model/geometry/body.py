@@ -120,8 +120,7 @@ def body_from_mesh(
 
     extent = float(np.ptp(v, axis=0).max())
     if height is not None:
-        choice = resolve_units("auto", extent) if _any_unit_fits(extent) else None
-        s = choice.scale if choice is not None else 1.0
+        s = resolve_units("auto", extent, strict=False).scale   # provisional: --height sets the scale
         if units != "auto":
             steps.append(f"--units {units} not used: --height sets the scale")
     else:
@@ -150,7 +149,7 @@ def body_from_mesh(
     shift = np.array([0.0, 0.0, -v2[:, 2].min()])
     v2 = v2 + shift
     H = float(v2[:, 2].max())
-    surface = base_surface(v2, f, H)
+    surface = base_surface(v2, f)
     if base_tol is None:
         tol, why = contact_tolerance(surface, H)
     else:
@@ -192,13 +191,6 @@ def body_from_mesh(
         units=("scaled to height" if height is not None else choice.units), up=cand.up, scale=s,
         rotation=R, translation=shift, log=tuple(steps), warnings=tuple(warnings), base=base,
     )
-
-
-def _any_unit_fits(extent: float) -> bool:
-    """Whether some unit gives the file a plausible size (only a hint when --height is given)."""
-    from .units import PLAUSIBLE_SIZE, UNIT_SCALE
-
-    return any(PLAUSIBLE_SIZE[0] <= extent * k <= PLAUSIBLE_SIZE[1] for k in UNIT_SCALE.values())
 
 
 def _polygon_centroid(ring: np.ndarray) -> np.ndarray:

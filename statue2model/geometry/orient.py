@@ -165,19 +165,24 @@ tilted on its turntable is levelled, a body that would tip over onto another par
 itself is not (it does not stand)."""
 
 
-def base_normal(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray | None:
-    """Area-weighted mean outward normal (3,) of the down-facing faces within BASE_BAND
-    of the lowest point of a z-up body, or None when there are none."""
+def base_faces(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The base of a z-up body: indices of the faces facing down (within 20 deg) with every
+    vertex within BASE_BAND of the height above the lowest point, and their area vectors."""
     z = vertices[:, 2]
     low = z <= z.min() + BASE_BAND * float(np.ptp(z))
-    f = faces[low[faces].all(axis=1)]
-    if not len(f):
-        return None
-    av = face_area_vectors(vertices, f)
+    cand = np.flatnonzero(low[faces].all(axis=1))
+    av = face_area_vectors(vertices, faces[cand])
     idx, _ = _down_facing(av, np.array([0.0, 0.0, 1.0]))
+    return cand[idx], av[idx]
+
+
+def base_normal(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray | None:
+    """Area-weighted mean outward normal (3,) of the base (:func:`base_faces`) of a z-up
+    body, or None when it has no down-facing face."""
+    idx, av = base_faces(vertices, faces)
     if not len(idx):
         return None
-    n = av[idx].sum(axis=0)
+    n = av.sum(axis=0)
     return n / np.linalg.norm(n)
 
 

@@ -46,6 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .orient import face_area_vectors
 from .shells import resolve_shells
 from .topology import (EdgeTopology, edge_topology, hole_loops, nonmanifold_vertices, orient_faces,
                        split_nonmanifold_vertices)
@@ -279,7 +280,7 @@ def fill_holes(
             new_faces.append(patch)
             how = "flat"
             depth = 0.0
-            area = float(np.linalg.norm(face_area_vectors_sum(vertices, patch)))
+            area = float(np.linalg.norm(face_area_vectors(vertices, patch).sum(axis=0)))
         elif len(loop) >= 3 and perimeter <= max_perimeter:
             new_vertices.append(centre[None, :])
             nxt = np.roll(loop, -1)
@@ -293,12 +294,6 @@ def fill_holes(
             area, how = float("nan"), "open"
         holes.append(Hole(perimeter, area, depth, centre, how))
     return np.vstack(new_vertices), np.vstack(new_faces), holes
-
-
-def face_area_vectors_sum(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Sum of the area vectors (3,) of ``faces``: the patch's vector area."""
-    a, b, c = (vertices[faces[:, j]] for j in range(3))
-    return 0.5 * np.cross(b - a, c - a).sum(axis=0)
 
 
 def _compact(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
