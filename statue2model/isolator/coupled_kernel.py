@@ -768,25 +768,19 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 qmax_l = q
         if overturned or capstop:
             break
-    if capstop:
+    if capstop or overturned:           # the run ended early: samples after it are nan, phase 4 or 3
+        if not capstop:
+            if md[MD_SIDE] > 0:
+                qmax_r = Q[Q_DR]
+            else:
+                qmax_l = Q[Q_DL]
         while io < n_out and io * dt_out < t:
             io += 1
+        phase = 4.0 if capstop else 3.0
         while io < n_out:
             for c in range(6):
                 out[io, c] = np.nan
-            out[io, 6] = 4.0
-            io += 1
-    elif overturned:
-        if md[MD_SIDE] > 0:
-            qmax_r = Q[Q_DR]
-        else:
-            qmax_l = Q[Q_DL]
-        while io < n_out and io * dt_out < t:
-            io += 1
-        while io < n_out:
-            for c in range(6):
-                out[io, c] = np.nan
-            out[io, 6] = 3.0
+            out[io, 6] = phase
             io += 1
     elif status == STATUS_OK:
         K.segment(t, kind, M, samples, seg)

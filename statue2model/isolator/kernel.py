@@ -127,6 +127,24 @@ def _coulomb_state(t, ta, seg, cf, om):
 
 
 @njit(cache=True)
+def _coulomb_bisect(lo, hi, t, seg, cf, om, s, level, on_v):
+    """Bisect [lo, hi] (absolute times) to machine precision for the first time at which
+    s x passes ``level``: x = v (before it: s v > level) when ``on_v``, else x = u (before
+    it: s u <= level). Returns the upper end."""
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        um, vm, _ = _coulomb_state(mid, t, seg, cf, om)
+        x = vm if on_v else um
+        if (s * x > level) == on_v:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
 def _max_abs_f(ta, tb, seg):
     """max |f| on [ta, tb] for one piece (ends, and the sine's crests inside)."""
     m = max(abs(K._acc(ta, seg)), abs(K._acc(tb, seg) if seg[7] != seg[7] else seg[7]))
@@ -243,17 +261,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
             ti = t + i * h if i < nsub else tb
             _, vi, _ = _coulomb_state(ti, t, seg, cf, om)
             if s * vi <= 0.0:
-                hi = ti
-                for _ in range(200):
-                    mid = 0.5 * (lo + hi)
-                    if mid <= lo or mid >= hi:
-                        break
-                    _, vm, _ = _coulomb_state(mid, t, seg, cf, om)
-                    if s * vm > 0.0:
-                        lo = mid
-                    else:
-                        hi = mid
-                t_rev = hi
+                t_rev = _coulomb_bisect(lo, ti, t, seg, cf, om, s, 0.0, True)
                 break
             lo = ti
         t_stop = min(t_rev, tb)
@@ -261,18 +269,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         hit = False
         if s * u_end > cap:
             # u is monotonic on [t, t_stop]: bisect s u = cap to machine precision
-            lo = t
-            hi = t_stop
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                um, _, _ = _coulomb_state(mid, t, seg, cf, om)
-                if s * um > cap:
-                    hi = mid
-                else:
-                    lo = mid
-            t_stop = hi
+            t_stop = _coulomb_bisect(t, t_stop, t, seg, cf, om, s, cap, False)
             u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
             hit = True
         while k_out < n_out and k_out * dt_out < t_stop:
@@ -414,6 +411,23 @@ def _dp_step(t, u, v, h, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv):
 
 
 @njit(cache=True)
+def _dp_bisect(lo, hi, iters, t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, level, on_v):
+    """The same bisection as :func:`_coulomb_bisect` on the step length of one
+    Dormand-Prince step from (t, u, v), at most ``iters`` halvings. Returns the upper end."""
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        um, vm, _, _ = _dp_step(t, u, v, mid, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
+        x = vm if on_v else um
+        if (s * x > level) == on_v:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
 def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u, cap, stop, e_stop,
             out_u, out_v, out_a, out_z, pk_t, pk_u, stats):
     """Advance the Bouc-Wen plate (adaptive steps); capacity ``cap``, ``stop`` and ``e_stop``
@@ -526,17 +540,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         hi_rev = hh
         if s * v5 < 0.0:
             # the largest s u of the step is at its reversal
-            lo = 0.0
-            hi = hh
-            for _ in range(100):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                um, vm, _, _ = _dp_step(t, u, v, mid, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
-                if s * vm > 0.0:
-                    lo = mid
-                else:
-                    hi = mid
+            hi = _dp_bisect(0.0, hh, 100, t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, 0.0, True)
             hi_rev = hi
             um, _, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
             if s * um > cap:
@@ -544,17 +548,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         elif s * u5 > cap:
             x_far = hh
         if x_far > 0.0:
-            lo = 0.0
-            hi = x_far
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                um, _, _, _ = _dp_step(t, u, v, mid, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
-                if s * um > cap:
-                    hi = mid
-                else:
-                    lo = mid
+            hi = _dp_bisect(0.0, x_far, 200, t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, cap, False)
             um, vm, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
             t = t + hi
             z_e = z_map(z_r, um - u_r, s, u_y, n)

@@ -217,7 +217,7 @@ def _spectrum_rows(sp, label):
 
     n = sp.codes.size
     bad = is_failure(sp.codes)
-    amin = sp.min_failure_amp() if hasattr(sp, "min_failure_amp") else sp.min_overturning_amp()
+    amin = sp.first_amp_where(bad)
     lowest = np.nanmin(amin) if np.any(np.isfinite(amin)) else None
     moved = (sp.codes >= 1) | (sp.codes == CAPACITY)
     extra = sorted(int(c) for c in np.unique(sp.codes[sp.codes < 0]))
