@@ -5,7 +5,6 @@
 """
 import math, sys
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1] / "tests"))
-import numpy as np
 import test_rocking_accuracy as T
 from statue2model.dynamics import RockingModel, motions, simulate
 A1, ST, G = T.A1, T.STATUE, 9.81

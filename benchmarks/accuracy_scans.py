@@ -59,7 +59,7 @@ def main() -> int:
     from scan_fixtures import defect_cases, expected_a_min
 
     from statue2model.geometry.body import body_from_mesh, load_body
-    from statue2model.paths import MESHES_DIR, default_scan
+    from statue2model.io.paths import MESHES_DIR, default_scan
 
     rows = []
     for path in sorted(MESHES_DIR.glob("*")):

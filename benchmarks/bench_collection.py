@@ -42,8 +42,8 @@ from pathlib import Path
 
 from speedup_table import print_speedup_table
 
-from statue2model.executors import SerialExecutor, make_executor
-from statue2model.paths import MESHES_DIR
+from statue2model.compute.executors import SerialExecutor, make_executor
+from statue2model.io.paths import MESHES_DIR
 from statue2model.pipeline.config import load_config, load_config_text
 from statue2model.pipeline.run import run_collection, run_project
 

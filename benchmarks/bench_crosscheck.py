@@ -31,7 +31,7 @@ from statue2model.crosscheck.statue_scene import StatueScene, simulate_statue
 from statue2model.crosscheck.world import SimSettings
 from statue2model.dynamics import RockingModel, motions, simulate
 from statue2model.geometry.body import load_body
-from statue2model.paths import default_scan
+from statue2model.io.paths import default_scan
 
 
 def free_errors(sc, settings, contact=None, collision="hull", t_end=1.0):
@@ -102,8 +102,8 @@ def sections_1_to_4(sc, args):
                   f"{loss / (4 * sci.R_hat):9.5f} {rr.real_time_factor:6.2f}")
 
     print("\n(6) plate at rest (no ground motion) carrying the statue: 20 Hz acceleration rms / peak (m/s^2),")
-    print("    designed isolator R 0.9 m, 3 s after 0.25 s settling (runs.plate_at_rest)")
-    from statue2model.crosscheck.runs import plate_at_rest
+    print("    designed isolator R 0.9 m, 3 s after 0.25 s settling (isolator_cases.plate_at_rest)")
+    from statue2model.crosscheck.isolator_cases import plate_at_rest
     from statue2model.isolator.plates import PlateGeometry
 
     h = 0.30238660547079826

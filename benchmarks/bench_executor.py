@@ -35,7 +35,7 @@ from speedup_table import print_speedup_table
 
 from statue2model.dynamics import RockingModel
 from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.executors import DaskExecutor, ProcessExecutor, SerialExecutor
+from statue2model.compute.executors import DaskExecutor, ProcessExecutor, SerialExecutor
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81

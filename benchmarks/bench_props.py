@@ -36,7 +36,7 @@ DATA = HERE / "_data"
 def make_scan(levels: int = 3) -> Path:
     import trimesh
 
-    from statue2model.paths import default_scan
+    from statue2model.io.paths import default_scan
 
     path = DATA / f"dancing_girl_sub{levels}.ply"
     if path.exists():
@@ -95,7 +95,7 @@ def messy(levels: int, seed: int = 0):
     2,000 faces (twin fin, flap, missing face, flipped face)."""
     import trimesh
 
-    from statue2model.paths import default_scan
+    from statue2model.io.paths import default_scan
 
     mesh = trimesh.load(default_scan(), process=False)
     v, f = np.asarray(mesh.vertices), np.asarray(mesh.faces)

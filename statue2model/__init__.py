@@ -7,7 +7,7 @@ Pipeline (one sub-package per stage):
 Example
 -------
 >>> from statue2model import load_body
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> round(load_body(default_scan()).rocking().h, 3)
 0.732
 """

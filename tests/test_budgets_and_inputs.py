@@ -15,7 +15,7 @@ from argparse import Namespace
 import numpy as np
 import pytest
 
-from statue2model import budget, executors
+from statue2model.compute import budget, executors
 from statue2model.cli import main
 from statue2model.dynamics import motions
 from statue2model.dynamics.identify import read_time_series
@@ -148,7 +148,7 @@ def test_params_json_booleans_and_strings_refused(tmp_path, capsys):
 
 # --- C. workers ---------------------------------------------------------------------------------
 def test_workers_capped_to_the_cores_with_a_note(capsys):
-    from statue2model.cli_dynamics import _executor
+    from statue2model.cli.dynamics import _executor
 
     cores = executors.available_cores()
     assert cores <= (os.cpu_count() or 1)
@@ -163,7 +163,7 @@ def test_workers_capped_to_the_cores_with_a_note(capsys):
 
 PARENT = """
 import time
-from statue2model.executors import ProcessExecutor
+from statue2model.compute.executors import ProcessExecutor
 if __name__ == "__main__":
     ex = ProcessExecutor(2)
     ex.map(time.sleep, [0.1, 0.1, 0.1, 0.1])
@@ -180,6 +180,7 @@ def _alive(pid: int) -> bool:
         return False
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 def test_workers_end_when_their_parent_is_killed(tmp_path):
     script = tmp_path / "parent.py"
@@ -231,6 +232,7 @@ def test_dask_tasks_carry_their_inputs_and_retry():
     assert "scatter" not in src and "retries=self.retries" in src and executors.DaskExecutor.retries >= 1
 
 
+@pytest.mark.slow
 def test_a_lost_scheduler_is_one_line(caplog):
     import math
 

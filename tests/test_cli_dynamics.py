@@ -7,7 +7,7 @@ import pytest
 
 from statue2model.cli import main
 from statue2model.dynamics import RockingModel, motions, simulate
-from statue2model.files import write_json
+from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
 
 A1 = RockingParams.rectangular_block(0.0384, 0.2000, 1.286)
@@ -64,13 +64,14 @@ def test_rock_record_file_and_froude(params, tmp_path, capsys):
     path = tmp_path / "rec.csv"
     motions.write_record_csv(path, rec)
     out = tmp_path / "rec.json"
-    code, _, err = run(["rock", params, "--motion", f"file:path={path},pga=0.4g,scale=2", "--json", out], capsys)
+    code, _, err = run(["rock", params, "--motion", f"file:path={path},pga=0.4g,scale=1:2", "--json", out], capsys)
     assert code == 0, err
     data = json.loads(out.read_text())
     assert data["motion"]["pga_m_s2"] == pytest.approx(0.4 * 9.81)
     assert data["motion"]["dt_s"] == pytest.approx(0.005 / np.sqrt(2))
 
 
+@pytest.mark.slow
 def test_spectrum_variability_sweep_identify_motion(params, tmp_path, capsys):
     code, out, err = run(["spectrum", params, "--freq", "1:4:4", "--amp", "0.1g:1g:5", "--alpha", "0.65",
                           "--json", tmp_path / "sp.json"], capsys)

@@ -1,7 +1,7 @@
 """3D cross-check (PyBullet) of the 2D rocking model: scenes, ground motion, agreement levels.
 
-The measured levels (dt = 0.5 ms, 50 solver iterations; see docs_crosscheck.md) are pinned
-with a small margin so that they cannot silently get worse.
+Targets, not pinned levels (dt = 0.5 ms, 50 solver iterations; see docs/crosscheck.md); the
+contact-based lift-off, the validity screen and the overturning boundary: test_crosscheck_validity.py.
 """
 import json
 import math
@@ -37,7 +37,7 @@ SET = SimSettings(dt=5e-4)
 @pytest.fixture(scope="module")
 def statue():
     from statue2model.geometry.body import load_body
-    from statue2model.paths import default_scan
+    from statue2model.io.paths import default_scan
 
     return StatueScene.from_body(load_body(default_scan()))
 
@@ -67,10 +67,10 @@ def test_step_mean_acc_is_exact_for_cubics():
 def test_free_rocking_statue_agreement(statue):
     cases, _hist, runs = free_rocking_cases(statue, SET, ContactSettings(), t_end=1.0)
     by = {c.quantity: c for c in cases}
-    # measured: quarter period 0.04 %, e_L 0.35 %, first rebound 0.75 %
-    assert by["quarter period"].met and by["quarter period"].rel_error < 0.002
-    assert by["restitution e_L"].rel_error < 0.01
-    assert by["peak rotation"].rel_error < 0.015
+    # targets: quarter period 1 % (measured 0.04 %), first rebound 5 % (measured 0.75 %); the statue's
+    # pivot slips a few mm in 3D, so the screen may class them not applicable: the values still count here
+    assert by["quarter period"].met and by["peak rotation"].met
+    assert all(c.status in ("met", "not applicable") for c in cases)
     r = runs["free rocking"]
     assert r["finite"] and r["max_tilt_out"] < 0.01
 
@@ -80,11 +80,10 @@ def test_pulses_statue_agreement(statue):
     by = {c.name: c for c in cases}
     assert by["one-sine 1.5 Hz x0.8: overturn"].met and by["one-sine 1.5 Hz x0.8: overturn"].value_3d == 0.0
     assert by["one-sine 1.5 Hz x1.25: overturn"].met and by["one-sine 1.5 Hz x1.25: overturn"].value_3d == 1.0
-    up = by["one-sine 1.5 Hz x0.8: uplift time"]
-    assert up.met and abs(up.value_3d - up.value_2d) < 0.005        # measured 1.4 ms
-    # measured 2.6 %, and 5.7 % since the scan rests on its hull facet (a_R +0.25 %): the peak lies
-    # after the first impact (issue [11] replaces this case)
-    assert by["one-sine 1.5 Hz x0.8: peak rotation before the first impact"].rel_error < 0.08
+    up = by["one-sine 1.5 Hz x0.8: lift-off time"]
+    assert up.status == "met" and abs(up.value_3d - up.value_2d) < 0.005        # measured 0.08 ms
+    # both read before their own first impact (before issue [11]: a peak after it, 5.7 %); measured 0.17 %
+    assert by["one-sine 1.5 Hz x0.8: peak rotation before the first impact"].status == "met"
 
 
 def test_block_quarter_period_converges_with_dt():
@@ -177,6 +176,7 @@ def test_stress_high_pga_overturns_cleanly(statue):
         assert np.all(np.isfinite(r.theta))
 
 
+@pytest.mark.slow
 def test_stress_long_record(statue):
     m = motions.synthetic_record(duration=60.0, pga=0.35 * 9.81, seed=2)
     r = simulate_statue(statue, m, settings=SimSettings(dt=1e-3), free_time=0.5, dt_out=0.01)
@@ -186,18 +186,18 @@ def test_stress_long_record(statue):
 
 
 def test_restitution_calibration_levels(statue):
-    """The 3D scene's own e, measured on free rocking (eq. 43), per impact speed."""
+    """The 3D scene's own e, measured on free rocking (eq. 43), per impact speed, against eq. 15."""
     cal = calibrate_restitution(statue, SET, ContactSettings(), releases=(0.1, 0.5))
-    # measured: e_L 0.8201 / 0.8204 (theory 0.8178); e_R 0.8822 / 0.7877 (theory 0.8733): the 3D e_R
-    # falls at high impact speed (1.03 rad/s), where the body yaws on its point-like left pivot
-    assert cal["e_L"] == pytest.approx(0.8204, abs=0.006)
-    assert cal["e_L_table"]["values"][0] == pytest.approx(0.8201, abs=0.006)
-    assert cal["e_R_table"]["values"][0] == pytest.approx(0.8822, abs=0.01)
-    assert cal["e_R"] == pytest.approx(0.7877, abs=0.02)
+    # target 5 % of eq. 15 for e_L (measured 0.02 % and 0.3 %); e_R at low speed (measured 1 %). The 3D
+    # e_R falls at high impact speed (1.03 rad/s: 9.8 % below eq. 15), where the pivot slips: reported
+    # by restitution_cases, not pinned here
+    assert all(abs(v / cal["e_L_theory"] - 1) < 0.05 for v in cal["e_L_table"]["values"])
+    assert abs(cal["e_R_table"]["values"][0] / cal["e_R_theory"] - 1) < 0.05
     m = model_2d(statue, cal)
     assert not m.e_R.is_constant and m.e_R(1.03) == pytest.approx(cal["e_R"], abs=1e-3)
 
 
+@pytest.mark.slow
 def test_overturn_grid_agrees_where_the_2d_model_holds(statue):
     """A 2 x 3 slice of the benchmark's grid: at 1-1.5 Hz (2D boundary 0.52-0.59 g, friction needed
     <= 0.7, valid) 2D and 3D agree; at 2.26 Hz the 2D boundary (5.6 g) needs infinite friction and a
@@ -209,9 +209,11 @@ def test_overturn_grid_agrees_where_the_2d_model_holds(statue):
     bad = [r for r in g["rows"] if r["freq"] == 2.26]
     assert all(not r["valid_2d"] and (r["n_min"] < 0 or r["mu_required"] > 1) for r in bad)
     assert all(r["finite"] for r in g["rows"])
-    assert max(r["max_pivot_slip"] for r in bad) > 0.1       # measured 0.2-1 m of sliding at the pivot
+    # the 3D statue hops and twists there (measured yaw 0.6-1.9 rad); slip is counted per contact episode
+    assert max(r["max_yaw"] for r in bad) > math.radians(2)
 
 
+@pytest.mark.slow
 def test_record_peak_rotation_inside_the_models_spread(statue):
     """Synthetic record 0.5 g: the peak rotation depends on every impact, so each side reports its own
     spread (2D: e +-1 %, rtol; 3D: dt / 2) and the two ranges must overlap. Measured: 2D 0.0285 vs 3D
@@ -221,14 +223,15 @@ def test_record_peak_rotation_inside_the_models_spread(statue):
     m = motions.synthetic_record(duration=8.0, pga=0.5 * 9.81, seed=1)
     cases, _h, _r = motion_cases(statue, m, SET, ContactSettings(), model=model_2d(statue, cal), calib=cal,
                                  spread=True)
-    pk = next(c for c in cases if c.quantity == "peak rotation")
-    assert pk.rel_error < 0.50                                # measured 45 %, then 2.2 %
-    sp = pk.spread
-    assert sp["2D relative spread"] > 0.02                    # measured 42 %, then 8 %
-    assert sp["2D range"][0] <= sp["3D range"][1] and sp["3D range"][0] <= sp["2D range"][1]
-    assert "overlap" in pk.why
-    up = next(c for c in cases if c.quantity == "uplift time")
-    assert up.met                                              # measured 1.6 ms
+    pk = next(c for c in cases if c.quantity == "peak rotation" and c.spread)
+    # a single chaotic history: its level is not pinned; the check is reported with both spreads
+    # (agreement over records: the ensemble cases, issue [11] item 6)
+    assert pk.status in ("met", "missed", "not applicable") and "overlap" in pk.why
+    assert pk.spread["2D range"][0] <= pk.value_2d <= pk.spread["2D range"][1]
+    diag = [c for c in cases if c.status == "diagnostic"]
+    assert diag and all("3D's e" in c.name for c in diag if c.quantity == "peak rotation")
+    up = next(c for c in cases if c.quantity == "lift-off time")
+    assert abs(up.value_3d - up.value_2d) < 0.005              # target 5 ms
 
 
 def _design_isolator(statue, **kw):
@@ -241,12 +244,13 @@ def _design_isolator(statue, **kw):
     return IsolatorScene(geom=geom, mu=0.0073, m_o=16.560275187869248, statue=statue, **kw)
 
 
+@pytest.mark.slow
 def test_isolated_statue_levels(statue):
     """Statue on the designed isolator (R 0.9 m, r 9.5 mm, m_o 16.6 kg), 4 s record at 0.2 g, grooves as
     the 4 mm lattice, statue fixed to the plate (one rigid body: the 2D plate model's assumption).
     Measured: 20 Hz peaks 2D 0.334, 3D 1.062 m/s^2 (before: 2.86 with the 128-segment mesh and the
     free-standing statue); raw 0.325 / 1.66; displacement 0.0459 / 0.0455 m (0.9 %; before 8.3 %)."""
-    from statue2model.crosscheck.runs import isolated_statue_cases
+    from statue2model.crosscheck.isolator_cases import isolated_statue_cases
 
     iso = _design_isolator(statue)
     m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)
@@ -261,16 +265,18 @@ def test_isolated_statue_levels(statue):
     assert runs["isolated statue"]["finite"] and "isolated statue: plate acceleration (low-passed)" in hist
 
 
+@pytest.mark.slow
 def test_plate_noise_floor_at_rest(statue):
     """No ground motion: the plate carrying the 407 kg statue. With the 128-segment CNC mesh its 20 Hz
     acceleration was 0.72 m/s^2 rms (peaks 2.6); with the 4 mm lattice grooves 0.040 rms (peak 0.17),
     free-standing statue (without the statue 0.005)."""
-    from statue2model.crosscheck.runs import plate_at_rest
+    from statue2model.crosscheck.isolator_cases import plate_at_rest
 
     r = plate_at_rest(_design_isolator(statue), SET, ContactSettings(), t_end=2.0, mount="contact")
     assert r["outcome"] == "ok" and r["rms_filtered"] < 0.12 and r["peak_filtered"] < 0.6
 
 
+@pytest.mark.slow
 def test_stress_statue_overturns_off_the_plate():
     from dataclasses import replace
 
@@ -285,6 +291,7 @@ def test_stress_statue_overturns_off_the_plate():
     assert r.finite and r.outcome == "ball left its groove"                            # at 0.215 s
 
 
+@pytest.mark.slow
 def test_cli_crosscheck_params_quick(tmp_path, capsys):
     params = tmp_path / "p.json"
     params.write_text(json.dumps({"m": 100.0, "h": 0.5, "b_L": 0.12, "b_R": 0.1, "I_G": 100 * (0.11**2 + 0.25) / 3}))
@@ -318,11 +325,12 @@ def test_cli_bad_input_one_line(tmp_path, capsys, argv, msg):
 
 # ----------------------------------------------------------------------------- isolator
 
+@pytest.mark.slow
 def test_isolator_free_vibration_levels():
     """Small isolator (R 0.3 m, 4 mm lattice grooves): the mapped rolling friction c = mu r gives the
     decay 4 mu R_hat within 0.4 % (with the 64-segment CNC mesh: +20 %, 10.2 % after calibration)."""
     from statue2model.crosscheck.isolator_scene import IsolatorScene
-    from statue2model.crosscheck.runs import isolator_free_cases
+    from statue2model.crosscheck.isolator_cases import isolator_free_cases
 
     sc = IsolatorScene.simple(R=0.3, r=0.0095, mu=0.01, m_o=50.0, travel=0.05)
     cases, _hist, runs, cal = isolator_free_cases(sc, SET, ContactSettings(), cycles=2.2)
@@ -336,6 +344,7 @@ def test_isolator_free_vibration_levels():
     assert all(r["finite"] and r["outcome"] == "ok" for r in runs.values())
 
 
+@pytest.mark.slow
 def test_groove_loss_converges_with_dt():
     """At mu = 0 the 4 mm lattice grooves lose 0.29 mm per cycle at dt 0.5 ms and -0.14 mm at 0.25 ms
     (the 64-segment CNC mesh: 7.3 and 3.3 mm): the loss is numerical and goes to zero with dt."""
@@ -360,6 +369,32 @@ def test_grid_mesh_on_the_sphere():
     assert np.abs(dist - R).max() < 1e-12 and v[:, 2].min() == pytest.approx(-d, abs=2e-5)
     n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
     assert np.all(n[:, 2] > 0)                                       # all facing the ball
+
+
+def test_groove_tiles_tangent_and_maximal_coordinates():
+    """groove 'tiles': every tile's contact face lies in the sphere's tangent plane at its centre; the
+    scene runs with maximal coordinates (the top plate keeps its mass: changeDynamics with
+    localInertiaDiagonal alone zeroed it, NaN at the first step) and keeps the period 2 pi sqrt(R_hat/g)."""
+    from dataclasses import replace
+
+    from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator, tile_cap
+
+    R, d = 0.3, 0.012
+    tiles = tile_cap(R, d, 0.01)
+    c = np.array([0.0, 0.0, R - d])
+    face = tiles[:, 0::2]                                           # the 4 corners of the contact face
+    nrm = np.cross(face[:, 1] - face[:, 0], face[:, 2] - face[:, 0])
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    dist = np.abs(np.einsum("ij,ij->i", c - face[:, 0], nrm))      # centre to the face's plane
+    assert np.abs(dist - R).max() < 1e-9 and len(tiles) > 20
+    sc = replace(IsolatorScene.simple(R=0.3, r=0.0095, mu=0.0, m_o=50.0, travel=0.05, groove="tiles"), tile=0.019)
+    T = 2 * np.pi * np.sqrt(sc.R_hat / 9.81)
+    r = simulate_isolator(sc, motions.free(), u0=0.06, t_end=0.6 * T, dt_out=0.002,
+                          settings=SimSettings(dt=5e-4, maximal_coordinates=True))
+    assert r.finite and r.outcome == "ok" and r.peaks_t.size >= 1
+    assert abs(2 * r.peaks_t[0] - T) / T < 0.03                     # measured 0.7 %
+    with pytest.raises(InputError):
+        IsolatorScene.simple(R=0.3, r=0.0095, mu=0.0, m_o=50.0, groove="bogus")
 
 
 def test_stress_ball_at_the_rim():

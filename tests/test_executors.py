@@ -13,14 +13,14 @@ from statue2model.dynamics import RockingModel, motions
 from statue2model.dynamics.spectrum import stability_spectrum
 from statue2model.dynamics.sweeps import parameter_sweep, variability
 from statue2model.errors import InputError
-from statue2model.executors import (
+from statue2model.compute.executors import (
     DaskExecutor,
     ProcessExecutor,
     SerialExecutor,
     chunks,
     make_executor,
 )
-from statue2model.files import write_json
+from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
 
 A1 = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
@@ -71,6 +71,7 @@ def executor(request):
         yield request.getfixturevalue(request.param)
 
 
+@pytest.mark.slow
 def test_map_keeps_order_and_shows_progress(executor, capsys):
     items = list(range(8))
     assert executor.map(_slow_square, items, desc="squares") == [x * x for x in items]
@@ -107,6 +108,7 @@ def test_make_executor_and_chunks():
     assert [b.tolist() for b in chunks(5, SerialExecutor(), min_chunk=1)] == [[0, 1], [2], [3], [4]]
 
 
+@pytest.mark.slow
 def test_unreachable_scheduler_is_one_clear_line():
     t0 = time.perf_counter()
     with pytest.raises(InputError, match=r"cannot reach the Dask scheduler at tcp://127\.0\.0\.1:1") as err:
@@ -122,6 +124,7 @@ def _same(a, b, fields):
         assert x.dtype == y.dtype and np.array_equal(x, y), f
 
 
+@pytest.mark.slow
 def test_sweeps_bit_identical_on_every_executor(processes, dask):
     sp0 = stability_spectrum(MODEL, FREQS, AMPS)
     v0 = variability(MODEL, RECORD, np.linspace(0.5, 3.0, 7))
@@ -148,6 +151,7 @@ def params(tmp_path):
     return path
 
 
+@pytest.mark.slow
 def test_cli_workers_and_scheduler_give_the_same_numbers(params, tmp_path, capsys, cluster):
     base = ["spectrum", str(params), "--freq", "1:6:6", "--amp", "0.05g:1g:8", "--alpha", "0.65"]
     results = {}

@@ -14,7 +14,7 @@ import pytest
 import tomllib
 import trimesh
 
-from statue2model.csvsafe import csv_text, safe_cell, write_csv
+from statue2model.io.csvsafe import csv_text, safe_cell, write_csv
 from statue2model.fabrication.output import _csv_text
 from statue2model.pipeline.cache import safe_figures
 from statue2model.pipeline.config import ProjectConfig, load_config
@@ -92,6 +92,7 @@ def hostile_collection(tmp_path_factory):
     return names, out, data
 
 
+@pytest.mark.slow
 def test_collection_csv_has_whole_rows_and_no_formulas(hostile_collection):
     names, out, _ = hostile_collection
     rows = list(csv.reader(io.StringIO((out / "collection.csv").read_text(encoding="utf-8"))))

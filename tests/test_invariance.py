@@ -7,7 +7,7 @@ import pytest
 
 from statue2model.geometry.body import body_from_mesh
 from statue2model.geometry.scan import read_scan
-from statue2model.paths import default_scan
+from statue2model.io.paths import default_scan
 
 KEYS = ("m", "h", "b_L", "b_R", "I_G", "d_L", "d_R", "delta_L", "delta_R", "I_L", "I_R",
         "p_L", "p_R", "a_L", "a_R", "e_L", "e_R")

@@ -151,6 +151,7 @@ def _boucwen_reference(iso, motion, t_end):
     return t, sol.y[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["sine pulse", "record from zero"])
 def test_boucwen_forced_from_rest_against_solve_ivp(kind):
     """Regression: a plate at rest under a force that starts at exactly zero (a sine
@@ -215,6 +216,7 @@ def _statue():
     return RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
 
 
+@pytest.mark.slow
 def test_statue_on_the_plate_checks_contact_and_efficiency():
     statue = _statue()
     iso = Isolator(R=0.30, r=0.02, M=16.433, mu=0.0073)
@@ -301,6 +303,7 @@ def test_bad_isolators():
         Isolator(R=0.3, r=0.01, M=10, mu=0.01, model="boucwen", q=0.5)
 
 
+@pytest.mark.slow
 def test_cli(tmp_path, capsys):
     props = tmp_path / "props.json"
     props.write_text(json.dumps({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8}))

@@ -150,7 +150,7 @@ def test_design_for_the_venere_finds_a_thesis_like_device():
 @pytest.fixture(scope="module")
 def statues():
     from statue2model.geometry.body import load_body
-    from statue2model.paths import default_scan
+    from statue2model.io.paths import default_scan
 
     scan = load_body(default_scan()).rocking()
     block = RockingParams.from_dict({"m": 5000.0, "h": 0.5, "b_L": 0.5, "b_R": 0.5, "I_G": 5000 * 2 / 12})
@@ -236,7 +236,7 @@ def test_a_huge_hazard_fails_with_the_closest_candidate_and_what_it_lacks():
     n_bad = [sum(1 for ck, q in zip(row["checks"], req) if q and not ck[3]) for row in rows]
     assert n_bad[0] == min(n_bad) == len(bad)
     assert d.report().startswith("Rolling-ball isolator: FAIL")
-    from statue2model.files import _clean
+    from statue2model.io.files import _clean
 
     json.dumps(_clean(d.to_dict()), allow_nan=False)        # as write_json writes design.json
 

@@ -109,6 +109,7 @@ def test_removed_volume_within_the_tessellation_bound(geom, bottom):
     assert bound / exact < 6e-4                                   # 5.8e-4 at 256 segments
 
 
+@pytest.mark.slow
 def test_removed_volume_converges_to_the_cap():
     """One groove at high segment counts: the deficit falls as 1 / segments^2 (the faces'
     sagitta), is 4.7e-6 relative at 2048 segments, and the Richardson extrapolation of 1024
@@ -184,6 +185,7 @@ def test_three_grooves(tmp_path):
 
 # --------------------------------------------------------------------------- fuse
 
+@pytest.mark.slow
 def test_fuse_seats_and_holes():
     import manifold3d as m3d
 
@@ -250,6 +252,7 @@ def test_bad_arguments_are_refused(geom):
 
 # --------------------------------------------------------------------------- files
 
+@pytest.mark.slow
 def test_write_plates(tmp_path):
     import ezdxf
 

@@ -147,7 +147,7 @@ def test_label_is_chiral():
     # and so does a placed label, seen in the part's coordinates
     lab = place_label(box(0, 0, 0.2, 0.2), "88", 30.0)
     a, (ax, ay) = math.radians(30.0), lab.anchor
-    u, v = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
+    _u, v = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
     flip = [p - 2 * np.outer((p - (ax, ay)) @ v, v) for p in lab.strokes]
     assert MultiLineString(list(lab.strokes)).hausdorff_distance(MultiLineString(flip)) > 0.05 * lab.height
 
@@ -186,6 +186,7 @@ def test_label_is_immutable():
         lab.strokes[0][0, 0] = 1.0
 
 
+@pytest.mark.slow
 def test_300_random_parts_are_fast_and_every_label_is_inside():
     rng = np.random.default_rng(7)
     parts, holes = [], []

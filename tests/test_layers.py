@@ -70,7 +70,7 @@ def test_layer_count_of_the_thesis_prototype():
 
 def test_default_scan_at_half_scale():
     from statue2model.geometry.body import load_body
-    from statue2model.paths import default_scan
+    from statue2model.io.paths import default_scan
 
     body = load_body(default_scan())
     v = body.vertices * 0.5

@@ -192,11 +192,11 @@ def test_parse_spec_file_forms(tmp_path):
     m, _ = M.parse_spec("file:path=rec.csv,pga=0.5g", base_dir=tmp_path)
     assert m.pga == pytest.approx(0.5 * G_SPEC)
     np.testing.assert_allclose(m.samples, a * 0.5 * G_SPEC / 2.0)
-    m, _ = M.parse_spec("file:path=rec.csv,scale=2", base_dir=tmp_path)
+    m, _ = M.parse_spec("file:path=rec.csv,scale=1:2", base_dir=tmp_path)
     assert m.dt == pytest.approx(0.01 / math.sqrt(2)) and m.pga == 2.0
     m, _ = M.parse_spec("file:path=rec.csv,units=g", base_dir=tmp_path)
     np.testing.assert_allclose(m.samples, a * G_FILE, rtol=1e-15)
-    m, _ = M.parse_spec("file:path=one.txt,dt=0.02,pga=1m/s2,scale=4,units=g", base_dir=tmp_path)
+    m, _ = M.parse_spec("file:path=one.txt,dt=0.02,pga=1m/s2,scale=1:4,units=g", base_dir=tmp_path)
     assert m.pga == pytest.approx(1.0) and m.dt == pytest.approx(0.01)
 
 
@@ -253,7 +253,7 @@ def test_parse_spec_rejects(spec, word):
 
 def test_parse_spec_file_rejects(tmp_path):
     _write_two_column(tmp_path / "rec.csv", 0.01 * np.arange(4), [0.0, 1.0, 2.0, 0.0])
-    for spec, word in [("file:path=rec.csv,pga=-1m/s2", "PGA"), ("file:path=rec.csv,scale=0", "positive"),
+    for spec, word in [("file:path=rec.csv,pga=-1m/s2", "PGA"), ("file:path=rec.csv,scale=0", "not a scale"), ("file:path=rec.csv,scale=2", "ambiguous"),
                        ("file:path=rec.csv,units=furlongs", "units"), ("file:path=rec.csv,dt=0.5", "contradicts"),
                        ("file:path=rec.csv,dt=-1", "positive")]:
         with pytest.raises(InputError, match=word):
@@ -340,7 +340,7 @@ def test_read_peer_at2(tmp_path):
     np.testing.assert_allclose(m.samples, g * 9.80665, rtol=1e-6, atol=1e-9)  # 8 significant digits in the file
     assert m.acc(0.005 * 123) == pytest.approx(g[123] * 9.80665, rel=1e-6)
     # same through a SPEC string, with pga and Froude scale
-    s, _ = M.parse_spec(f"file:path={p.name},pga=0.1g,scale=2", base_dir=tmp_path)
+    s, _ = M.parse_spec(f"file:path={p.name},pga=0.1g,scale=1:2", base_dir=tmp_path)
     assert s.pga == pytest.approx(0.981) and s.dt == pytest.approx(0.005 / math.sqrt(2))
 
 

@@ -7,11 +7,11 @@ import sys
 
 import pytest
 
-from statue2model.argtypes import scale_ratio, scale_text
+from statue2model.cli.argtypes import scale_ratio, scale_text
 from statue2model.cli import main
 from statue2model.dynamics import motions as M
 from statue2model.errors import InputError
-from statue2model.files import write_json
+from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.design_spectrum import parse_spectrum
 from statue2model.pipeline.config import ProjectConfig, default_toml, load_config, load_config_text

@@ -1,5 +1,5 @@
 """Never lose a user's files: foreign output folders, one writer per folder, disk
-full, symlinked --out (statue2model.files.open_output, atomic_write)."""
+full, symlinked --out (statue2model.io.files.open_output, atomic_write)."""
 from __future__ import annotations
 
 import errno
@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 import trimesh
 
-from statue2model import files
 from statue2model.cli import main
-from statue2model.files import LOCK_NAME, MANIFEST_NAME
+from statue2model.io import files
+from statue2model.io.files import LOCK_NAME, MANIFEST_NAME
 
 
 @pytest.fixture(scope="module")
@@ -86,6 +86,7 @@ def test_a_foreign_folder_is_refused_and_never_touched(tmp_path, box, capsys, co
     assert snapshot(out) == before
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["params", "slice"])
 def test_with_reuse_the_output_goes_beside_the_users_files(tmp_path, box, capsys, command):
     out = foreign_folder(tmp_path / "mine", look_alikes=False)
@@ -154,7 +155,7 @@ def test_a_folder_in_use_is_refused_at_once(tmp_path, box, capsys):
 
 def test_a_concurrent_run_in_another_process_is_refused(tmp_path, box):
     out = tmp_path / "run"
-    code = ("import sys, time\nfrom statue2model.files import open_output\n"
+    code = ("import sys, time\nfrom statue2model.io.files import open_output\n"
             f"with open_output({str(out)!r}, 'run', command='run'):\n"
             "    print('locked', flush=True)\n    sys.stdin.read()\n")
     holder = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
@@ -248,6 +249,7 @@ def run_writes(box, tmp_path_factory) -> list[str]:
     return seen
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("which", ["first", "second", "stage.json", "config.toml", "run.json", "last"])
 def test_disk_full_in_a_run_is_one_line_and_leaves_nothing_that_looks_complete(tmp_path, box, capsys,
                                                                               monkeypatch, run_writes, which):
@@ -287,6 +289,7 @@ def test_an_unwritable_folder_is_one_line(tmp_path, box, capsys, monkeypatch):
     assert "permission denied while writing" in only_line(capsys)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["params", "slice"])
 def test_a_symlinked_out_is_followed_and_kept(tmp_path, box, command):
     target = tmp_path / "real"

@@ -16,7 +16,7 @@ import pytest
 
 from statue2model.cli import main
 from statue2model.errors import InputError
-from statue2model.paths import MESHES_DIR, default_scan
+from statue2model.io.paths import MESHES_DIR, default_scan
 from statue2model.pipeline import cache
 from statue2model.pipeline.config import (
     ProjectConfig,
@@ -38,6 +38,8 @@ motion = "synthetic:duration=6,pga=0.4g,seed=2"
 [crosscheck]
 quick = true
 motion = "sine:amp=0.4g,freq=2"
+[run]
+stages = "all"
 """
 
 
@@ -153,6 +155,7 @@ def small_run(tmp_path_factory):
     return res
 
 
+@pytest.mark.slow
 def test_run_writes_every_stage_report_and_resolved_config(small_run):
     res = small_run
     assert {k: v["status"] for k, v in res.stages.items()} == {
@@ -168,7 +171,9 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
     for name in ("spectrum_fixed", "spectrum_isolated", "variability", "history"):
         assert (out / "dynamics" / f"{name}.json").is_file() and (out / "dynamics" / f"{name}.png").is_file()
     cc = json.loads((out / "crosscheck" / "crosscheck.json").read_text())
-    assert cc["summary"]["n_cases"] == len(cc["cases"]) > 3
+    s = cc["summary"]
+    assert s["n_cases"] + s["n_not_applicable"] + s["n_diagnostic"] == len(cc["cases"]) and s["n_cases"] > 3
+    assert s["n_cases"] == sum(c["status"] in ("met", "missed") for c in cc["cases"])
     assert load_config(out / "config.toml").to_dict() == small_config().to_dict()
     run = json.loads((out / "run.json").read_text())
     assert run["stages"]["dynamics"]["status"] == "done"
@@ -178,6 +183,7 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
         assert title in page
 
 
+@pytest.mark.slow
 def test_report_figures_load_in_headless_chromium(small_run):
     from statue2model.report.browser import check_figures, find_chromium
 
@@ -200,6 +206,7 @@ def test_stages_not_asked_for_are_taken_from_their_folders(small_run, tmp_path):
     assert page.count("<img") == sum(len(m.get("figures", [])) for m in small_run.stages.values())
 
 
+@pytest.mark.slow
 def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(small_run):
     out = small_run.out
     cfg = small_config()
@@ -215,8 +222,9 @@ def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(
     assert load_config(out / "config.toml").model.rtol == 1e-8
 
 
+@pytest.mark.slow
 def test_executors_give_identical_numbers(tmp_path):
-    from statue2model.executors import ProcessExecutor
+    from statue2model.compute.executors import ProcessExecutor
 
     cfg = small_config()
     a = run_project(default_scan(), tmp_path / "a", cfg, stages=["dynamics"], say=quiet, report=False)
@@ -229,6 +237,7 @@ def test_executors_give_identical_numbers(tmp_path):
         assert ja == jb, name
 
 
+@pytest.mark.slow
 def test_ctrl_c_leaves_no_partial_stage_and_a_rerun_resumes(tmp_path):
     """A real SIGINT to `statue2model run` while the 2D analyses run."""
     out = tmp_path / "run"
@@ -290,10 +299,11 @@ def _numbers(data):
     return [{k: v for k, v in row.items()} for row in data["table"]]
 
 
+@pytest.mark.slow
 def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
     from distributed import LocalCluster
 
-    from statue2model.executors import make_executor
+    from statue2model.compute.executors import make_executor
 
     cfg = small_config(COLLECTION_CFG)
     with make_executor(workers=2) as ex:
@@ -320,6 +330,7 @@ def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
     assert _numbers(again) == _numbers(local)
 
 
+@pytest.mark.slow
 def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
     cfgfile = tmp_path / "p.toml"
     cfgfile.write_text(small_toml(COLLECTION_CFG))
@@ -333,6 +344,7 @@ def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
     assert "no scans" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_path):
     from statue2model.dynamics import motions
 
@@ -354,6 +366,7 @@ def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_
     assert again.stages["dynamics"]["data"] != first.stages["dynamics"]["data"]
 
 
+@pytest.mark.slow
 def test_without_the_isolator_the_analyses_run_on_the_fixed_base(tmp_path):
     cfg = small_config('[isolator]\nenabled = false\n[prototype]\nenabled = false\n[crosscheck]\nenabled = false\n')
     res = run_project(default_scan(), tmp_path / "o", cfg, say=quiet)
@@ -366,6 +379,7 @@ def test_without_the_isolator_the_analyses_run_on_the_fixed_base(tmp_path):
         run_project(default_scan(), tmp_path / "o", cfg, stages=["isolator"], say=quiet)
 
 
+@pytest.mark.slow
 def test_scheduler_on_the_command_line_wins_and_bad_addresses_are_one_line(tmp_path, capsys):
     cfgfile = tmp_path / "p.toml"
     cfgfile.write_text("[run]\nworkers = 2\n")

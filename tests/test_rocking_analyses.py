@@ -19,6 +19,7 @@ IMPERFECT_A1 = RockingModel.imperfect(A1, 0.65, 0.65, 0.13 * A1.delta_L, 0.13 * 
 STATUE_MODEL = RockingModel.imperfect(STATUE, 0.159, 0.175, 4.55e-3, 4.55e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,model,motion,theta0,t_end", [
     ("free", RockingModel.housner(STATUE, e_L=0.9, e_R=0.8), motions.free(), 0.6 * STATUE.delta_R, 4.0),
     ("cosine", IMPERFECT_A1, motions.cosine_pulse(0.25 * G, 2.0), 0.0, 5.0),

@@ -327,6 +327,7 @@ def record_cases(draw):
     return model, draw(records(model))
 
 
+@pytest.mark.slow
 @_settings("pulses")
 @given(pulse_cases())
 def test_pulses_end_bounded_and_independent_of_sampling(case):
@@ -335,6 +336,7 @@ def test_pulses_end_bounded_and_independent_of_sampling(case):
     COUNTS["pulses"] = COUNTS.get("pulses", 0) + 1
 
 
+@pytest.mark.slow
 @_settings("records")
 @given(record_cases())
 def test_records_end_bounded_and_independent_of_sampling(case):
@@ -361,6 +363,7 @@ def free_cases(draw):
     return model, theta0, omega0
 
 
+@pytest.mark.slow
 @_settings("free")
 @given(free_cases())
 def test_free_motion_never_gains_energy(case):
@@ -418,6 +421,7 @@ def quiet_cases(draw):
     return model, motions.sine_train(amp, freq, draw(st.floats(0.5, 6.0)))
 
 
+@pytest.mark.slow
 @_settings("quiet")
 @given(quiet_cases())
 def test_motion_below_the_uplift_limits_never_lifts(case):

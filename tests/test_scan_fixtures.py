@@ -9,6 +9,7 @@ from statue2model.geometry.body import body_from_mesh
 CASES = defect_cases()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", CASES, ids=[c.defect for c in CASES])
 def test_defect_fixture(case):
     if case.expect == "refused":

@@ -15,7 +15,7 @@ from statue2model.errors import InputError
 from statue2model.geometry.body import body_from_mesh, load_body
 from statue2model.geometry.scan import read_scan
 from statue2model.geometry.units import detect_units, resolve_units
-from statue2model.paths import default_scan
+from statue2model.io.paths import default_scan
 
 
 # ---------------------------------------------------------------- glTF helpers
@@ -206,6 +206,7 @@ def test_gltf_missing_buffer_file(tmp_path):
 # ---------------------------------------------------------------- point clouds
 
 
+@pytest.mark.slow
 def test_point_cloud_sampled_on_the_default_scan_is_a_closed_body(tmp_path):
     mesh = trimesh.load(default_scan(), process=False)
     points, _ = trimesh.sample.sample_surface(mesh, 30000, seed=0)
@@ -229,6 +230,7 @@ def test_point_cloud_sampled_on_the_default_scan_is_a_closed_body(tmp_path):
     assert body.up == reference.up
 
 
+@pytest.mark.slow
 def test_noisy_point_cloud_is_flagged(tmp_path):
     rng = np.random.default_rng(3)
     p = rng.normal(size=(6000, 3))

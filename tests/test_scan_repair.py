@@ -8,7 +8,7 @@ from statue2model.errors import InputError
 from statue2model.geometry.body import body_from_mesh, load_body
 from statue2model.geometry.repair import repair_mesh
 from statue2model.geometry.scan import read_scan
-from statue2model.paths import MESHES_DIR, default_scan
+from statue2model.io.paths import MESHES_DIR, default_scan
 
 
 def _volume(res):
@@ -117,6 +117,7 @@ def test_refuses_two_coarse_boxes_joined_at_an_edge():
         repair_mesh(mesh.vertices, mesh.faces)
 
 
+@pytest.mark.slow
 def test_point_cloud_is_reconstructed(tmp_path):
     """A cylinder sampled as bare points (XYZ and face-less PLY) becomes a closed body."""
     rng = np.random.default_rng(1)

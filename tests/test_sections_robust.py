@@ -288,7 +288,7 @@ def test_a_first_board_wider_than_the_base_fails_b_with_its_cause():
     assert sum(w.startswith("the prototype's") for w in res.warnings) == len(c.failing())
     from pathlib import Path
 
-    from statue2model.cli_fabrication import summary
+    from statue2model.cli.fabrication import summary
 
     text = summary(res, Path("out"))
     assert "FAIL" in next(line for line in text.splitlines() if line.startswith("b_R, m"))

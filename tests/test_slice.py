@@ -36,6 +36,7 @@ def sliced(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow
 def test_output_folder_complete(sliced):
     names = {p.name for p in sliced.iterdir()}
     assert {"layers", "sheets", "bom.csv", "assembly.txt", "prototype.stl", "prototype.json", "slice.json"} <= names
@@ -55,6 +56,7 @@ def test_layer_count_matches_height(sliced):
     assert info["n_layers"] == math.ceil(info["height"] / info["pitch"])
 
 
+@pytest.mark.slow
 def test_every_dxf_audits_clean_in_mm(sliced):
     import ezdxf
 
@@ -70,10 +72,11 @@ def test_every_dxf_audits_clean_in_mm(sliced):
             assert e.closed == (e.dxf.layer in ("CUT_OUTSIDE", "CUT_INSIDE"))
 
 
+@pytest.mark.slow
 def test_layer_dxf_reads_back_to_the_sections(sliced):
     """Each layer file holds exactly that layer's section (in the statue frame)."""
-    from statue2model import paths
     from statue2model.geometry.body import load_body
+    from statue2model.io import paths
 
     body = load_body(paths.default_scan())
     v = body.vertices / 2
@@ -258,6 +261,7 @@ def test_tool_check_and_compensation():
     assert len(compensate(MultiPolygon([slot]), 0.003).geoms[0].interiors) == 0   # the slot closes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv, message", [
     (["--scale", "2:1"], "scale 1:0.5 is out of range"),
     (["--board", "0.009"], "board thickness 0.009 mm is out of range"),

@@ -15,7 +15,7 @@ from statue2model.dynamics.model import MU_STATIC, Restitution
 from statue2model.dynamics.spectrum import stability_spectrum
 from statue2model.dynamics.sweeps import variability
 from statue2model.errors import InputError
-from statue2model.files import write_json
+from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81
@@ -201,6 +201,7 @@ def test_config_mu_static():
 
 
 # --- crosscheck --------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_crosscheck_on_a_squat_block_does_not_abort(tmp_path, capsys):
     pytest.importorskip("pybullet")
     path = params_file(tmp_path, SQUAT)

@@ -64,12 +64,28 @@ plate's 20 Hz acceleration is 0.04 m/s^2 rms against 0.72 with the 128-segment m
 ``segments`` slivers at the groove's deepest point: the ball touches dozens of triangles, Bullet keeps 4
 contact points per pair and the set changes every step)."""
 
+GROOVES = ("tiles", "lattice", "cnc")
+GROOVE = "lattice"
+"""Default groove model: the lattice (:data:`GRID`). 'tiles' (:func:`tile_cap`) is faster but less
+accurate (measured, docs/crosscheck.md "Speed"): it stays selectable, not the default."""
+TILE_PER_R = 1.0
+"""Default tile side / ball radius (groove 'tiles')."""
+
+
+def _groove(groove: str | None, grid: float | None) -> str:
+    if groove is not None:
+        return groove
+    return "cnc" if grid is None else GROOVE
+
 
 @dataclass(frozen=True, eq=False)
 class IsolatorScene:
     """An isolator (PlateGeometry ``geom``), its friction ``mu``, top-plate mass ``m_o`` (kg),
     ball density (kg/m^3), optional statue; groove tessellation: a lattice of ``grid`` m on the sphere
-    (default, :func:`grid_cap`) or, with ``grid=None``, the CNC solid with ``segments`` per ring."""
+    (default, :func:`grid_cap`) or, with ``grid=None``, the CNC solid with ``segments`` per ring.
+    ``groove``: 'lattice' (default), 'cnc', or 'tiles' - convex tangent tiles of ``tile`` m (default
+    TILE_PER_R x r, :func:`tile_cap`), a compound of convex pieces (run it with
+    SimSettings(maximal_coordinates=True): the rigid-body solver)."""
 
     geom: object
     mu: float
@@ -79,8 +95,16 @@ class IsolatorScene:
     statue: StatueScene | None = None
     grid: float | None = GRID
     capacity: float | None = None
+    groove: str = GROOVE
+    tile: float | None = None
 
     def __post_init__(self):
+        if self.groove not in GROOVES:
+            raise InputError(f"groove must be one of {', '.join(GROOVES)}, got {self.groove!r}")
+        if self.groove == "lattice" and self.grid is None:     # grid=None: the CNC mesh (as before 'groove')
+            object.__setattr__(self, "groove", "cnc")
+        if self.tile is not None and not (math.isfinite(self.tile) and 1e-3 <= self.tile <= 0.2):
+            raise InputError(f"groove tile size must be in [1, 200] mm, got {self.tile!r} m")
         if self.capacity is not None and not (self.capacity > 0):
             raise InputError(f"isolator capacity must be a positive length in m, got {self.capacity!r}")
         if not (math.isfinite(self.mu) and 0 <= self.mu < 1):
@@ -120,8 +144,10 @@ class IsolatorScene:
 
     @classmethod
     def from_design(cls, design: dict, statue: StatueScene | None = None, segments: int = 256,
-                    mu: float | None = None, grid: float | None = GRID) -> IsolatorScene:
-        """From the JSON of ``statue2model isolator design`` (a dict)."""
+                    mu: float | None = None, grid: float | None = GRID, groove: str | None = None
+                    ) -> IsolatorScene:
+        """From the JSON of ``statue2model isolator design`` (a dict). ``groove``: 'tiles' | 'lattice' |
+        'cnc'; None: the default (GROOVE), or 'cnc' if ``grid`` is None (the CLI's --grid 0)."""
         from ..isolator.plates import PlateGeometry
 
         try:
@@ -136,12 +162,13 @@ class IsolatorScene:
             cap = None if cap is None else float(cap)
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not an isolator design ({exc})") from None
-        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, statue=statue, grid=grid, capacity=cap)
+        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, statue=statue, grid=grid, capacity=cap,
+                   groove=_groove(groove, grid))
 
     @classmethod
     def simple(cls, R: float, r: float, mu: float, m_o: float, side: float | None = None, spacing: float = 0.4,
-               thickness: float = 0.03, travel: float = 0.1, segments: int = 256, grid: float | None = GRID
-               ) -> IsolatorScene:
+               thickness: float = 0.03, travel: float = 0.1, segments: int = 256, grid: float | None = GRID,
+               groove: str | None = None) -> IsolatorScene:
         """Four grooves ``spacing`` apart, deep enough for a ball travel of ``travel`` (m) each way."""
         from ..isolator.plates import PlateGeometry, depth_for_opening
 
@@ -150,12 +177,20 @@ class IsolatorScene:
         h = spacing / 2
         geom = PlateGeometry(side=side, thickness=thickness, R=R, depth=depth,
                              groove_centres=((-h, -h), (h, -h), (h, h), (-h, h)), ball_radius=r)
-        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, grid=grid)
+        return cls(geom=geom, mu=mu, m_o=m_o, segments=segments, grid=grid, groove=_groove(groove, grid))
+
+    @property
+    def tile_size(self) -> float:
+        """Side of the groove tiles (m, groove 'tiles'): ``tile``, or TILE_PER_R x the ball radius."""
+        return TILE_PER_R * self.r if self.tile is None else float(self.tile)
 
     def plate_mesh(self, which: str) -> tuple[np.ndarray, np.ndarray]:
-        """Collision mesh of a plate in its own frame: the CNC solid of ``isolator plates``
-        (``segments`` per ring) or, if ``grid`` is set, :func:`grid_plate_mesh`."""
-        if self.grid is not None:
+        """Collision geometry of a plate in its own frame: groove 'tiles' - :func:`tile_plate` (every
+        8 vertices / 12 faces one convex tile); 'lattice' - :func:`grid_plate_mesh` (``grid``);
+        'cnc' - the CNC solid of ``isolator plates`` (``segments`` per ring)."""
+        if self.groove == "tiles":
+            return tile_plate(self.geom, which, self.tile_size)
+        if self.groove == "lattice":
             return grid_plate_mesh(self.geom, which, self.grid)
         from ..isolator.plates import plate_solid, to_trimesh
 
@@ -246,6 +281,87 @@ def grid_plate_mesh(geom, which: str, spacing: float) -> tuple[np.ndarray, np.nd
     return v, f.astype(np.int64)
 
 
+TILE_THICKNESS = 0.004
+"""Thickness of a groove tile, m (outward, behind its contact face)."""
+
+_BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                       [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+
+
+def tile_cap(R: float, depth: float, size: float, overlap: float = 1.3) -> np.ndarray:
+    """A spherical groove (radius R, depth ``depth``, opening a) as flat square tiles tangent to the
+    sphere: tangent points on a square lattice of ``size`` (m) in plan over the whole opening, each tile
+    a thin box (side ``overlap`` x size, TILE_THICKNESS behind the face, away from the centre) whose face
+    is the tangent plane. The tiles meet at creases inside the region they bound (a polyhedron around
+    the sphere, touching it at the tangent points); a tile's part beyond a crease lies behind its
+    neighbour's plane, out of reach. A ball of radius r touches one tile (two or four at a crease):
+    every contact is convex-convex with one plane, the normal within size / (sqrt(2) R) of the radial
+    one. Frame as :func:`grid_cap` (face at z = 0, cap below, sphere centre at z = R - depth).
+    Returns the tiles' vertices (k, 8, 3): box corners, the first four of each (bit 0 of the index)
+    ... see _BOX_FACES for the faces."""
+    a = math.sqrt(depth * (2 * R - depth))
+    n = math.ceil(a / size) + 1
+    c = np.array([0.0, 0.0, R - depth])
+    half = 0.5 * overlap * size
+    out = []
+    for i in range(-n, n + 1):
+        for j in range(-n, n + 1):
+            x, y = (i + 0.25) * size, j * size          # shifted: a ball rolling along x crosses creases
+            if math.hypot(x, y) > a + 0.5 * size:
+                continue
+            rho = min(math.hypot(x, y), 0.999 * R)
+            pt = np.array([x, y, (R - depth) - math.sqrt(R * R - rho * rho)])
+            nrm = (c - pt) / np.linalg.norm(c - pt)        # towards the centre
+            e1 = np.array([1.0, 0.0, 0.0]) - nrm[0] * nrm
+            e1 /= np.linalg.norm(e1)
+            e2 = np.cross(nrm, e1)
+            corners = [pt + s1 * half * e1 + s2 * half * e2 - dz * TILE_THICKNESS * nrm
+                       for s1 in (-1, 1) for s2 in (-1, 1) for dz in (0, 1)]
+            out.append(corners)
+    return np.asarray(out)
+
+
+def tile_plate(geom, which: str, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """The convex pieces of a plate (its own frame, as plate_solid's): the tiles of every groove
+    (:func:`tile_cap`) and, for the top plate, a slab under its upper face (the statue stands on it).
+    Returns (vertices (8 k, 3), faces (12 k, 3)): every 8 vertices and 12 faces one convex box."""
+    t, half = geom.thickness, 0.5 * geom.side
+    cap = tile_cap(geom.R, geom.depth, size)
+    tiles = [cap + [cx, cy, t] for (cx, cy) in geom.groove_centres]
+    v = np.concatenate(tiles).reshape(-1, 3)
+    if which == "top":
+        v = v * [1.0, 1.0, -1.0] + [0.0, 0.0, t]
+        h = min(0.5 * t, max(t - geom.depth - 0.002, 0.001))
+        slab = np.array([[sx * half, sy * half, z] for sx in (-1, 1) for sy in (-1, 1) for z in (t - h, t)])
+        v = np.vstack([v, slab])
+    elif which != "bottom":
+        raise InputError(f"plate must be 'bottom' or 'top', got {which!r}")
+    k = len(v) // 8
+    f = (_BOX_FACES[None, :, :] + 8 * np.arange(k)[:, None, None]).reshape(-1, 3)
+    return v, f.astype(np.int64)
+
+
+def _convex_pieces_shape(world, v: np.ndarray, f: np.ndarray) -> int:
+    """A compound collision shape of convex hulls, one per 8 vertices of ``v`` (tile_plate): written to a
+    temporary OBJ, one object per hull (PyBullet's createCollisionShapeArray keeps 16 children only;
+    a multi-object OBJ loads as a compound of convex hulls, any number)."""
+    import os
+    import tempfile
+
+    lines = []
+    for i in range(len(v) // 8):
+        lines.append(f"o tile{i}")
+        lines.extend(f"v {x:.12g} {y:.12g} {z:.12g}" for x, y, z in v[8 * i:8 * i + 8])
+        lines.extend(f"f {a + 1} {b + 1} {c + 1}" for a, b, c in f[12 * i:12 * i + 12])
+    fd, path = tempfile.mkstemp(suffix=".obj", prefix="s2m_tiles_")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write("\n".join(lines) + "\n")
+        return world.call("createCollisionShape", world.p.GEOM_MESH, fileName=path)
+    finally:
+        os.unlink(path)
+
+
 @dataclass(frozen=True, eq=False)
 class Isolator3DResult:
     """A 3D run of the isolator (SI units).
@@ -314,7 +430,8 @@ class Isolator3DResult:
              "ball_r_max": self.ball_r_max, "ball_left_groove": self.ball_left_groove,
              "statue_overturned": self.statue_overturned, "finite": self.finite, "wall_time_s": self.wall_time,
              "steps": self.steps, "real_time_factor": self.real_time_factor, "segments": self.scene.segments,
-             "grid": self.scene.grid, "capacity": self.capacity if math.isfinite(self.capacity) else None,
+             "grid": self.scene.grid, "groove": self.scene.groove,
+             "capacity": self.capacity if math.isfinite(self.capacity) else None,
              "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
              "u_at_capacity": self.u_at_capacity,
              "settings": self.settings.to_dict(), "notes": list(self.notes)}
@@ -374,9 +491,16 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
     with World(settings) as world:
         p = world.p
         mesh_flags = p.GEOM_FORCE_CONCAVE_TRIMESH | (p.GEOM_CONCAVE_INTERNAL_EDGE if internal_edges else 0)
-        vb, fb = meshes["bottom"]
-        sb = world.call("createCollisionShape", p.GEOM_MESH, vertices=vb.tolist(), indices=fb.ravel().tolist(),
-                        flags=mesh_flags)
+        tiles = scene.groove == "tiles"
+
+        def plate_shape(which):
+            v, fc = meshes[which]
+            if tiles:
+                return _convex_pieces_shape(world, v, fc)
+            return world.call("createCollisionShape", p.GEOM_MESH, vertices=v.tolist(), indices=fc.ravel().tolist(),
+                              flags=mesh_flags)
+
+        sb = plate_shape("bottom")
         bottom = world.call("createMultiBody", 0.0, sb)
         world.call("changeDynamics", bottom, -1, lateralFriction=f, restitution=0.0, collisionMargin=0.0)
         # balls
@@ -398,9 +522,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
         # top plate (mirror of the bottom one), displaced by 2 (R - r) sin(phi), raised by 2 (R - r)(1 - cos phi)
         gap = 2 * (r - depth)
         ux, uz = 2 * (R - r) * math.sin(phi), 2 * (R - r) * (1 - math.cos(phi))
-        vt, ft = meshes["top"]
-        st = world.call("createCollisionShape", p.GEOM_MESH, vertices=vt.tolist(), indices=ft.ravel().tolist(),
-                        flags=mesh_flags)
+        st = plate_shape("top")
         top_z = t_pl + gap
         rigid = scene.statue is not None and mount == "rigid"
         if rigid:        # one body: plate (box inertia about its centre) + statue (our tensor), parallel axes
@@ -419,16 +541,19 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
             top = world.call("createMultiBody", m_tot, st, basePosition=[ux, 0.0, top_z + uz],
                              baseInertialFramePosition=c.tolist(), baseInertialFrameOrientation=quat_from_matrix(V_in),
                              useMaximalCoordinates=int(settings.maximal_coordinates))
-            world.call("changeDynamics", top, -1, localInertiaDiagonal=w_in.tolist(), lateralFriction=f,
+            world.call("changeDynamics", top, -1, mass=m_tot, localInertiaDiagonal=w_in.tolist(), lateralFriction=f,
                        restitution=0.0, linearDamping=0.0, angularDamping=0.0, collisionMargin=0.0)
         else:
             com_top = [0.0, 0.0, 0.5 * t_pl]
             top = world.call("createMultiBody", scene.m_o, st, basePosition=[ux, 0.0, top_z + uz],
                              baseInertialFramePosition=com_top,
                              useMaximalCoordinates=int(settings.maximal_coordinates))
-            world.call("changeDynamics", top, -1,
-                       localInertiaDiagonal=_box_inertia(scene.m_o, geom.side, geom.side, t_pl),
+            world.call("changeDynamics", top, -1, mass=scene.m_o,     # mass again: without it a maximal-
+                       localInertiaDiagonal=_box_inertia(scene.m_o, geom.side, geom.side, t_pl),  # coordinate body gets 0
                        lateralFriction=f, restitution=0.0, linearDamping=0.0, angularDamping=0.0, collisionMargin=0.0)
+        # the plates never touch (the balls keep them 2 (r - depth) apart): skip their concave-concave
+        # pair, which Bullet would otherwise visit every step (measured: 0.4 ms of a 1.4 ms step)
+        world.call("setCollisionFilterPair", bottom, top, -1, -1, 0)
         statue = None
         V = None
         if scene.statue is not None and not rigid:

@@ -1,7 +1,8 @@
 """The cross-check report: DIR/crosscheck.json (a list ``cases``) and overlay plots.
 
 crosscheck.json: {"cases": [{name, quantity, value_2d, value_3d, rel_error, target,
-met, kind, unit, note}, ...], "summary": {n_cases, n_met, unmet: [...]}, "runs":
+met, status, screen, kind, unit, note, why}, ...], "summary": {n_cases, n_met, unmet: [...],
+n_not_applicable, n_diagnostic, not_applicable: [...]}, "runs":
 {3D run details}, "scene", "settings", "contact"}. One PNG per time history,
 2D (line) and 3D (dashed) overlaid; files are written atomically.
 
@@ -22,7 +23,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..files import atomic_write, prepare_dir, write_json
+from ..io.files import atomic_write, prepare_dir, write_json
 
 
 def _slug(name: str) -> str:
@@ -30,8 +31,14 @@ def _slug(name: str) -> str:
 
 
 def summary(cases) -> dict:
-    unmet = [c.name for c in cases if not c.met]
-    return {"n_cases": len(cases), "n_met": len(cases) - len(unmet), "unmet": unmet}
+    """Counts of the checks only: cases with status 'met' or 'missed' (n_cases, n_met, unmet);
+    diagnostics and not-applicable cases are listed apart, never counted as met or not met."""
+    checks = [c for c in cases if c.status in ("met", "missed")]
+    unmet = [c.name for c in checks if c.status == "missed"]
+    na = [c.name for c in cases if c.status == "not applicable"]
+    return {"n_cases": len(checks), "n_met": len(checks) - len(unmet), "unmet": unmet,
+            "n_not_applicable": len(na), "not_applicable": na,
+            "n_diagnostic": sum(c.status == "diagnostic" for c in cases)}
 
 
 def write_report(comparison, out_dir, extra: dict | None = None) -> dict[str, Path]:
@@ -73,13 +80,16 @@ def plot_overlay(title: str, h: dict, path: Path) -> Path:
 
 
 def table(cases) -> str:
-    """The cases as a readable table."""
+    """The cases as a readable table; the last column is the status (yes / NO for checks, "n/a" with
+    the screen's reason for a case where 2D does not apply, "diag" for a diagnostic)."""
     lines = [f"{'case':58s} {'2D':>12s} {'3D':>12s} {'error':>9s} {'target':>8s}  met"]
     for c in cases:
         def fmt(v):
             return "-" if v is None else f"{v:.6g}"
         err = "-" if c.kind == "equal" else (f"{c.rel_error * 100:.2f}%" if c.rel_error < 1e3 else "inf")
         tgt = "same" if c.kind == "equal" else (f"{c.target * 100:g}%" if c.kind == "relative" else f"{c.target:g}{c.unit}")
-        lines.append(f"{c.name[:58]:58s} {fmt(c.value_2d):>12s} {fmt(c.value_3d):>12s} {err:>9s} {tgt:>8s}  "
-                     f"{'yes' if c.met else 'NO'}")
+        st = {"met": "yes", "missed": "NO", "diagnostic": "diag (not counted)"}.get(c.status)
+        if st is None:
+            st = "n/a: " + (c.why or "2D not applicable")
+        lines.append(f"{c.name[:58]:58s} {fmt(c.value_2d):>12s} {fmt(c.value_3d):>12s} {err:>9s} {tgt:>8s}  {st}")
     return "\n".join(lines)

@@ -43,12 +43,42 @@ import numpy as np
 from ..errors import InputError
 from ..geometry.rocking_params import RockingParams
 from .contact import ContactSettings
-from .world import SimSettings, World, matrix_from_quat, quat_from_matrix, real_time_factor, step_mean_acc
+from .world import (
+    SimSettings,
+    World,
+    matrix_from_quat,
+    quat_from_matrix,
+    real_time_factor,
+    step_mean_acc,
+)
 
 UPLIFT_ANGLE = 1e-5
+"""|theta| (rad) above which the 3D body used to count as lifted (engine noise is ~1e-8 rad at rest).
+Kept for reference only: 1e-5 rad lies inside the contact solver's compliance (a block that never
+lifts in 2D "lifts" in 3D after 1.5 ms); lift-off is now read from the contacts (LIFT_HEIGHT, unloading)."""
 FLIGHT_HEIGHT = 1e-4
 """Height, m, of the statue's lowest point above which it counts as airborne (contact penetration ~1e-5 m)."""
-"""|theta| (rad) above which the 3D body counts as lifted (engine noise is ~1e-8 rad at rest)."""
+LIFT_HEIGHT = 2e-4
+"""Lift-off (geometric): the highest base point - on the non-pivot side - rises above this height, m,
+for LIFT_STEPS steps. 20 x the contact solver's penetration at rest (1e-5 m, measured), so compliance
+never reads as lift-off; the 2D side is read at the same height, (b_L + b_R) sin|theta| (runs.py)."""
+LIFT_STEPS = 4
+"""Consecutive engine steps a lift-off (or unloading) criterion must hold (2 ms at dt = 0.5 ms)."""
+UNLOAD_FRACTION = 1e-3
+"""Lift-off (force): the floor's normal force on the base points farther than UNLOAD_BAND x (b_L + b_R)
+from the pivot falls below this fraction of m g (for LIFT_STEPS steps) while the body is on the floor:
+the non-pivot side is unloaded. 2D counterpart: the exact uplift instant (|u_g''| reaches g b / h)."""
+UNLOAD_BAND = 0.02
+OVERTURN_CHECK = 128
+"""Steps between two overturning (and finiteness) checks of a run: the poses are stored each step and
+checked in blocks; the steps run past an overturn are not reported (cost: <= OVERTURN_CHECK steps)."""
+STATUE_SETTINGS = SimSettings(dt=2e-3, solver_iterations=50)
+"""Engine settings of the statue scene when none are given (its accuracy setting; the isolator scene
+keeps SimSettings(), dt 0.5 ms). From benchmarks/bench_crosscheck_speed.py against dt 0.125 ms /
+200 iterations: default scan, peak rotation 0.3-1.2 %, lift-off 1.3-2.4 ms early, first rebound 1.2 %
+(dt 1 ms: 0.2-0.9 %, 1.0-1.7 ms, 0.8 %); slender block, rebound 2.1 %, lift-off 1.3 ms early. The
+engine step alone runs ~50-100 x real time at 2 ms on the scan (CPU time, 2 shared cores), ~25-55 x
+at 1 ms: 2 ms is the finest step that meets the 50 x target (issue 16, item 8)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,7 +118,8 @@ class StatueScene:
         tol = float(body.footprint.tol)
         hull = trimesh.Trimesh(v, body.faces, process=False).convex_hull.vertices.copy()
         hull[hull[:, 2] <= tol, 2] = 0.0
-        hull = trimesh.convex.convex_hull(hull).vertices.copy()
+        # a plain ndarray: trimesh's TrackedArray makes every per-step numpy operation on it slow
+        hull = np.array(trimesh.convex.convex_hull(hull).vertices, dtype=float)
         # the 2D parameters of the body PyBullet actually holds: pivots = extreme points along x of
         # the flattened hull's base (they differ from the scan footprint's by up to 0.14 mm on the
         # default scan: hull vertices within the tolerance, not the footprint polygon)
@@ -189,17 +220,25 @@ class Statue3DResult:
     t, theta          : samples every ``dt_out`` (theta as in the 2D model)
     tilt_out, yaw     : rotation about x (out of the excitation plane) and about z
     slide             : x displacement of the base centre relative to the ground, m
-    uplift_time       : first time |theta| > UPLIFT_ANGLE (None if never); the floor's contact
-                        manifold is too sparse (often one point at rest) to locate the centre of
-                        pressure, so the 2D side is compared at the same threshold (runs.py)
+    uplift_time       : lift-off read from the contacts, geometrically: the first time (interpolated
+                        between steps) the highest base point - the non-pivot side - rises above
+                        LIFT_HEIGHT and stays there LIFT_STEPS steps (None if never; 0 for a release
+                        from theta0 != 0). The 2D side is read at the same height (runs.py)
+    unload_time       : lift-off read from the contact forces: the first step at which the floor's
+                        normal force on the base points away from one pivot (farther than UNLOAD_BAND
+                        x (b_L + b_R)) falls below UNLOAD_FRACTION m g and stays there LIFT_STEPS
+                        steps while the body stands on the floor (None if never); 2D: its uplift time
+    max_lift          : largest height, m, of the highest base point (the lifted edge)
     overturned, overturn_time, overturn_side : |theta| reached delta_side
     theta_max_L / _R  : largest rotation on each pivot
     impact_times      : sign changes of theta; peak_t, peak_theta : one extremum per half cycle
     finite            : no NaN or infinity in the state
     wall_time, steps  : cost of the run (s of CPU wall clock, engine steps)
-    max_pivot_slip    : largest horizontal displacement, m, of the lowest base vertex (the pivot in
-                        contact) from where it started, while |theta| > 1e-3 rad: sliding or
-                        yawing at the pivot (the 2D model has none)
+    max_pivot_slip    : largest horizontal displacement, m, of a pivot vertex (the base vertices at
+                        x_R and x_L) while on the floor (below LIFT_HEIGHT), from where it touched
+                        down (or stood at rest): sliding at the pivot, the body standing or rocking
+                        (the 2D model has none). A yaw while the vertex is in the air (about the other
+                        pivot) is not slip: it is the screen's yaw. The validity screen's slip (runs.screen)
     max_flight        : largest height, m, of the statue's lowest hull point above the floor (> 0: the
                         body left the floor on both pivots); flight_time: time, s, with it > FLIGHT_HEIGHT
     """
@@ -228,6 +267,8 @@ class Statue3DResult:
     max_pivot_slip: float = 0.0
     max_flight: float = 0.0
     flight_time: float = 0.0
+    unload_time: float | None = None
+    max_lift: float = 0.0
 
     @property
     def theta_max_over_delta(self) -> float:
@@ -248,7 +289,8 @@ class Statue3DResult:
         return "rocking" if self.uplift_time is not None else "no motion"
 
     def to_dict(self) -> dict:
-        return {"outcome": self.outcome, "uplift_time": self.uplift_time, "overturned": self.overturned,
+        return {"outcome": self.outcome, "uplift_time": self.uplift_time, "unload_time": self.unload_time,
+                "lift_height": LIFT_HEIGHT, "max_lift": self.max_lift, "overturned": self.overturned,
                 "overturn_time": self.overturn_time, "overturn_side": self.overturn_side,
                 "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R,
                 "theta_max_over_delta": self.theta_max_over_delta,
@@ -270,11 +312,18 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
                     free_time: float = 5.0) -> Statue3DResult:
     """Run scene (a): the statue on a rigid floor under ``motion`` (a GroundMotion along +x),
     released from rest at theta0 (rad, about the right pivot if > 0). t_end defaults to the
-    end of the motion + ``free_time``. The run stops at overturning (|theta| >= delta)."""
+    end of the motion + ``free_time``; ``settings`` default to :data:`STATUE_SETTINGS`. The run
+    stops at overturning (|theta| >= delta).
+
+    Cost: the step loop only steps the engine and reads the base pose (and, for a run from rest
+    until the non-pivot side has unloaded, the contact forces); rotation, base-point heights,
+    lift-off, pivot slip, flight and the overturning check are computed from the stored poses
+    with numpy (the overturning check every OVERTURN_CHECK steps; steps run past it are not
+    reported)."""
     from .contact import ContactSettings as _CS
 
     contact = _CS() if contact is None else contact
-    settings = SimSettings() if settings is None else settings
+    settings = STATUE_SETTINGS if settings is None else settings
     p2 = scene.params
     if theta0 >= p2.delta_R or -theta0 >= p2.delta_L or not math.isfinite(theta0):
         raise InputError(f"theta0 = {theta0} rad is not between -delta_L and delta_R")
@@ -287,78 +336,226 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     dt = settings.dt
     n = math.ceil(t_end / dt - 1e-9)
     every = max(1, round(dt_out / dt))
-    acc = step_mean_acc(motion, 0.0, dt, n)
+    acc = step_mean_acc(motion, 0.0, dt, n).tolist()
     _, V = inertia_frame(scene.inertia)
+    hull_c = scene.hull - scene.com                   # hull about the com, link frame
+    base_v = scene.hull[:, 2] == 0.0
+    piv = {"R": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_R)),
+           "L": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_L))}
+    watch = theta0 == 0.0                                # lift-off is read only for runs from rest
     t0 = time.perf_counter()
     with World(settings) as world:
         _floor(world, contact, collision)
         body = add_statue(world, scene, contact, theta0=theta0, collision=collision)
         check = inertia_check(world, body, scene)
-        ts, th, tx, yw, sl = [], [], [], [], []
-        up_t = None
-        ot_t = ot_side = None
-        qmax = {1: 0.0, -1: 0.0}
-        finite = True
-        base0 = np.array([0.5 * (scene.x_R + scene.x_L), 0.0, 0.0])
-        steps = 0
-        hull_c = scene.hull - scene.com                   # hull about the com, link frame
-        base_v = scene.hull[:, 2] == 0.0
-        slip = flight = 0.0
-        n_flight = 0
-        for k in range(n + 1):
-            pos, orn = world.call("getBasePositionAndOrientation", body)
-            Rc = matrix_from_quat(orn)
-            R = Rc @ V.T                     # link frame: identity when upright
-            theta = math.atan2(R[0, 2], R[2, 2])
-            if not (math.isfinite(theta) and all(math.isfinite(x) for x in pos)):
-                finite = False
-                break
-            tk = k * dt
-            w = np.asarray(pos) + hull_c @ R.T            # hull vertices, world
-            zlow = float(w[:, 2].min())
-            flight = max(flight, zlow)
-            n_flight += zlow > FLIGHT_HEIGHT
-            if abs(theta) > 1e-3:                          # base vertices touching the floor: the pivot
-                on = base_v & (w[:, 2] < FLIGHT_HEIGHT)
-                if on.any():
-                    slip = max(slip, float(np.hypot(w[on, 0] - scene.hull[on, 0], w[on, 1] - scene.hull[on, 1]).max()))
-            side = 1 if theta > 0 else -1
-            qmax[side] = max(qmax[side], abs(theta))
-            if up_t is None and theta0 == 0.0 and k > 0 and abs(theta) > UPLIFT_ANGLE:
-                up_t = tk
-            if k % every == 0 or k == n:
-                ts.append(tk)
-                th.append(theta)
-                tx.append(math.atan2(-R[1, 2], math.hypot(R[0, 2], R[2, 2])))
-                yw.append(math.atan2(R[1, 0], R[0, 0]))
-                base = np.asarray(pos) - Rc @ (V.T @ scene.com) + R @ base0     # link origin + R base0
-                sl.append(float(base[0] - base0[0]) if abs(theta) < 1e-3 else np.nan)
-            delta = p2.delta_R if side > 0 else p2.delta_L
-            if abs(theta) >= delta and ot_t is None:
-                ot_t, ot_side = tk, ("R" if side > 0 else "L")
-                if stop_on_overturn:
-                    ts.append(tk)
-                    th.append(theta)
-                    tx.append(tx[-1] if tx else 0.0)
-                    yw.append(yw[-1] if yw else 0.0)
-                    sl.append(np.nan)
+        unload = _UnloadWatch(world, body, scene, V, piv, dt) if watch else None
+        pb, cid, g = world.p, world.client, settings.g
+        step, gravity, get_pose = pb.stepSimulation, pb.setGravity, pb.getBasePositionAndOrientation
+        pos, orn = get_pose(body, physicsClientId=cid)
+        P, Q = [pos], [orn]
+        last, stop_k, ot_k, bad_k = n, None, None, None    # last step kept; overturn / non-finite step
+        checked, a_set = 0, None
+        for k in range(1, n + 1):
+            a = acc[k - 1]
+            if a != a_set:                               # gravity (-a, 0, -g): World.set_ground_acc
+                gravity(-a, 0.0, -g, physicsClientId=cid)
+                a_set = a
+            step(physicsClientId=cid)
+            pos, orn = get_pose(body, physicsClientId=cid)
+            P.append(pos)
+            Q.append(orn)
+            if unload is not None and unload.pending:
+                unload.update(k, pos, orn)
+            if k - checked >= OVERTURN_CHECK or k == n:
+                ot, bad = _first_events(np.asarray(P[checked:k + 1]), np.asarray(Q[checked:k + 1]), V, p2)
+                if ot is not None and ot_k is None:      # (an overturn comes before a non-finite pose)
+                    ot_k = checked + ot
+                    if stop_on_overturn:
+                        break
+                if bad is not None:
+                    bad_k = checked + bad
                     break
-            if k == n:
-                break
-            world.set_ground_acc(acc[k])
-            world.step()
-            steps += 1
+                checked = k + 1
+        steps = len(P) - 1
     wall = time.perf_counter() - t0
-    if theta0 != 0.0:
-        up_t = 0.0
-    t_arr, th_arr = np.asarray(ts), np.asarray(th)
+    if bad_k is not None:                                 # the first non-finite pose is not kept
+        last = bad_k - 1
+        if ot_k is not None and ot_k > last:
+            ot_k = None
+    if ot_k is not None and stop_on_overturn:
+        last = stop_k = ot_k
+    h = _histories(np.asarray(P[:last + 1], dtype=float), np.asarray(Q[:last + 1], dtype=float), scene, V,
+                   hull_c, base_v, piv, dt)
+    th_all = h["theta"]
+    q_R = float(np.abs(th_all[th_all > 0]).max(initial=0.0))
+    q_L = float(np.abs(th_all[th_all <= 0]).max(initial=0.0))
+    # samples every ``every`` steps and the last step (as the step loop used to record them)
+    ks = np.arange(0, last + 1, every)
+    if n <= last and ks[-1] != n:
+        ks = np.append(ks, n)
+    ts, th = (ks * dt).tolist(), th_all[ks].tolist()
+    tx, yw, sl = h["tilt"][ks].tolist(), h["yaw"][ks].tolist(), h["slide"][ks].tolist()
+    if stop_k is not None:                                # the overturning step, once more
+        ts.append(stop_k * dt)
+        th.append(float(th_all[stop_k]))
+        tx.append(tx[-1] if tx else 0.0)
+        yw.append(yw[-1] if yw else 0.0)
+        sl.append(np.nan)
+    up_t = 0.0 if theta0 != 0.0 else (_lift_off_time(h["lift"], dt) if watch else None)
+    unload_t = None
+    if unload is not None and unload.time is not None and unload.step <= last:
+        unload_t = unload.time
+    ot_t = ot_k * dt if ot_k is not None else None
+    ot_side = None if ot_k is None else ("R" if th_all[ot_k] > 0 else "L")
+    t_arr, th_arr = np.asarray(ts, dtype=float), np.asarray(th, dtype=float)
     imp, pk_t, pk_th = _impacts_and_peaks(t_arr, th_arr)
     return Statue3DResult(
         scene=scene, settings=settings, contact=contact, t=t_arr, theta=th_arr, tilt_out=np.asarray(tx),
         yaw=np.asarray(yw), slide=np.asarray(sl), uplift_time=up_t, overturned=ot_t is not None,
-        overturn_time=ot_t, overturn_side=ot_side, theta_max_L=qmax[-1], theta_max_R=qmax[1],
-        impact_times=imp, peak_t=pk_t, peak_theta=pk_th, finite=finite, wall_time=wall, steps=steps,
-        inertia=check, max_pivot_slip=slip, max_flight=flight, flight_time=n_flight * dt)
+        overturn_time=ot_t, overturn_side=ot_side, theta_max_L=q_L, theta_max_R=q_R,
+        impact_times=imp, peak_t=pk_t, peak_theta=pk_th, finite=bad_k is None, wall_time=wall, steps=steps,
+        inertia=check, max_pivot_slip=h["slip"], max_flight=max(0.0, h["flight"]),
+        flight_time=h["n_flight"] * dt, unload_time=unload_t, max_lift=max(0.0, h["lift_max"]))
+
+
+def _rotations(Q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (m, 3, 3) of PyBullet quaternions Q (m, 4: x, y, z, w), normalised
+    (vectorised :func:`world.matrix_from_quat`)."""
+    x, y, z, w = Q.T
+    nq = x * x + y * y + z * z + w * w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(nq > 0, 2.0 / nq, 0.0)
+    return np.stack([np.stack([1.0 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)], -1),
+                     np.stack([s * (x * y + z * w), 1.0 - s * (x * x + z * z), s * (y * z - x * w)], -1),
+                     np.stack([s * (x * z - y * w), s * (y * z + x * w), 1.0 - s * (x * x + y * y)], -1)], -2)
+
+
+def _theta(Q: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """theta (m,) of poses with orientations Q (m, 4): the link frame R = Rc V^T, atan2(R_02, R_22)."""
+    R = _rotations(Q) @ V.T
+    return np.arctan2(R[:, 0, 2], R[:, 2, 2])
+
+
+def _first_events(P: np.ndarray, Q: np.ndarray, V: np.ndarray, params) -> tuple[int | None, int | None]:
+    """(first row with |theta| >= delta of its side, first row with a non-finite pose) of a block of
+    poses P (m, 3), Q (m, 4); None when there is none (the overturn only before the non-finite row)."""
+    with np.errstate(invalid="ignore"):
+        th = _theta(Q, V)
+        bad = ~(np.isfinite(th) & np.isfinite(P).all(axis=1))
+        over = np.abs(th) >= np.where(th > 0, params.delta_R, params.delta_L)
+    nb = int(np.argmax(bad)) if bad.any() else None
+    if nb is not None:
+        over[nb:] = False
+    return (int(np.argmax(over)) if over.any() else None), nb
+
+
+def _histories(P: np.ndarray, Q: np.ndarray, scene: StatueScene, V: np.ndarray, hull_c: np.ndarray,
+               base_v: np.ndarray, piv: dict, dt: float, chunk: int = 4096) -> dict:
+    """Per-step quantities of the kept poses P (m, 3), Q (m, 4), m = steps + 1: theta, tilt_out, yaw,
+    slide (NaN while |theta| >= 1e-3), lift (height of the highest base point, m); and the maxima:
+    flight (lowest hull point), n_flight (steps with it above FLIGHT_HEIGHT), lift_max, slip (pivot
+    slip, Statue3DResult.max_pivot_slip). Hull vertex heights are formed ``chunk`` steps at a time."""
+    m = len(P)
+    Rc = _rotations(Q)
+    R = Rc @ V.T                                          # link frame: identity when upright
+    theta = np.arctan2(R[:, 0, 2], R[:, 2, 2])
+    tilt = np.arctan2(-R[:, 1, 2], np.hypot(R[:, 0, 2], R[:, 2, 2]))
+    yaw = np.arctan2(R[:, 1, 0], R[:, 0, 0])
+    base0 = np.array([0.5 * (scene.x_R + scene.x_L), 0.0, 0.0])
+    base_x = P[:, 0] - Rc[:, 0, :] @ (V.T @ scene.com) + R[:, 0, :] @ base0
+    slide = np.where(np.abs(theta) < 1e-3, base_x - base0[0], np.nan)
+    lift = np.empty(m)
+    flight, n_flight = -np.inf, 0
+    for a in range(0, m, chunk):
+        b = min(m, a + chunk)
+        z = P[a:b, 2, None] + R[a:b, 2, :] @ hull_c.T     # (steps, vertices) heights, m
+        zlow = z.min(axis=1)
+        flight = max(flight, float(zlow.max(initial=-np.inf)))
+        n_flight += int((zlow > FLIGHT_HEIGHT).sum())
+        lift[a:b] = z[:, base_v].max(axis=1)
+    slip = 0.0
+    for idx in piv.values():                              # the pivot vertices on the floor
+        if idx.size == 0 or m == 0:
+            continue
+        w = P[:, None, :] + np.einsum("kij,vj->kvi", R, hull_c[idx])      # (steps, pivot vertices, 3)
+        down = w[:, :, 2] < LIFT_HEIGHT
+        landed = np.zeros_like(down)
+        landed[1:] = down[1:] & ~down[:-1]                # touched down: slip counted from there
+        start = np.where(landed, np.arange(m)[:, None], -1)
+        start = np.maximum.accumulate(start, axis=0)      # step of the last touch-down (-1: at rest)
+        cols = np.arange(idx.size)[None, :]
+        anchor = np.where((start >= 0)[:, :, None], w[np.maximum(start, 0), cols, :2],
+                          scene.hull[idx, :2][None, :, :])
+        d = np.hypot(*(w[:, :, :2] - anchor).transpose(2, 0, 1))
+        if down.any():
+            slip = max(slip, float(d[down].max()))
+    return {"theta": theta, "tilt": tilt, "yaw": yaw, "slide": slide, "lift": lift,
+            "flight": flight, "n_flight": n_flight, "lift_max": float(lift.max(initial=-np.inf)), "slip": slip}
+
+
+def _lift_off_time(lift: np.ndarray, dt: float) -> float | None:
+    """Geometric lift-off (Statue3DResult.uplift_time) from the per-step height of the highest base
+    point: the start of the first run of LIFT_STEPS steps (from step 1) above LIFT_HEIGHT, interpolated
+    with the step before."""
+    above = lift > LIFT_HEIGHT
+    above[0] = False
+    if above.sum() < LIFT_STEPS:
+        return None
+    run = np.convolve(above.astype(int), np.ones(LIFT_STEPS, dtype=int), mode="valid")  # run[i]: i..i+S-1
+    full = np.flatnonzero(run == LIFT_STEPS)
+    if full.size == 0:
+        return None
+    s = int(full[0])
+    while s > 1 and above[s - 1]:                        # the run that reached LIFT_STEPS started here
+        s -= 1
+    lk, lp = float(lift[s]), float(lift[s - 1])
+    return s * dt - dt * (lk - LIFT_HEIGHT) / (lk - lp) if lk > lp else s * dt
+
+
+class _UnloadWatch:
+    """Force lift-off, read during the run (Statue3DResult.unload_time): step by step, while pending,
+    whether the floor's contact points away from one pivot carry less than UNLOAD_FRACTION m g
+    (:func:`_unloaded_side`), LIFT_STEPS steps in a row. ``time``: its start, s; ``step``: the step
+    that confirmed it."""
+
+    def __init__(self, world: World, body: int, scene: StatueScene, V: np.ndarray, piv: dict, dt: float):
+        self.world, self.body, self.dt = world, body, dt
+        self.V = V
+        hull_c = scene.hull - scene.com
+        # pivot x in the world = pos_x + (R hull_c)_x averaged over the pivot's vertices
+        self.piv_c = [hull_c[idx].mean(axis=0) for idx in piv.values() if idx.size]
+        self.band = UNLOAD_BAND * (scene.x_R - scene.x_L)
+        self.mg = scene.mass * world.settings.g
+        self.pending, self.run, self.t0 = True, 0, 0.0
+        self.time = self.step = None
+
+    def update(self, k: int, pos, orn) -> None:
+        R = matrix_from_quat(orn) @ self.V.T
+        xs = [float(pos[0] + R[0] @ c) for c in self.piv_c]
+        if _unloaded_side(self.world, self.body, xs, self.band, self.mg):
+            if self.run == 0:
+                self.t0 = k * self.dt
+            self.run += 1
+            if self.run >= LIFT_STEPS:
+                self.time, self.step, self.pending = self.t0, k, False
+        else:
+            self.run = 0
+
+
+def _unloaded_side(world: World, body: int, pivots_x, band: float, mg: float) -> bool:
+    """True if the body stands on the floor (normal force > 10 UNLOAD_FRACTION m g) and the contact
+    points farther than ``band`` (m, along x) from one pivot carry less than UNLOAD_FRACTION m g: all
+    the weight sits on that pivot (``pivots_x``: world x of the right / left pivot, m)."""
+    cps = world.p.getContactPoints(bodyA=body, physicsClientId=world.client)
+    if not cps:
+        return False
+    xn = [(c[5][0], c[9]) for c in cps]
+    if sum(f for _, f in xn) <= 10 * UNLOAD_FRACTION * mg:
+        return False
+    for xp in pivots_x:
+        if sum(f for x, f in xn if abs(x - xp) > band) < UNLOAD_FRACTION * mg:
+            return True
+    return False
 
 
 def _floor(world: World, contact: ContactSettings, collision: str) -> int:

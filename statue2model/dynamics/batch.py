@@ -1,5 +1,5 @@
 """Many runs of the rocking model at once (statistics only), in parallel threads
-of this process or on the workers of an :class:`~statue2model.executors.Executor`.
+of this process or on the workers of an :class:`~statue2model.compute.executors.Executor`.
 
 Each row i is one run: model vector ``P[i]``, motion ``kinds[i]``, ``M[i]``
 (all rows share one record's ``samples`` and the restitution tables of one
@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..compute.compile import ensure_compiled
 from . import kernel as K
 from .model import RockingModel
 
@@ -27,9 +28,10 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     ``progress``: a label to show a progress bar (tqdm, on stderr), or None.
 
     ``executor``: None runs the rows here, ``chunk`` rows at a time, each block in
-    numba's parallel threads; an :class:`~statue2model.executors.Executor` runs
-    blocks of rows (:func:`~statue2model.executors.chunks`, about 4 per worker)
+    numba's parallel threads; an :class:`~statue2model.compute.executors.Executor` runs
+    blocks of rows (:func:`~statue2model.compute.executors.chunks`, about 4 per worker)
     on its workers, one numba thread each (``chunk`` is then unused). Same result."""
+    ensure_compiled()          # here, before any worker starts: they load the kernels from the cache
     n = P.shape[0]
     S = np.zeros((n, K.N_S))
     S[:, K.S_T_UPLIFT] = S[:, K.S_T_OVERTURN] = S[:, K.S_T_REST] = np.nan
@@ -41,9 +43,9 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     M = np.ascontiguousarray(M, dtype=float)
     kinds = np.ascontiguousarray(kinds, dtype=np.int64)
     t_end = np.ascontiguousarray(np.broadcast_to(t_end, (n,)), dtype=float)
-    samples = np.ascontiguousarray(samples, dtype=float)
+    samples = K.as_samples(samples)
     if executor is not None:
-        from ..executors import chunks
+        from ..compute.executors import chunks
 
         blocks = [todo[c] for c in chunks(todo.size, executor)]
         tasks = [(P[idx], eLw, eLe, eRw, eRe, kinds[idx], M[idx], samples, t_end[idx], float(rtol), int(max_steps))
@@ -76,8 +78,10 @@ def _run_rows(task: tuple) -> np.ndarray:
     samples, t_end, rtol, max_steps) of those rows (shapes as in :func:`run_batch`);
     returns their statistics (rows, N_S). Module level so that it pickles."""
     P, eLw, eLe, eRw, eRe, kinds, M, samples, t_end, rtol, max_steps = task
+    ensure_compiled()
     _threading_layer()
     Sc = np.zeros((P.shape[0], K.N_S))
+    samples = K.as_samples(samples)        # read-only again (unpickled arrays are writable)
     K.simulate_batch(P, eLw, eLe, eRw, eRe, kinds, M, samples, 0.0, 0.0, t_end, rtol, max_steps, Sc)
     return Sc
 

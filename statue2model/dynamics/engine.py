@@ -30,7 +30,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..budget import check_history
+from ..compute.budget import check_history
+from ..compute.compile import ensure_compiled
 from ..errors import InputError
 from . import kernel as K
 from .model import RockingModel
@@ -219,6 +220,7 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
         S[K.S_N_OUT] = out_t.size
         out_y[:] = 0.0
     else:
+        ensure_compiled()
         K.simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, 0.0, float(t_end),
                           float(rtol), int(max_steps), out_t, out_y, imp, peaks, S)
     if S[K.S_STATUS] == K.STATUS_MAX_STEPS:

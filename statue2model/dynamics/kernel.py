@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 from numba import njit, prange
+from numba import types as nt
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
 _NS = _dop.N_STAGES
@@ -65,6 +66,29 @@ N_S = 20
 STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
 
 _EPS = 2.220446049250313e-16
+
+# --- argument types -------------------------------------------------------------
+# Each entry point called from Python is compiled for one signature only (SIGNATURES
+# below; statue2model/compute/compile.py compiles and caches them): float64 scalars,
+# int64 integers, C-contiguous float64 arrays and read-only motion samples (as_samples).
+# Constants passed to a compiled helper are typed (np.int64(0), bool(True)): numba would
+# otherwise compile one copy of the helper per literal value.
+F8, I8 = nt.float64, nt.int64
+VEC = nt.Array(nt.float64, 1, "C")
+MAT = nt.Array(nt.float64, 2, "C")
+IVEC = nt.Array(nt.int64, 1, "C")
+SAMPLES = nt.Array(nt.float64, 1, "C", readonly=True)
+
+
+def as_samples(samples) -> np.ndarray:
+    """Motion samples (m/s^2, shape (n,)) as every kernel takes them: float64,
+    C-contiguous and read-only (a read-only view, no copy, when the array already is
+    float64 and contiguous), so a record and a pulse share one compiled signature."""
+    a = np.ascontiguousarray(samples, dtype=np.float64)
+    if a.flags.writeable:
+        a = a.view()
+        a.flags.writeable = False
+    return a
 
 
 # --- ground motion ------------------------------------------------------------
@@ -623,7 +647,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
                     nrhs += 3
                     dense = True
-                xr = _root_dense(1, 0.0, s, xe0, Fe0, xe1, Fe1, Ft, Fo, th, om, xtol)
+                xr = _root_dense(np.int64(1), 0.0, s, xe0, Fe0, xe1, Fe1, Ft, Fo, th, om, xtol)
                 x_e = xr * h
                 q_e = s * _dense_eval(xr, Ft, th)
         # which boundary event comes first
@@ -674,7 +698,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Kt, Ko, Ft, Fo)
                     nrhs += 3
                     dense = True
-                xr = _root_dense(0, target, s, xa / h, Fa, xb / h, Fb, Ft, Fo, th, om, xtol)
+                xr = _root_dense(np.int64(0), target, s, xa / h, Fa, xb / h, Fb, Ft, Fo, th, om, xtol)
                 x_ev = xr * h
                 th_ev = _dense_eval(xr, Ft, th)
                 om_ev = _dense_eval(xr, Fo, om)
@@ -870,3 +894,11 @@ def simulate_batch(Pm, eLw, eLe, eRw, eRe, kinds, Mm, samples, theta0, omega0, t
         peaks = np.empty((0, 3))
         simulate_kernel(Pm[i], eLw, eLe, eRw, eRe, kinds[i], Mm[i], samples, theta0, omega0,
                         0.0, t_end[i], rtol, max_steps, out_t, out_y, imp, peaks, Sm[i])
+
+
+SIGNATURES = {
+    "ground_acc": (F8, I8, VEC, SAMPLES),
+    "simulate_kernel": (VEC, VEC, VEC, VEC, VEC, I8, VEC, SAMPLES, F8, F8, F8, F8, F8, I8, VEC, MAT, MAT, MAT, VEC),
+    "simulate_batch": (MAT, VEC, VEC, VEC, VEC, IVEC, MAT, SAMPLES, F8, F8, VEC, F8, I8, MAT),
+}
+"""The one argument-type signature of each entry point (see statue2model.compute.compile)."""

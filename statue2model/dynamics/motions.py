@@ -89,25 +89,29 @@ class GroundMotion:
     def acc(self, t) -> np.ndarray:
         """u_g''(t) in m/s^2 for an array of times (right-continuous at breakpoints)."""
         t = np.asarray(t, dtype=float)
+        from ..compute.compile import ensure_compiled
+
+        ensure_compiled()
         kind, M, samples = self.kernel_args()
         return np.vectorize(lambda x: K.ground_acc(x, kind, M, samples), otypes=[float])(t)
 
     def kernel_args(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """(kind, M, samples) of the kernels (samples read-only: :func:`kernel.as_samples`)."""
         M = np.zeros(K.N_M)
         M[K.MT0] = self.start
         M[K.MT1] = self.start + self.duration
         if self.kind == "none":
-            return K.M_NONE, M, np.zeros(2)
+            return K.M_NONE, M, K.as_samples(np.zeros(2))
         M[K.MA] = self.amp
         if self.kind == "harmonic":
             M[K.MW] = 2 * math.pi * self.freq
             M[K.MPH] = self.phase
-            return K.M_HARMONIC, M, np.zeros(2)
+            return K.M_HARMONIC, M, K.as_samples(np.zeros(2))
         if self.kind == "rect":
-            return K.M_RECT, M, np.zeros(2)
+            return K.M_RECT, M, K.as_samples(np.zeros(2))
         M[K.MA] = 1.0
         M[K.MDT] = self.dt
-        return K.M_RECORD, M, np.ascontiguousarray(self.samples, dtype=float)
+        return K.M_RECORD, M, K.as_samples(self.samples)
 
     def scaled(self, factor: float) -> "GroundMotion":
         """Accelerations times ``factor``."""
@@ -142,7 +146,7 @@ class GroundMotion:
             dt = 1e-3
         if not (math.isfinite(dt) and dt > 0):
             raise InputError(f"sampling time step dt must be positive, got {dt}")
-        from ..budget import check_history, num
+        from ..compute.budget import check_history, num
 
         # t, u and the table's velocity, displacement and their temporaries: about 10 arrays
         check_history(self.end, dt, 80, what="its samples", head=f"{self.label}: {num(self.end)} s sampled "
@@ -246,7 +250,7 @@ def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 
             raise InputError(f"synthetic record: {name} must be positive, got {value}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"synthetic record: seed must be a non-negative integer, got {seed!r}")
-    from ..budget import check_history, num
+    from ..compute.budget import check_history, num
 
     # the noise, its filtered copy, t, the envelope and the baseline: about 8 arrays of n samples
     check_history(duration, dt, 64, what="its samples", head=f"a synthetic record of {num(duration)} s at "
@@ -382,7 +386,7 @@ def read_record(path, dt: float | None = None, units: str | None = None) -> Grou
 
 def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Path:
     """Write (time, acc) as a two-column CSV readable by :func:`read_record`."""
-    from ..files import atomic_write
+    from ..io.files import atomic_write
 
     t, u = motion.sampled(dt)
     text = "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
@@ -497,6 +501,19 @@ _SPEC_KEYS = {
 }
 
 
+def _froude_scale(text: str) -> float:
+    """lambda of ``scale=1:2`` (or the ratio ``0.5``) in a motion spec; a bare 2 is refused
+    as everywhere else (1:2 or 2:1?)."""
+    import argparse
+
+    from ..cli.argtypes import scale_ratio
+
+    try:
+        return scale_ratio(text)
+    except argparse.ArgumentTypeError as exc:
+        raise InputError(f"scale={text}: {exc}") from None
+
+
 def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
     """Parse a SPEC string into (motion, theta0). See the module docstring and
     ``statue2model rock --help`` for the forms."""
@@ -555,5 +572,5 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
     if "pga" in args:
         motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga", key="pga"))
     if "scale" in args:
-        motion = motion.froude(_num("scale", args["scale"], positive=True))
+        motion = motion.froude(_froude_scale(args["scale"]))
     return motion, 0.0

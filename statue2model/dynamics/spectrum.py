@@ -43,9 +43,9 @@ JSON and CSV output (about 200 B)."""
 def check_grid(n_freqs: int, n_amps: int, what: str = "the spectrum grid (frequencies x amplitudes)",
                fix: str = "use fewer frequencies or amplitudes") -> None:
     """Refuse, before any allocation, a grid of ``n_freqs x n_amps`` runs beyond
-    :data:`~statue2model.budget.MAX_RUNS` or the memory budget (InputError naming
+    :data:`~statue2model.compute.budget.MAX_RUNS` or the memory budget (InputError naming
     ``what`` and ``fix``)."""
-    from ..budget import check_runs
+    from ..compute.budget import check_runs
 
     n = float(n_freqs) * float(n_amps)
     check_runs(n, BYTES_PER_RUN, f"{what}: {n_freqs} x {n_amps} = {n:.3g} runs", fix)
@@ -129,7 +129,7 @@ def stability_spectrum(model: RockingModel, freqs, amps, pulse: str = "cosine", 
     """Run one pulse (``cosine`` or ``sine``, amplitude > 0 toward +x) for every
     (freq, amp) pair; ``free_time`` s of free motion follow each pulse.
     ``executor``: None runs in this process (numba threads), or an
-    :class:`~statue2model.executors.Executor` (same result, see :func:`run_batch`)."""
+    :class:`~statue2model.compute.executors.Executor` (same result, see :func:`run_batch`)."""
     if pulse not in PULSES:
         raise InputError(f"pulse must be one of {', '.join(PULSES)}, got {pulse!r}")
     freqs = np.asarray(freqs, dtype=float).ravel()

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..budget import check_runs
+from ..compute.budget import check_runs
 from ..errors import InputError
 from . import kernel as K
 from .batch import NOT_APPLICABLE_CODE, outcome_codes, run_batch
@@ -129,7 +129,7 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
                 free_time: float = FREE_TIME, progress: bool = False, executor=None) -> SweepResult:
     """|theta|max/delta of ``motion`` scaled to each PGA in ``pgas`` (m/s^2).
     ``executor``: None runs in this process (numba threads), or an
-    :class:`~statue2model.executors.Executor` (same result)."""
+    :class:`~statue2model.compute.executors.Executor` (same result)."""
     pgas = np.asarray(pgas, dtype=float).ravel()
     if pgas.size == 0 or not np.all(np.isfinite(pgas)) or np.any(pgas < 0):
         raise InputError("PGA values must be finite and >= 0 (m/s^2)")
@@ -184,7 +184,7 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
                     free_time: float = FREE_TIME, progress: bool = False, executor=None) -> SweepResult:
     """Run ``motion`` once per value of parameter ``name`` (one of SWEEPABLE;
     "alpha", "theta", "e" set both sides). ``executor``: None runs in this
-    process, or an :class:`~statue2model.executors.Executor` (same result)."""
+    process, or an :class:`~statue2model.compute.executors.Executor` (same result)."""
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise InputError(f"sweep values of {name} must be finite numbers")

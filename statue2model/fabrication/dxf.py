@@ -29,7 +29,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 
 CUT_OUTSIDE = "CUT_OUTSIDE"
 CUT_INSIDE = "CUT_INSIDE"

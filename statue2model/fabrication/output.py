@@ -33,9 +33,9 @@ import shutil
 from pathlib import Path
 
 from .. import __version__
-from ..csvsafe import csv_text
-from ..files import OutputDir, atomic_write, open_output, output_error, swap_in, write_json
-from ..props import props_dict
+from ..io.csvsafe import csv_text
+from ..io.files import OutputDir, atomic_write, open_output, output_error, swap_in, write_json
+from ..geometry.props import props_dict
 from .dxf import Drawing, write_dxf
 from .prototype import CHECKED, ERROR_LIMIT
 from .slicing import SliceResult

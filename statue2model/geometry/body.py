@@ -15,7 +15,7 @@ similarity transform exactly (volume x s^3, inertia x s^5, rotations R I R^T).
 Example
 -------
 >>> from statue2model.geometry.body import load_body
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> body = load_body(default_scan())
 >>> body.up, body.units, round(body.height, 3)
 ('+y', 'm', 1.8)

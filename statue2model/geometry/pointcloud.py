@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, missing_extra
 
 WARN_P95 = 0.01
 """95th percentile of the point-to-surface distance, as a fraction of the bounding-box
@@ -96,10 +96,10 @@ def _open3d():
     try:
         import open3d
     except ImportError as exc:  # also raised when libusb-1.0 is missing
-        raise InputError(
-            f"point clouds need open3d ({exc}); install it with 'pip install open3d' "
-            "(on Debian/Ubuntu also 'apt-get install libusb-1.0-0')"
-        ) from None
+        if isinstance(exc, ModuleNotFoundError):
+            raise missing_extra("pointcloud", "meshing a point cloud") from None
+        raise InputError(f"open3d does not load ({exc}): on Debian/Ubuntu it needs the system library "
+                         "libusb-1.0-0 ('bash .ci/install --extras pointcloud' installs it)") from None
     return open3d
 
 

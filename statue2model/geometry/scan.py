@@ -9,7 +9,7 @@ turned into a closed surface by Poisson reconstruction
 Example
 -------
 >>> from statue2model.geometry.scan import read_scan
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> raw = read_scan(default_scan())
 >>> raw.kind, raw.faces.shape
 ('mesh', (19294, 3))

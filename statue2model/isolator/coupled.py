@@ -99,6 +99,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..compute.compile import ensure_compiled
 from ..dynamics.engine import outcome_name
 from ..dynamics.model import RockingModel
 from ..dynamics.motions import GroundMotion
@@ -236,7 +237,7 @@ def _check(iso, model, motion, u0, v0, theta0, omega0, t_end, dt_out, rtol, rest
         raise InputError(f"rtol must lie in [1e-14, 1e-2], got {rtol}")
     if not (math.isfinite(rest_tol) and 0 < rest_tol < 1):
         raise InputError(f"rest_tol must lie in (0, 1), got {rest_tol}")
-    from ..budget import check_history
+    from ..compute.budget import check_history
 
     # plate (t, u, v, acc_abs, z) and statue (theta, theta', phase) outputs, and the plate screening run
     return check_history(t_end, dt_out, 128, what="the coupled history")
@@ -340,6 +341,7 @@ def simulate_coupled(iso: Isolator, model: RockingModel, motion: GroundMotion, *
     peaks = np.empty((max_records, 3))
     upeaks = np.empty((max_records, 2))
     S = np.zeros(CK.N_S)
+    ensure_compiled()
     CK.simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, Mv, samples, u0, v0, theta0, omega0, t_end, dt_out,
                        float(rtol), atol, int(max_steps), out, imp, peaks, upeaks, S)
     status = int(S[CK.S_STATUS])

@@ -499,9 +499,9 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     qmax_l = -theta0 if theta0 < 0.0 else 0.0
     umax = abs(u0)
     amax = 0.0
-    n_imp = 0
+    n_imp = np.int64(0)
     n_pk = int(S[S_N_PEAKS])
-    n_upk = 0
+    n_upk = np.int64(0)
     nsteps = 0
     nrej = 0
     status = STATUS_OK
@@ -515,7 +515,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         S[S_N_HITS] = 1.0
         S[S_CAP_STOP] = 1.0
         capstop = True
-        _record_output(0, 0.0, y, md, Q, seg, out)
+        _record_output(np.int64(0), 0.0, y, md, Q, seg, out)
         t_end = 0.0
     pmax = math.sqrt(max(Q[Q_P2L], Q[Q_P2R]))
     h = min(0.05 / pmax, 0.02 / math.sqrt(om2))
@@ -592,7 +592,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             _plate_after_jump(t, y, md, Q, seg, 0.0)
         # ---------------- events already due at t (a motion breakpoint, rounding)
         _events(t, y, md, Q, seg, g0)
-        due = -1
+        due = np.int64(-1)
         for k in range(N_EV):
             if g0[k] > 0.0 and k != suppress:
                 due = k
@@ -650,7 +650,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 gp[j, k] = g[k]
         xtol = 4.0 * _EPS * max(1.0, abs(t)) / hh
         x_ev = 2.0
-        k_ev = -1
+        k_ev = np.int64(-1)
         for k in range(N_EV):
             if k == suppress:
                 continue
@@ -975,3 +975,11 @@ def _end_stop(t, y, md, Q, seg, S):
         md[MD_PS] = 0.0
         md[MD_PIN] = sig
     return 1
+
+
+SIGNATURES = {
+    "simulate_kernel": (K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8,
+                        K.F8, K.F8, K.VEC, K.I8, K.MAT, K.MAT, K.MAT, K.MAT, K.VEC),
+}
+"""The one argument-type signature of the entry point (types of dynamics.kernel; see
+statue2model.compute.compile)."""

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..compute.compile import ensure_compiled
 from ..dynamics.motions import GroundMotion
 from ..errors import InputError
 from . import kernel as IK
@@ -168,7 +169,7 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
     if end_stop == "impact" and abs(u0) > cap:
         raise InputError(f"u0 = {u0} m starts beyond the end stop at the capacity {cap} m")
     stop = 0 if end_stop == "stop" else 1
-    from ..budget import check_history
+    from ..compute.budget import check_history
 
     # the outputs (t, u, v, acc_abs, z), their copies in the result and the coupled run of a statue on it
     n_out = check_history(t_end, dt_out, HISTORY_BYTES_PER_SAMPLE, what="the plate history")
@@ -180,8 +181,9 @@ def simulate(iso: Isolator, motion: GroundMotion, *, u0: float = 0.0, v0: float 
     stats = np.zeros(IK.N_I)
     pk_t = np.empty(64)
     pk_u = np.empty(64)
-    om = iso.omega
-    mug = iso.mu * iso.g
+    om = float(iso.omega)
+    mug = float(iso.mu * iso.g)
+    ensure_compiled()
     if iso.model == "coulomb":
         n_pk, pk_t, pk_u = IK.coulomb(om, mug, kind, M, samples, float(u0), float(v0), float(t_end), float(dt_out),
                                       cap, stop, float(e_stop), out_u, out_v, out_a, pk_t, pk_u, stats)

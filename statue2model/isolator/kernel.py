@@ -186,7 +186,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
     t = 0.0
     u = u0
     v = v0
-    n_pk = 0
+    n_pk = np.int64(0)
     umax = abs(u0)
     amax = 0.0
     k_out = 0
@@ -261,7 +261,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
             ti = t + i * h if i < nsub else tb
             _, vi, _ = _coulomb_state(ti, t, seg, cf, om)
             if s * vi <= 0.0:
-                t_rev = _coulomb_bisect(lo, ti, t, seg, cf, om, s, 0.0, True)
+                t_rev = _coulomb_bisect(lo, ti, t, seg, cf, om, s, 0.0, bool(True))
                 break
             lo = ti
         t_stop = min(t_rev, tb)
@@ -269,7 +269,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         hit = False
         if s * u_end > cap:
             # u is monotonic on [t, t_stop]: bisect s u = cap to machine precision
-            t_stop = _coulomb_bisect(t, t_stop, t, seg, cf, om, s, cap, False)
+            t_stop = _coulomb_bisect(t, t_stop, t, seg, cf, om, s, cap, bool(False))
             u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
             hit = True
         while k_out < n_out and k_out * dt_out < t_stop:
@@ -446,7 +446,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
     u_r = u0
     z_r = 0.0
     s = 1.0 if v0 > 0.0 else (-1.0 if v0 < 0.0 else 0.0)
-    n_pk = 0
+    n_pk = np.int64(0)
     umax = abs(u0)
     amax = 0.0
     k_out = 0
@@ -540,7 +540,8 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         hi_rev = hh
         if s * v5 < 0.0:
             # the largest s u of the step is at its reversal
-            hi = _dp_bisect(0.0, hh, 100, t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, 0.0, True)
+            hi = _dp_bisect(0.0, hh, np.int64(100), t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, 0.0,
+                            bool(True))
             hi_rev = hi
             um, _, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
             if s * um > cap:
@@ -548,7 +549,8 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         elif s * u5 > cap:
             x_far = hh
         if x_far > 0.0:
-            hi = _dp_bisect(0.0, x_far, 200, t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, cap, False)
+            hi = _dp_bisect(0.0, x_far, np.int64(200), t, u, v, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv, cap,
+                            bool(False))
             um, vm, _, _ = _dp_step(t, u, v, hi, seg, om2, cz, u_r, z_r, s, u_y, n, ku, kv)
             t = t + hi
             z_e = z_map(z_r, um - u_r, s, u_y, n)
@@ -625,3 +627,13 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
     stats[I_UCAP] = u_cap
     stats[I_NHITS] = n_hits
     return n_pk, pk_t, pk_u
+
+
+SIGNATURES = {
+    "coulomb": (K.F8, K.F8, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8, K.F8,
+                K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC),
+    "boucwen": (K.F8, K.F8, K.F8, K.I8, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8,
+                K.F8, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC),
+}
+"""The one argument-type signature of each entry point (types of dynamics.kernel; see
+statue2model.compute.compile)."""

@@ -76,7 +76,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fabrication.dxf import CUT_OUTSIDE, DRILL, MM, new_document
-from ..files import atomic_write, prepare_dir
+from ..io.files import atomic_write, prepare_dir
 
 MIN_BOTTOM = 0.005   # m of wood left under any cutout
 MIN_WALL = 0.005     # m of wood between two cutouts of a face, and between a cutout and the edge

@@ -7,7 +7,7 @@ may lift), so the results sit beside the fixed-base ones of
 with the same outcome classes, plus two codes of their own: FAILED = -1 for a point
 the solver could not finish (counted apart) and CAPACITY = -3 ("isolator capacity
 exceeded": the plate passed ``iso.capacity``; a failure, as bad as overturning).
-Points run through an executor (:mod:`statue2model.executors`), one frequency row
+Points run through an executor (:mod:`statue2model.compute.executors`), one frequency row
 or one PGA per task; ``None`` runs them here, one after the other. The numbers do
 not depend on the executor.
 

@@ -40,7 +40,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..errors import InputError
-from ..files import read_json, swap_in, write_json
+from ..io.files import read_json, swap_in, write_json
 
 MANIFEST = "stage.json"
 PACKAGE_DIR = Path(__file__).resolve().parent.parent
@@ -88,7 +88,7 @@ def clean_partials(out: Path) -> list[Path]:
     """Remove the hidden partial (and replaced) folders left by interrupted runs in
     ``out``: only those of names its manifest ``.statue2model.json`` lists (a user's
     ``.backup.old-2024`` stays). Two runs never share one folder: see files.open_output."""
-    from ..files import OutputDir, read_manifest
+    from ..io.files import OutputDir, read_manifest
 
     data = read_manifest(out) if Path(out).is_dir() else None
     if data is None:

@@ -14,9 +14,14 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated           (spectra, variability,
                                                                          time histories)
-[crosscheck] enabled, quick, motion, dt, iterations, grid, pulse_freq, isolator
-[run]        workers, scheduler                                         (where sweeps run;
-                                                                         never changes a result)
+[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, pulse_freq, isolator
+[run]        stages, workers, scheduler                                 (what a plain ``run`` does
+                                                                         and where sweeps run)
+
+``[run] stages`` is what ``statue2model run`` does without ``--stages``: by default
+``"params, prototype, isolator, dynamics"`` (the assessment; the core install has all it
+needs). ``"all"`` adds the 3D cross-check (``crosscheck``, the ``[physics]`` extra);
+stages switched off by their ``enabled = false`` are left out.
 
 The scale is written ``"1:2"`` (or the ratio prototype/statue, ``0.5``); a bare 2 is
 refused (1:2 or 2:1?).
@@ -60,7 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..argtypes import length, scale_ratio, scale_text, sheet_size
+from ..cli.argtypes import length, scale_ratio, scale_text, sheet_size
 from ..errors import InputError
 
 if sys.version_info >= (3, 11):
@@ -162,7 +167,8 @@ class CrosscheckConfig:
     enabled: bool = True
     quick: bool = False
     motion: str = "synthetic:duration=8,pga=0.2g,seed=1"
-    dt: float = 5e-4                    # s
+    dt: float = 5e-4                    # s, the isolator scenes
+    statue_dt: float = 2e-3             # s, the statue scenes
     iterations: int = 50
     grid: float = 0.004                 # groove lattice spacing on the sphere, m; 0 = the CNC mesh
     pulse_freq: float = 1.5             # Hz
@@ -171,8 +177,9 @@ class CrosscheckConfig:
 
 @dataclass(frozen=True)
 class RunConfig:
-    """Where the sweeps run; results do not depend on it."""
+    """What a plain ``run`` does (``stages``) and where the sweeps run (never changes a result)."""
 
+    stages: str = "params, prototype, isolator, dynamics"   # or "all" (adds crosscheck)
     workers: int | None = None          # local processes; None = one per core
     scheduler: str | None = None        # Dask scheduler address (tcp://host:8786)
 
@@ -226,6 +233,10 @@ class ProjectConfig:
 
         data = {name: {k: clean(v) for k, v in sec.items()} for name, sec in self.to_dict().items()}
         data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
+        for sec, key in _ACCELS:                # accelerations with their unit, as the user writes them
+            v = getattr(getattr(self, sec), key)
+            if v is not None:
+                data[sec][key] = f"{v!r}m/s2"
         return tomli_w.dumps(data)
 
     def with_section(self, name: str, **changes) -> ProjectConfig:
@@ -261,8 +272,11 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
         elif (sec, key) in _ACCELS:
             from ..dynamics.motions import parse_accel
 
-            try:                            # a string needs its unit (0.075g); a number is m/s^2
-                v = parse_accel(value, key, key=key) if isinstance(value, str) else float(value)
+            if not isinstance(value, str):  # one meaning everywhere: an acceleration carries its unit
+                raise ValueError(f"an acceleration needs its unit: write \"{float(value):g}g\" or "
+                                 f"\"{float(value):g}m/s2\"")
+            try:
+                v = parse_accel(value, key, key=key)
             except InputError as exc:       # its whole message ("fuse_release=0.3 has no unit: ...")
                 raise ValueError(str(exc)) from None
         elif key == "scale":
@@ -467,19 +481,36 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
     if c.iterations < 1 or not c.pulse_freq > 0:
         bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
-    if not 1e-5 <= c.dt <= 5e-3:
-        bad(f"[crosscheck] dt must be in 1e-5..5e-3 s, got {c.dt}")
+    for name in ("dt", "statue_dt"):
+        if not 1e-5 <= getattr(c, name) <= 5e-3:
+            bad(f"[crosscheck] {name} must be in 1e-5..5e-3 s, got {getattr(c, name)}")
     if not (c.grid == 0 or 0.0005 <= c.grid <= 0.05):
         bad(f"[crosscheck] grid must be 0 or in 0.5..50 mm, got {c.grid}")
     if r.workers is not None and r.workers < 1:
         bad(f"[run] workers must be >= 1, got {r.workers}")
+    try:
+        stage_list(r.stages)
+    except InputError as exc:
+        bad(f"[run] stages = {r.stages!r}: {exc}")
+
+
+def stage_list(text: str) -> list[str]:
+    """The stage names of a comma list (``"params, dynamics"``), or every stage for
+    ``"all"``; an unknown name is an :class:`InputError` naming the known ones."""
+    from .stages import STAGES, check_stage_names
+    names = [n.strip() for n in str(text).split(",") if n.strip()]
+    if names == ["all"]:
+        return list(STAGES)
+    if not names:
+        raise InputError("no stage named")
+    return check_stage_names(names)
 
 
 def _check_sizes(name: str, motion, d: DynamicsConfig, freqs, amps, pgas, where: str) -> None:
     """Refuse, before any work, analyses beyond the memory budget or the run cap
-    (:mod:`statue2model.budget`): the spectrum grids, the PGA levels (each level's task
+    (:mod:`statue2model.compute.budget`): the spectrum grids, the PGA levels (each level's task
     carries the record: levels x samples), the histories of the motion."""
-    from ..budget import check_bytes, check_history, check_runs, num
+    from ..compute.budget import check_bytes, check_history, check_runs, num
     from ..dynamics.engine import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
     from ..dynamics.spectrum import BYTES_PER_RUN, check_grid
 

@@ -4,7 +4,7 @@
 Example
 -------
 >>> import tempfile, pathlib
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> from statue2model.pipeline.run import run_project
 >>> res = run_project(default_scan(), pathlib.Path(tempfile.mkdtemp()), stages=["params"], say=lambda m: None)
 >>> page = res.report.read_text()

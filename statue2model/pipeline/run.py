@@ -24,7 +24,7 @@ executor: local processes, or a Dask cluster; the numbers do not depend on which
 Example
 -------
 >>> import tempfile, pathlib
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> out = pathlib.Path(tempfile.mkdtemp()) / "girl"
 >>> res = run_project(default_scan(), out, stages=["params"], report=False, say=lambda m: None)
 >>> res.stages["params"]["status"], round(res.stages["params"]["data"]["a_R"], 4)
@@ -39,11 +39,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import __version__
-from ..csvsafe import write_csv
+from ..io.csvsafe import write_csv
 from ..errors import InputError
-from ..files import atomic_write, open_output, write_json
+from ..io.files import atomic_write, open_output, write_json
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
-from .config import ProjectConfig, motion_files
+from .config import ProjectConfig, motion_files, stage_list
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
 from .verdict import assess
 
@@ -111,7 +111,8 @@ def _needed(asked: list[str], cfg: ProjectConfig) -> list[str]:
 def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None = None, *,
                 stages: list[str] | None = None, force: bool = False, executor=None, report: bool = True,
                 say=print, reuse: bool = False) -> RunResult:
-    """Run ``stages`` (default: all enabled) on ``mesh`` into folder ``out``: new, empty
+    """Run ``stages`` (default: ``[run] stages`` of the configuration, less those
+    switched off) on ``mesh`` into folder ``out``: new, empty
     or a previous run's (its manifest .statue2model.json); ``reuse``: a folder holding
     other files too, which are never touched (see files.open_output). One run per folder
     at a time (a lock)."""
@@ -119,7 +120,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     mesh = Path(mesh)
     if not mesh.is_file():
         raise InputError(f"scan not found: {mesh}")
-    asked = check_stage_names(stages) if stages else [n for n in STAGES if enabled(n, cfg)]
+    asked = check_stage_names(stages) if stages else [n for n in stage_list(cfg.run.stages) if enabled(n, cfg)]
     off = [n for n in asked if not enabled(n, cfg)]
     if off and stages:
         raise InputError(f"stage(s) {', '.join(off)} asked for but disabled in the configuration "
@@ -130,6 +131,8 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
 
 
 RUN_FILES = ("config.toml", "run.json", "report.html")
+NOT_ASKED = {"crosscheck": "Not asked for in this run: the 3D cross-check (PyBullet, the [physics] extra) runs "
+                           "with --stages all (or crosscheck), or [run] stages = \"all\" in the project file."}
 
 
 def older_run(folder: Path) -> list[str]:
@@ -198,10 +201,12 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
                 results[name] = {**man, "status": "cached"}
                 _say_warnings(say, man, f" ({name}, taken from an earlier run)")
             else:
-                results[name] = {"status": "not run", "summary": {}}
+                results[name] = {"status": "not run", "summary": {}, "text": [NOT_ASKED.get(
+                    name, f"Not asked for in this run: add it with --stages {name} or [run] stages.")]}
             continue
         i = order.index(name) + 1
-        ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests))
+        ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests),
+                      say=lambda msg: say(f"        {msg}"))
         say(f"[{i}/{n}] {name:<10} ...")
         t0 = time.perf_counter()
         man = run_stage(out / name, key, lambda d, f=STAGES[name], c=ctx: f(c, d), force=force)

@@ -25,13 +25,14 @@ crosscheck   params, isolator,          crosscheck.json, overlay plots
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from ..files import atomic_write, read_json, write_json
+from ..io.files import atomic_write, read_json, write_json
 from .config import ProjectConfig, grid
 
 G = 9.81
@@ -47,6 +48,7 @@ class Context:
     executor: object = None
     dirs: dict = field(default_factory=dict)
     manifests: dict = field(default_factory=dict)
+    say: Callable[[str], None] = lambda msg: None   # a progress line inside a long stage
 
     def load_body(self):
         from ..geometry.body import load_body
@@ -87,7 +89,7 @@ def _fmt(x, nd=4):
 
 # --- params ---------------------------------------------------------------------------------------
 def params_stage(ctx: Context, d: Path) -> dict:
-    from ..props import write_props
+    from ..geometry.props import write_props
 
     body = ctx.load_body()
     p = body.rocking(ctx.config.scan.direction)
@@ -129,7 +131,10 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
                      wall=c.wall, sheet=tuple(c.sheet), margin=c.margin, edge=c.edge, policy=c.policy,
                      compensate=c.compensate, tolerance=c.tolerance, feed=c.feed, pass_depth=c.pass_depth,
                      osb_density=c.board_density, glue_density=c.glue_density, rod_density=c.rod_density)
-    res = slice_body(ctx.load_body(), spec, direction_deg=ctx.config.scan.direction, front_deg=c.front)
+    body = ctx.load_body()
+    ctx.say(f"slicing at 1:{spec.scale:g} into {spec.board * 1000:g} mm boards, rods, labels, nesting ...")
+    res = slice_body(body, spec, direction_deg=ctx.config.scan.direction, front_deg=c.front)
+    ctx.say(f"writing the CNC files of {len(res.parts)} parts on {res.nesting.n_sheets} sheet(s) ...")
     write_slice(res, d, previews=c.previews)
     plot_layers(res, d / "layers.png")
     cmp_ = res.comparison
@@ -408,9 +413,12 @@ def _error_and_target(cd: dict) -> tuple[str, str]:
 
 # --- crosscheck -----------------------------------------------------------------------------------
 def _why_missed(cd: dict) -> str:
-    """The case's own diagnosis when it misses its target; the bare numbers when it has none."""
-    if cd.get("met"):
+    """The case's own diagnosis when it misses its target (or is a diagnostic / not applicable);
+    the bare numbers when it has none."""
+    if cd.get("status", "met" if cd.get("met") else "missed") == "met":
         return ""
+    if cd.get("status") in ("diagnostic", "not applicable"):
+        return cd.get("why") or cd.get("status")
     why = "; ".join(x for x in (cd.get("why"), cd.get("note")) if x)
     if why:
         return why
@@ -435,16 +443,21 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     design = ctx.design() if c.isolator else None
     iso = IsolatorScene.from_design(design, statue=scene, grid=c.grid or None) if design else None
     settings, contact = SimSettings(dt=c.dt, solver_iterations=c.iterations), ContactSettings()
-    comp = compare(scene, motion, iso_scene=iso, settings=settings, contact=contact, pulse_freq=c.pulse_freq,
-                   quick=c.quick)
+    statue_settings = SimSettings(dt=c.statue_dt, solver_iterations=c.iterations)
+    comp = compare(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
+                   contact=contact, pulse_freq=c.pulse_freq,
+                   quick=c.quick, e_L=ctx.config.model.e_L, e_R=ctx.config.model.e_R,
+                   progress=lambda msg: ctx.say(f"3D: {msg} ..."))
     paths = write_report(comp, d, {"scene": {"name": scene.name, "params": scene.params.to_dict()},
-                                   "settings": settings.to_dict(), "contact": contact.to_dict(),
+                                   "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(),
+                                   "contact": contact.to_dict(),
                                    "motion": motion.to_dict()})
     rows = []
     for case in comp.cases:
         cd = case.to_dict()
         rows.append([cd["name"], cd.get("unit", ""), _fmt(cd.get("value_2d")), _fmt(cd.get("value_3d")),
-                     *_error_and_target(cd), "pass" if cd.get("met") else "fail", _why_missed(cd)])
+                     *_error_and_target(cd), {"met": "pass", "missed": "fail"}.get(cd["status"], cd["status"]),
+                     _why_missed(cd)])
     s = cc_summary(comp.cases)
     figs = [_fig(p.name, f"2D (reduced model) and 3D (PyBullet) time histories: {name}")
             for name, p in paths.items() if name != "json"]
@@ -457,7 +470,9 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
         warnings.append("The isolator scenes of the 3D cross-check were skipped: no passing isolator design.")
     elif c.isolator and design is None:
         text.append("The isolator scenes were skipped: no passing isolator design ([isolator] enabled = false).")
-    return {"summary": {"2D/3D agreement": f"{s['n_met']} of {s['n_cases']} cases within target"},
+    return {"summary": {"2D/3D agreement": f"{s['n_met']} of {s['n_cases']} applicable checks within target"
+                                           f" ({s['n_not_applicable']} not applicable, {s['n_diagnostic']} "
+                                           "diagnostics not counted)"},
             "text": text, "warnings": warnings, "figures": figs,
             "tables": [{"title": "2D model against 3D physics", "columns": ["case", "unit", "2D", "3D", "error",
                                                                             "target", "met", "why (when missed)"],

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 from html.parser import HTMLParser
 from pathlib import Path
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 
 ENV_VAR = "STATUE2MODEL_CHROMIUM"
 CANDIDATES = ("chromium-headless-shell", "chromium", "chromium-browser", "google-chrome")

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 from .plots import _pyplot
 
 OUTCOME_COLOURS = ["#ffffff", "#c6dbef", "#6baed6", "#fdae6b", "#e6550d", "#a63603"]

@@ -7,7 +7,7 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 from .plots import _pyplot
 
 

@@ -124,7 +124,7 @@ from typing import Any
 
 import numpy as np
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 
 STATUSES = ("done", "cached", "skipped", "failed")
 

@@ -3,7 +3,7 @@
 Example
 -------
 >>> from statue2model.geometry.body import load_body
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> from statue2model.report.plots import plot_footprint_and_rose
 >>> import tempfile, pathlib
 >>> body = load_body(default_scan())
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write
+from ..io.files import atomic_write
 from ..geometry.rocking_params import RockingParams, Rose, unit_vectors
 
 

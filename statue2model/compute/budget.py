@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 import os
 
-from .errors import InputError
+from ..errors import InputError
 
 GiB = 2 ** 30
 

@@ -10,7 +10,7 @@ provenance (source, kind, units, up, scale, height, log, warnings). SI units.
 Example
 -------
 >>> from statue2model.geometry.body import load_body
->>> from statue2model.paths import default_scan
+>>> from statue2model.io.paths import default_scan
 >>> body = load_body(default_scan())
 >>> d = props_dict(body, body.rocking(), body.rose())
 >>> sorted(k for k in ("b_L", "b_R", "h", "I_G", "e_L", "footprint", "com") if k in d)
@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import __version__
+from .. import __version__
 
 
 def props_dict(body, params, rose) -> dict:
@@ -48,8 +48,8 @@ def props_dict(body, params, rose) -> dict:
 def write_props(out: Path, body, params, rose) -> tuple[Path, Path, Path]:
     """Write the props record to ``out`` (JSON), the rose beside it (OUT_rose.csv) and
     the footprint-and-rose plot (OUT.png), each atomically; returns the three paths."""
-    from .files import atomic_write, write_json
-    from .report.plots import plot_footprint_and_rose
+    from ..io.files import atomic_write, write_json
+    from ..report.plots import plot_footprint_and_rose
 
     out = Path(out)
     write_json(out, props_dict(body, params, rose))

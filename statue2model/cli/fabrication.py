@@ -11,8 +11,8 @@ import argparse
 import time
 from pathlib import Path
 
+from ..errors import InputError
 from .argtypes import finite_float, length, positive_float, scale_ratio, sheet_size
-from .errors import InputError
 
 
 def add_parsers(sub) -> None:
@@ -72,11 +72,11 @@ def add_parsers(sub) -> None:
 
 
 def _cmd_slice(args) -> int:
-    from .fabrication.output import open_slice_dir, write_slice
-    from .fabrication.slicing import slice_body
-    from .fabrication.spec import SliceSpec
-    from .geometry.body import load_body
-    from .paths import default_scan
+    from ..fabrication.output import open_slice_dir, write_slice
+    from ..fabrication.slicing import slice_body
+    from ..fabrication.spec import SliceSpec
+    from ..geometry.body import load_body
+    from ..io.paths import default_scan
 
     try:
         scale = scale_ratio(args.scale)         # a bare 2 is refused with one line (1:2 or 2:1?)
@@ -106,8 +106,8 @@ def _cmd_slice(args) -> int:
 
 
 def summary(res, out: Path) -> str:
-    from .fabrication.output import comparison_rows
-    from .fabrication.prototype import ERROR_LIMIT
+    from ..fabrication.output import comparison_rows
+    from ..fabrication.prototype import ERROR_LIMIT
 
     spec = res.spec
     lines = [

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import InputError
 from .argtypes import finite_float, length, positive_float
-from .errors import InputError
 
 
 def add_parsers(sub) -> None:
@@ -105,8 +105,8 @@ def add_parsers(sub) -> None:
 
 
 def _statue(path):
-    from .files import read_json
-    from .geometry.rocking_params import RockingParams
+    from ..io.files import read_json
+    from ..geometry.rocking_params import RockingParams
 
     data = read_json(path)
     try:
@@ -119,7 +119,7 @@ def _accel(text: str) -> float:
     """An acceleration with a unit (0.075g, 0.736m/s2)."""
     import argparse
 
-    from .dynamics.motions import parse_accel
+    from ..dynamics.motions import parse_accel
 
     try:
         value = parse_accel(text)
@@ -131,10 +131,10 @@ def _accel(text: str) -> float:
 
 
 def _cmd_design(args) -> int:
-    from .dynamics.motions import parse_spec
-    from .files import atomic_write, write_json
-    from .isolator.design import design
-    from .isolator.design_spectrum import parse_spectrum
+    from ..dynamics.motions import parse_spec
+    from ..io.files import atomic_write, write_json
+    from ..isolator.design import design
+    from ..isolator.design_spectrum import parse_spectrum
 
     statue = _statue(args.params)
     aL = args.alpha_L if args.alpha_L is not None else (args.alpha if args.alpha is not None else 1.0)
@@ -156,8 +156,8 @@ def _cmd_design(args) -> int:
 
 
 def _cmd_plates(args) -> int:
-    from .files import read_json
-    from .isolator.plates import PlateGeometry, write_plates
+    from ..io.files import read_json
+    from ..isolator.plates import PlateGeometry, write_plates
 
     geom = PlateGeometry.from_design(read_json(args.design), str(args.design))
     if args.segments < 16 or args.segments > 4096:
@@ -168,15 +168,15 @@ def _cmd_plates(args) -> int:
 
 
 def _cmd_simulate(args) -> int:
-    from .dynamics.model import RockingModel
-    from .dynamics.motions import parse_spec
-    from .files import write_json
-    from .isolator.dynamics import simulate, statue_on_plate
+    from ..dynamics.model import RockingModel
+    from ..dynamics.motions import parse_spec
+    from ..io.files import write_json
+    from ..isolator.dynamics import simulate, statue_on_plate
 
     spec = args.motion.strip()
     u0 = v0 = 0.0
     if spec.startswith("free:") and "u0" in spec:
-        from .dynamics import motions
+        from ..dynamics import motions
 
         opts = dict(kv.split("=", 1) for kv in spec[5:].split(",") if kv)
         try:
@@ -189,8 +189,8 @@ def _cmd_simulate(args) -> int:
         motion = motions.free()
     else:
         motion = parse_spec(spec)[0]
-    from .budget import check_history
-    from .isolator.dynamics import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
+    from ..compute.budget import check_history
+    from ..isolator.dynamics import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
 
     # the run and its CSV (about 80 characters a sample), before anything is allocated
     check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out,
@@ -228,8 +228,8 @@ def _isolator(args):
     """The Isolator of `isolator simulate`: --design, overridden by the explicit options."""
     from dataclasses import replace
 
-    from .files import read_json
-    from .isolator.device import Isolator, isolator_from_design
+    from ..io.files import read_json
+    from ..isolator.device import Isolator, isolator_from_design
 
     given = {k: getattr(args, a) for k, a in (("R", "R"), ("r", "r"), ("M", "mass"), ("mu", "mu"))
              if getattr(args, a) is not None}
@@ -266,7 +266,7 @@ def _write_history(path: Path, res) -> Path:
     """t, u, v, a_abs, z every dt_out, SI units: readable by `isolator identify`."""
     import numpy as np
 
-    from .files import atomic_write
+    from ..io.files import atomic_write
 
     data = np.column_stack([res.t, res.u, res.v, res.acc_abs, res.z])
     return atomic_write(path, lambda p: np.savetxt(p, data, delimiter=",", fmt="%.10g",
@@ -277,9 +277,9 @@ _TABLES = {"19-steel": "steel_r0.0095", "19-resin": "resin_r0.0183", "19-resin-r
 
 
 def _cmd_identify(args) -> int:
-    from .dynamics.identify import read_time_series
-    from .files import write_json
-    from .isolator.friction import TABLE_19, TABLE_25, friction_from_record, mu_for_load
+    from ..dynamics.identify import read_time_series
+    from ..io.files import write_json
+    from ..isolator.friction import TABLE_19, TABLE_25, friction_from_record, mu_for_load
 
     if (args.mass is None) != (args.table is None):
         raise InputError("--mass and --table go together (the table value at that load)")

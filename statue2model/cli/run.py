@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 
 
 def add_parsers(sub) -> None:
@@ -27,7 +27,8 @@ def add_parsers(sub) -> None:
                    "thesis' choices")
     p.add_argument("--out", metavar="DIR", help="output folder (default: outputs/<scan or folder name>)")
     p.add_argument("--stages", metavar="LIST", help="comma list of params, prototype, isolator, dynamics, "
-                   "crosscheck (default: every enabled stage); the stages they read are run or taken from the cache")
+                   "crosscheck, or 'all' (default: [run] stages of the project file, params, prototype, "
+                   "isolator, dynamics); the stages they read are run or taken from the cache")
     p.add_argument("--force", action="store_true", help="recompute every stage asked for, cached or not")
     p.add_argument("--reuse", action="store_true", help="write into an --out that holds files statue2model did not "
                    "write (they are never touched; a name that collides with one is refused), or go on with an "
@@ -44,7 +45,7 @@ def add_parsers(sub) -> None:
 
 
 def _executor(args, cfg):
-    from .executors import make_executor
+    from ..compute.executors import make_executor
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
@@ -52,22 +53,22 @@ def _executor(args, cfg):
         return make_executor(scheduler=args.scheduler)
     if args.workers is not None:
         return make_executor(workers=args.workers, cap=True)
-    from .executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
+    from ..compute.executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
 
     return config_executor(cfg.run.scheduler, cfg.run.workers, cfg.source)
 
 
 def _cmd_run(args) -> int:
-    from .paths import default_scan
-    from .pipeline.config import load_config
-    from .pipeline.run import run_collection, run_project, warnings_line
-    from .pipeline.stages import check_stage_names
+    from ..io.paths import default_scan
+    from ..pipeline.config import load_config
+    from ..pipeline.run import run_collection, run_project, warnings_line
+    from ..pipeline.config import stage_list
 
     cfg = load_config(args.config)
     target = Path(args.mesh) if args.mesh else default_scan()
     if not target.exists():
         raise InputError(f"scan or folder not found: {target}")
-    stages = check_stage_names([s.strip() for s in args.stages.split(",") if s.strip()]) if args.stages else None
+    stages = stage_list(args.stages) if args.stages else None
     out = Path(args.out) if args.out else Path("outputs") / (target.name if target.is_dir() else target.stem)
     t0 = time.perf_counter()
     with _executor(args, cfg) as ex:
@@ -120,8 +121,8 @@ def _collection_table(data) -> str:
 
 
 def _cmd_config(args) -> int:
-    from .files import atomic_write
-    from .pipeline.config import default_toml
+    from ..io.files import atomic_write
+    from ..pipeline.config import default_toml
 
     text = default_toml()
     if args.out == "-":

@@ -9,11 +9,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..errors import InputError
 from .argtypes import finite_float, positive_float
-from .errors import InputError
 
 SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
-             "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=LAMBDA][,units=g] | "
+             "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=1:N][,units=g] | "
              "synthetic[:duration=S,dt=S,pga=A,seed=N]; A with a unit: 0.3g or 2.94m/s2 (a bare 0.3 is refused); "
              "amp > 0 accelerates the ground toward +x; add start=S to delay a pulse")
 
@@ -60,7 +60,7 @@ def _executor(args):
 
     if args.workers is None and args.scheduler is None:
         return contextlib.nullcontext(None)
-    from .executors import make_executor
+    from ..compute.executors import make_executor
 
     ex = make_executor(scheduler=args.scheduler, workers=args.workers, cap=True)
     print(f"running on {ex.describe()}")
@@ -77,7 +77,7 @@ def _restitution(text: str | None, side: str):
     path = Path(text)
     if not path.is_file():
         raise InputError(f"--e-{side}: {text!r} is neither a number nor an existing identify JSON")
-    from .files import read_json
+    from ..io.files import read_json
 
     data = read_json(path)
     if f"e_{side}" not in data:
@@ -86,8 +86,8 @@ def _restitution(text: str | None, side: str):
 
 
 def _load_params(path: str):
-    from .files import read_json
-    from .geometry.rocking_params import RockingParams
+    from ..io.files import read_json
+    from ..geometry.rocking_params import RockingParams
 
     p = Path(path)
     if p.suffix.lower() != ".json":
@@ -99,7 +99,7 @@ def _load_params(path: str):
 
 
 def build_model(args):
-    from .dynamics.model import RockingModel
+    from ..dynamics.model import RockingModel
 
     params = _load_params(args.params)
     aL = args.alpha_L if args.alpha_L is not None else args.alpha
@@ -128,7 +128,7 @@ def _print_notes(model) -> None:
 
 
 def _out(args, default_name: str) -> Path:
-    from .files import prepare_dir
+    from ..io.files import prepare_dir
 
     out = Path(args.json) if args.json else Path(args.params).resolve().parent / default_name
     if out.exists() and out.is_dir():
@@ -138,7 +138,7 @@ def _out(args, default_name: str) -> Path:
 
 
 def _motion(spec: str):
-    from .dynamics.motions import parse_spec
+    from ..dynamics.motions import parse_spec
 
     return parse_spec(spec)
 
@@ -150,15 +150,15 @@ and the plot's copy."""
 
 
 def cmd_rock(args) -> int:
-    from .dynamics.engine import FREE_TIME, simulate
-    from .files import atomic_write, write_json
-    from .report.dynamics_plots import plot_time_history
+    from ..dynamics.engine import FREE_TIME, simulate
+    from ..io.files import atomic_write, write_json
+    from ..report.dynamics_plots import plot_time_history
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
     if args.t_end is not None and args.t_end <= 0:
         raise InputError(f"--t-end must be positive, got {args.t_end}")
-    from .budget import check_history
+    from ..compute.budget import check_history
 
     # the history, its CSV text and its plot, before anything is allocated
     check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out, ROCK_BYTES_PER_SAMPLE,
@@ -198,7 +198,7 @@ def cmd_rock(args) -> int:
 
 # --- spectrum -----------------------------------------------------------------------------
 def _grid(text: str, what: str, accel: bool = False):
-    from .dynamics.sweeps import linspace_spec
+    from ..dynamics.sweeps import linspace_spec
 
     return linspace_spec(text, what, accel)
 
@@ -206,9 +206,9 @@ def _grid(text: str, what: str, accel: bool = False):
 def cmd_spectrum(args) -> int:
     import time
 
-    from .dynamics.spectrum import stability_spectrum
-    from .files import atomic_write, write_json
-    from .report.dynamics_plots import plot_spectrum
+    from ..dynamics.spectrum import stability_spectrum
+    from ..io.files import atomic_write, write_json
+    from ..report.dynamics_plots import plot_spectrum
 
     model = build_model(args)
     freqs = _grid(args.freq, "--freq")
@@ -251,8 +251,8 @@ def cmd_spectrum(args) -> int:
 
 # --- variability / sweep -----------------------------------------------------------------------
 def _write_sweep(sw, out: Path) -> None:
-    from .files import atomic_write, write_json
-    from .report.dynamics_plots import plot_sweep
+    from ..io.files import atomic_write, write_json
+    from ..report.dynamics_plots import plot_sweep
 
     s = sw.summary()
     _print_notes(sw.model)
@@ -273,7 +273,7 @@ def _write_sweep(sw, out: Path) -> None:
 
 
 def cmd_variability(args) -> int:
-    from .dynamics.sweeps import variability
+    from ..dynamics.sweeps import variability
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
@@ -288,7 +288,7 @@ def cmd_variability(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from .dynamics.sweeps import linspace_spec, parameter_sweep
+    from ..dynamics.sweeps import linspace_spec, parameter_sweep
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
@@ -309,9 +309,9 @@ def cmd_sweep(args) -> int:
 
 # --- identify ---------------------------------------------------------------------------------
 def cmd_identify(args) -> int:
-    from .dynamics.identify import identify_restitution, read_rotation_record
-    from .files import atomic_write, write_json
-    from .report.dynamics_plots import plot_identification
+    from ..dynamics.identify import identify_restitution, read_rotation_record
+    from ..io.files import atomic_write, write_json
+    from ..report.dynamics_plots import plot_identification
 
     params = _load_params(args.params)
     t, theta = read_rotation_record(args.record, units=args.units)
@@ -332,9 +332,9 @@ def cmd_identify(args) -> int:
 
 # --- motion -----------------------------------------------------------------------------------
 def cmd_motion(args) -> int:
-    from .dynamics.motions import table_displacement
-    from .files import atomic_write, prepare_dir
-    from .report.dynamics_plots import plot_table_motion
+    from ..dynamics.motions import table_displacement
+    from ..io.files import atomic_write, prepare_dir
+    from ..report.dynamics_plots import plot_table_motion
 
     motion, theta0 = _motion(args.motion)
     if motion.kind == "none":

@@ -55,7 +55,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError, OutputError
+from ..errors import InputError, OutputError
 
 MANIFEST_NAME = ".statue2model.json"
 LOCK_NAME = ".statue2model.lock"
@@ -439,7 +439,7 @@ class OutputDir:
         return removed
 
     def _save(self) -> None:
-        from . import __version__
+        from .. import __version__
 
         kind = (read_manifest(self.path) or {}).get("kind", self.kind)
         write_json(self.path / MANIFEST_NAME, {"schema": MANIFEST_SCHEMA, "kind": kind, "version": __version__,

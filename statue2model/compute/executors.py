@@ -52,7 +52,7 @@ from collections.abc import Callable, Iterable
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError, missing_extra
 
 
 def _single_numba_thread() -> int:
@@ -329,8 +329,8 @@ class DaskExecutor(Executor):
     def __init__(self, address: str, timeout: float = 10.0):
         try:
             from distributed import Client
-        except ImportError:  # pragma: no cover - dask[distributed] is a dependency
-            raise InputError("a Dask scheduler needs dask[distributed]: pip install 'dask[distributed]'") from None
+        except ImportError as exc:
+            raise missing_extra("cluster", "running on a Dask scheduler", exc) from None
         self.address = str(address)
         try:
             self._client = Client(self.address, timeout=timeout, set_as_default=False)
