@@ -44,11 +44,12 @@ Files: ``<module>.<function>-<line>.py3X.nbi`` (index) and ``.1.nbc`` (the machi
 code of the one signature). An entry is used only with the same numba and Python
 versions, the same CPU and the same bytecode, modification time and size of the
 module's file; otherwise the kernel is compiled again (and announced). Numba
-checks only the function's own file, but the isolator kernels contain code of
-``dynamics/kernel.py`` (and the coupled kernel code of ``isolator/kernel.py``):
-:func:`ensure_compiled` therefore keeps the hash of those sources beside the
-isolator caches (``<module>.depends.json``) and empties the isolator caches when
-they changed (:data:`DEPENDS`).
+checks only the function's own file, but the kernels contain code of other modules:
+the rocking and coupled kernels that of ``dynamics/dop853.py`` (the shared DOP853
+machinery), the isolator kernels that of ``dynamics/kernel.py`` (and the coupled
+kernel that of ``isolator/kernel.py``): :func:`ensure_compiled` therefore keeps the
+hash of those sources beside each such module's cache (``<module>.depends.json``)
+and empties that cache when they changed (:data:`DEPENDS`).
 """
 from __future__ import annotations
 
@@ -91,8 +92,10 @@ START_SECONDS = 2.0
 """Seconds to start a compiling process (Python, numpy, numba)."""
 
 DEPENDS = {
+    "statue2model.dynamics.kernel": ("statue2model.dynamics.dop853",),
     "statue2model.isolator.kernel": ("statue2model.dynamics.kernel",),
-    "statue2model.isolator.coupled_kernel": ("statue2model.dynamics.kernel", "statue2model.isolator.kernel"),
+    "statue2model.isolator.coupled_kernel": ("statue2model.dynamics.kernel", "statue2model.isolator.kernel",
+                                             "statue2model.dynamics.dop853"),
 }
 """Kernel modules whose compiled code also holds code of these modules (numba does
 not see that: see the module docstring)."""

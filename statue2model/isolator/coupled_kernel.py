@@ -4,9 +4,10 @@ for the mechanics and the interface.
 State y = (u, u', theta, theta'); discrete mode md = (plate sign, u_r, z_r, rocking?,
 side, region). Method:
 
-* Dormand-Prince 8(5,3) (scipy's DOP853 tableau, shared with the rocking kernel)
-  on the 4-state system with scipy's error norm; steps never cross a ground-motion
-  breakpoint (dynamics.kernel.segment).
+* Dormand-Prince 8(5,3) (scipy's DOP853 tableau) on the 4-state system with
+  scipy's error norm; the tableau, error norm, step-size controller, dense output
+  and Illinois iteration are those of dynamics/dop853.py, shared with the rocking
+  kernel. Steps never cross a ground-motion breakpoint (dynamics.kernel.segment).
 * Events are located on the 7th-order dense output of each accepted step (sign
   changes sampled at 1/8 of the step, then the Illinois method to ~4 ulp in
   time); the state at the event is recomputed by a fresh step to the event time
@@ -41,18 +42,14 @@ import math
 import numpy as np
 from numba import njit
 
+from ..dynamics import dop853 as D8
 from ..dynamics import kernel as K
 from . import kernel as IK
 
-_NS = K._NS
-_B = K._B
-_E3 = K._E3
-_E5 = K._E5
-_AX = K._AX
-_CX = K._CX
-_D = K._D
-_NX = K._NX
-_NI = K._NI
+_NS = D8.N_STAGES
+_CX = D8.C
+_NX = D8.N_STAGES_EXTENDED
+_NI = D8.INTERPOLATOR_POWER
 _EPS = 2.220446049250313e-16
 NY = 4
 
@@ -244,16 +241,10 @@ def _events(t, y, md, Q, seg, g):
         g[EV_HI] = q - hi
 
 
-# --- DOP853 on 4 states ----------------------------------------------------------
+# --- DOP853 on 4 states (dynamics/dop853.py) --------------------------------------
 @njit(cache=True)
 def _stage(i, t, y, h, md, Q, seg, Ks, ytmp, dy):
-    for c in range(NY):
-        acc = 0.0
-        for j in range(i):
-            a = _AX[i, j]
-            if a != 0.0:
-                acc += a * Ks[j, c]
-        ytmp[c] = y[c] + h * acc
+    D8.stage_state(i, y, h, Ks, ytmp)
     _rhs(t + _CX[i] * h, ytmp, md, Q, seg, dy)
     for c in range(NY):
         Ks[i, c] = dy[c]
@@ -266,58 +257,24 @@ def _step(t, y, f0, h, md, Q, seg, Ks, yn, ytmp, dy):
         Ks[0, c] = f0[c]
     for i in range(1, _NS):
         _stage(i, t, y, h, md, Q, seg, Ks, ytmp, dy)
-    for c in range(NY):
-        acc = 0.0
-        for j in range(_NS):
-            acc += _B[j] * Ks[j, c]
-        yn[c] = y[c] + h * acc
+    D8.combine(y, h, Ks, yn)
 
 
 @njit(cache=True)
 def _error_norm(h, y, yn, Ks, atol, rtol):
-    e5 = 0.0
-    e3 = 0.0
-    for c in range(NY):
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(_NS + 1):
-            a5 += _E5[j] * Ks[j, c]
-            a3 += _E3[j] * Ks[j, c]
-        sc = atol[c] + rtol * max(abs(y[c]), abs(yn[c]))
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * NY)
+    return D8.error_norm(h, y, yn, Ks, atol, rtol)
 
 
 @njit(cache=True)
 def _dense_coeffs(t, y, yn, h, md, Q, seg, Ks, F, ytmp, dy):
     for i in range(_NS + 1, _NX):
         _stage(i, t, y, h, md, Q, seg, Ks, ytmp, dy)
-    for c in range(NY):
-        dlt = yn[c] - y[c]
-        F[0, c] = dlt
-        F[1, c] = h * Ks[0, c] - dlt
-        F[2, c] = 2.0 * dlt - h * (Ks[_NS, c] + Ks[0, c])
-        for r in range(_NI - 3):
-            acc = 0.0
-            for j in range(_NX):
-                acc += _D[r, j] * Ks[j, c]
-            F[3 + r, c] = h * acc
+    D8.dense_coeffs(y, yn, h, Ks, F)
 
 
 @njit(cache=True)
 def _dense(x, F, y, out):
-    for c in range(NY):
-        v = 0.0
-        for i in range(_NI):
-            v += F[_NI - 1 - i, c]
-            if i % 2 == 0:
-                v *= x
-            else:
-                v *= 1.0 - x
-        out[c] = v + y[c]
+    D8.dense(x, F, y, out)
 
 
 @njit(cache=True)
@@ -335,22 +292,9 @@ def _locate(k, xa, ga, xb, gb, t, h, F, y, md, Q, seg, yx, g, xtol):
     for _ in range(200):
         if xb - xa <= xtol:
             break
-        x = (xa * gb - xb * ga) / (gb - ga)
-        if not (xa < x < xb):
-            x = 0.5 * (xa + xb)
+        x = D8.secant(xa, ga, xb, gb)
         gx = _event_at(k, x, t, h, F, y, md, Q, seg, yx, g)
-        if gx > 0.0:
-            xb = x
-            gb = gx
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            xa = x
-            ga = gx
-            if side == 1:
-                gb *= 0.5
-            side = 1
+        xa, ga, xb, gb, side = D8.illinois(xa, ga, xb, gb, side, x, gx, gx > 0.0)
     return xb
 
 
@@ -362,23 +306,10 @@ def _locate_peak(xa, fa, xb, fb, s, F, y, yx, xtol):
     for _ in range(200):
         if xb - xa <= xtol:
             break
-        x = (xa * fb - xb * fa) / (fb - fa)
-        if not (xa < x < xb):
-            x = 0.5 * (xa + xb)
+        x = D8.secant(xa, fa, xb, fb)
         _dense(x, F, y, yx)
         fx = s * yx[3]
-        if fx <= 0.0:
-            xb = x
-            fb = fx
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            xa = x
-            fa = fx
-            if side == 1:
-                fb *= 0.5
-            side = 1
+        xa, fa, xb, fb, side = D8.illinois(xa, fa, xb, fb, side, x, fx, fx <= 0.0)
     return x
 
 
@@ -628,10 +559,10 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             Ks[_NS, c] = dy[c]
         err = _error_norm(hh, y, yn, Ks, atol, rtol)
         if not (err <= 1.0):
-            h = hh * max(0.2, 0.9 * err ** (-1.0 / 8.0)) if err == err else 0.25 * hh
+            h = hh * D8.factor_reject(err) if err == err else 0.25 * hh
             nrej += 1
             continue
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
+        fac = D8.factor_accept(err)
         h_next = hh * fac
         if hits and h_next < h:
             h_next = h
