@@ -74,7 +74,7 @@ from ..dynamics.engine import simulate as simulate_2d
 from ..dynamics.model import RockingModel
 from ..errors import InputError
 from .contact import ContactSettings
-from .runs import Case, threshold_time_2d
+from .runs import Case, first_crossing, overturn_amplitude_2d, threshold_time_2d
 from .statue_scene import StatueScene, simulate_statue
 from .world import SimSettings
 
@@ -287,37 +287,7 @@ def identify_3d(scene: StatueScene, settings: SimSettings, contact: ContactSetti
 
 def lift_time_3d(t: np.ndarray, theta: np.ndarray, angle: float = LIFT_ANGLE) -> float | None:
     """First time (s) |theta| passes ``angle`` (rad), linearly interpolated; None if never."""
-    q = np.abs(np.asarray(theta, float))
-    i = np.flatnonzero(q > angle)
-    if i.size == 0:
-        return None
-    i = int(i[0])
-    if i == 0:
-        return float(t[0])
-    return float(t[i - 1] + (t[i] - t[i - 1]) * (angle - q[i - 1]) / (q[i] - q[i - 1]))
-
-
-def overturn_amplitude(model: RockingModel, freq: float, sign: float = 1.0, tol: float = 1e-3,
-                       free_time: float = 3.0) -> float:
-    """Smallest amplitude (m/s^2, > 0) of a one-sine pulse ``sign`` x amp sin(2 pi f t) that overturns
-    the 2D ``model`` (bisection between the smaller uplift limit and 20 a; assumes one band: used
-    here only to place the pulses, whose 2D outcome is checked run by run). inf if none."""
-    p = model.params
-    lo, hi = 0.5 * min(model.lift_accelerations), 20 * max(p.a_L, p.a_R)
-
-    def ot(a):
-        m = motions.sine_pulse(sign * a, freq)
-        return simulate_2d(model, m, t_end=m.end + free_time).overturned
-
-    if not ot(hi):
-        return math.inf
-    while hi - lo > tol * hi:
-        mid = 0.5 * (lo + hi)
-        if ot(mid):
-            hi = mid
-        else:
-            lo = mid
-    return hi
+    return first_crossing(t, np.abs(np.asarray(theta, float)), angle)
 
 
 def release_restitution(scene: StatueScene, base: dict, settings: SimSettings, contact: ContactSettings,
@@ -440,7 +410,8 @@ def imperfect_cases(scene: StatueScene, settings: SimSettings | None = None, con
     sign = 1.0 if weak == "L" else -1.0
     a_weak = p.a_L if weak == "L" else p.a_R
     say("imperfect base: pulses")
-    a_ot = overturn_amplitude(imperfect, pulse_freq, sign)
+    a_ot = overturn_amplitude_2d(imperfect, pulse_freq, sign=sign, lo=0.5 * min(imperfect.lift_accelerations),
+                                 free_time=3.0)
     pulses = [("x0.9 a (West)", 0.9 * a_weak)]
     if math.isfinite(a_ot):
         pulses += [("x0.8 overturning", 0.8 * a_ot), ("x1.25 overturning", 1.25 * a_ot)]

@@ -154,36 +154,53 @@ class Comparison:
 
 
 def overturn_amplitude_2d(model: RockingModel, freq: float, kind: str = "sine", lo: float | None = None,
-                          hi: float | None = None, tol: float = 1e-3) -> float:
-    """Smallest amplitude (m/s^2) of a one-sine (or one-cosine) pulse of ``freq`` Hz that
-    overturns the 2D model, by bisection (relative tolerance ``tol``). Positive amplitudes."""
+                          hi: float | None = None, tol: float = 1e-3, sign: float = 1.0,
+                          free_time: float | None = None) -> float:
+    """Smallest amplitude (m/s^2) of a one-sine (or one-cosine) pulse ``sign`` x amp of ``freq`` Hz
+    that overturns the 2D model, by bisection (relative tolerance ``tol``) between ``lo`` (default the
+    smaller uplift acceleration) and ``hi`` (20 x the larger); assumes one band. ``free_time``: s
+    simulated after the pulse (default: the engine's). inf if ``hi`` does not overturn."""
     make = motions.sine_pulse if kind == "sine" else motions.cosine_pulse
     p = model.params
     lo = min(p.a_L, p.a_R) if lo is None else lo
     hi = 20 * max(p.a_L, p.a_R) if hi is None else hi
-    if not simulate_2d(model, make(hi, freq)).overturned:
+
+    def overturns(a: float) -> bool:
+        m = make(sign * a, freq)
+        return simulate_2d(model, m, **({} if free_time is None else {"t_end": m.end + free_time})).overturned
+
+    if not overturns(hi):
         return math.inf
     while hi - lo > tol * hi:
         mid = 0.5 * (lo + hi)
-        if simulate_2d(model, make(mid, freq)).overturned:
+        if overturns(mid):
             hi = mid
         else:
             lo = mid
     return hi
 
 
-def threshold_time_2d(model: RockingModel, motion, angle: float, t_end: float, dt: float = 1e-4) -> float | None:
-    """First time |theta| > ``angle`` (rad) in the 2D model, linearly interpolated on a
-    ``dt`` grid (see :func:`liftoff_time_2d`)."""
-    r = simulate_2d(model, motion, t_end=t_end, dt_out=dt)
-    t, q = r.history["t"], np.abs(r.history["theta"])
-    i = np.flatnonzero(q > angle)
+def first_crossing(t: np.ndarray, q: np.ndarray, level: float) -> float | None:
+    """First time (s) the samples ``q`` (shape (n,), at times ``t``) exceed ``level``, linearly
+    interpolated between the two samples around it; None if never.
+
+    >>> first_crossing(np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.5, 1.5]), 1.0)
+    1.5
+    """
+    i = np.flatnonzero(q > level)
     if i.size == 0:
         return None
     i = int(i[0])
     if i == 0:
         return float(t[0])
-    return float(t[i - 1] + (t[i] - t[i - 1]) * (angle - q[i - 1]) / (q[i] - q[i - 1]))
+    return float(t[i - 1] + (t[i] - t[i - 1]) * (level - q[i - 1]) / (q[i] - q[i - 1]))
+
+
+def threshold_time_2d(model: RockingModel, motion, angle: float, t_end: float, dt: float = 1e-4) -> float | None:
+    """First time |theta| > ``angle`` (rad) in the 2D model, linearly interpolated on a
+    ``dt`` grid (see :func:`liftoff_time_2d`)."""
+    r = simulate_2d(model, motion, t_end=t_end, dt_out=dt)
+    return first_crossing(r.history["t"], np.abs(r.history["theta"]), angle)
 
 
 def lift_angle(params, height: float = LIFT_HEIGHT) -> float:
