@@ -64,6 +64,10 @@ for LIFT_STEPS steps. 20 x the contact solver's penetration at rest (1e-5 m, mea
 never reads as lift-off; the 2D side is read at the same height, (b_L + b_R) sin|theta| (runs.py)."""
 LIFT_STEPS = 4
 """Consecutive engine steps a lift-off (or unloading) criterion must hold (2 ms at dt = 0.5 ms)."""
+LAND_HEIGHT = LIFT_HEIGHT / 4
+"""Landing (impact, geometric): the raised side's lowest base point, once lifted (above LIFT_HEIGHT for
+LIFT_STEPS steps), comes back down below this height, m; the impact time is its crossing of the floor (height 0, the
+2D model's theta = 0), interpolated between steps. The 2D side: its exact impact events."""
 UNLOAD_FRACTION = 1e-3
 """Lift-off (force): the floor's normal force on the base points farther than UNLOAD_BAND x (b_L + b_R)
 from the pivot falls below this fraction of m g (for LIFT_STEPS steps) while the body is on the floor:
@@ -231,7 +235,12 @@ class Statue3DResult:
     max_lift          : largest height, m, of the highest base point (the lifted edge)
     overturned, overturn_time, overturn_side : |theta| reached delta_side
     theta_max_L / _R  : largest rotation on each pivot
-    impact_times      : sign changes of theta; peak_t, peak_theta : one extremum per half cycle
+    impact_times      : landings read from the contacts (geometric): a side's lowest base point (the
+                        base vertices at x_L or x_R), lifted above LIFT_HEIGHT for LIFT_STEPS steps,
+                        comes back below LAND_HEIGHT; the time is its crossing of the floor (height 0),
+                        interpolated between engine steps (:func:`_landing_times`)
+    sign_change_times : sign changes of theta (the impacts as read before issue [11]), a diagnostic
+    peak_t, peak_theta : one extremum of theta per half cycle
     finite            : no NaN or infinity in the state
     wall_time, steps  : cost of the run (s of CPU wall clock, engine steps)
     max_pivot_slip    : largest horizontal displacement, m, of a pivot vertex (the base vertices at
@@ -269,6 +278,7 @@ class Statue3DResult:
     flight_time: float = 0.0
     unload_time: float | None = None
     max_lift: float = 0.0
+    sign_change_times: np.ndarray = field(default_factory=lambda: np.array([]))
 
     @property
     def theta_max_over_delta(self) -> float:
@@ -294,7 +304,8 @@ class Statue3DResult:
                 "overturn_time": self.overturn_time, "overturn_side": self.overturn_side,
                 "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R,
                 "theta_max_over_delta": self.theta_max_over_delta,
-                "impact_times": self.impact_times.tolist(), "peaks": {"t": self.peak_t.tolist(),
+                "impact_times": self.impact_times.tolist(),
+                "sign_change_times": self.sign_change_times.tolist(), "peaks": {"t": self.peak_t.tolist(),
                                                                       "theta": self.peak_theta.tolist()},
                 "max_tilt_out": float(np.abs(self.tilt_out).max(initial=0.0)),
                 "max_yaw": float(np.abs(self.yaw).max(initial=0.0)),
@@ -408,12 +419,14 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     ot_t = ot_k * dt if ot_k is not None else None
     ot_side = None if ot_k is None else ("R" if th_all[ot_k] > 0 else "L")
     t_arr, th_arr = np.asarray(ts, dtype=float), np.asarray(th, dtype=float)
-    imp, pk_t, pk_th = _impacts_and_peaks(t_arr, th_arr)
+    sign_t, pk_t, pk_th = _impacts_and_peaks(t_arr, th_arr)
+    imp = _landing_times(h["edge"], dt, last)
     return Statue3DResult(
         scene=scene, settings=settings, contact=contact, t=t_arr, theta=th_arr, tilt_out=np.asarray(tx),
         yaw=np.asarray(yw), slide=np.asarray(sl), uplift_time=up_t, overturned=ot_t is not None,
         overturn_time=ot_t, overturn_side=ot_side, theta_max_L=q_L, theta_max_R=q_R,
-        impact_times=imp, peak_t=pk_t, peak_theta=pk_th, finite=bad_k is None, wall_time=wall, steps=steps,
+        impact_times=imp, sign_change_times=sign_t, peak_t=pk_t, peak_theta=pk_th, finite=bad_k is None,
+        wall_time=wall, steps=steps,
         inertia=check, max_pivot_slip=h["slip"], max_flight=max(0.0, h["flight"]),
         flight_time=h["n_flight"] * dt, unload_time=unload_t, max_lift=max(0.0, h["lift_max"]))
 
@@ -452,7 +465,8 @@ def _first_events(P: np.ndarray, Q: np.ndarray, V: np.ndarray, params) -> tuple[
 def _histories(P: np.ndarray, Q: np.ndarray, scene: StatueScene, V: np.ndarray, hull_c: np.ndarray,
                base_v: np.ndarray, piv: dict, dt: float, chunk: int = 4096) -> dict:
     """Per-step quantities of the kept poses P (m, 3), Q (m, 4), m = steps + 1: theta, tilt_out, yaw,
-    slide (NaN while |theta| >= 1e-3), lift (height of the highest base point, m); and the maxima:
+    slide (NaN while |theta| >= 1e-3), lift (height of the highest base point, m), edge ({"R", "L"}:
+    height, m, of the lowest base vertex at x_R / x_L, each (m,)); and the maxima:
     flight (lowest hull point), n_flight (steps with it above FLIGHT_HEIGHT), lift_max, slip (pivot
     slip, Statue3DResult.max_pivot_slip). Hull vertex heights are formed ``chunk`` steps at a time."""
     m = len(P)
@@ -473,11 +487,12 @@ def _histories(P: np.ndarray, Q: np.ndarray, scene: StatueScene, V: np.ndarray, 
         flight = max(flight, float(zlow.max(initial=-np.inf)))
         n_flight += int((zlow > FLIGHT_HEIGHT).sum())
         lift[a:b] = z[:, base_v].max(axis=1)
-    slip = 0.0
-    for idx in piv.values():                              # the pivot vertices on the floor
+    slip, edge = 0.0, {}
+    for side, idx in piv.items():                         # the pivot vertices on the floor
         if idx.size == 0 or m == 0:
             continue
         w = P[:, None, :] + np.einsum("kij,vj->kvi", R, hull_c[idx])      # (steps, pivot vertices, 3)
+        edge[side] = w[:, :, 2].min(axis=1)
         down = w[:, :, 2] < LIFT_HEIGHT
         landed = np.zeros_like(down)
         landed[1:] = down[1:] & ~down[:-1]                # touched down: slip counted from there
@@ -489,7 +504,7 @@ def _histories(P: np.ndarray, Q: np.ndarray, scene: StatueScene, V: np.ndarray, 
         d = np.hypot(*(w[:, :, :2] - anchor).transpose(2, 0, 1))
         if down.any():
             slip = max(slip, float(d[down].max()))
-    return {"theta": theta, "tilt": tilt, "yaw": yaw, "slide": slide, "lift": lift,
+    return {"theta": theta, "tilt": tilt, "yaw": yaw, "slide": slide, "lift": lift, "edge": edge,
             "flight": flight, "n_flight": n_flight, "lift_max": float(lift.max(initial=-np.inf)), "slip": slip}
 
 
@@ -510,6 +525,44 @@ def _lift_off_time(lift: np.ndarray, dt: float) -> float | None:
         s -= 1
     lk, lp = float(lift[s]), float(lift[s - 1])
     return s * dt - dt * (lk - LIFT_HEIGHT) / (lk - lp) if lk > lp else s * dt
+
+
+def _landing_times(edge: dict, dt: float, last: int) -> np.ndarray:
+    """Impact times, s (Statue3DResult.impact_times), from the per-step heights ``edge`` (side -> (m,),
+    m) of each side's lowest base vertex over steps 0..last: each time the raised side - lifted above
+    LIFT_HEIGHT and higher than the other side for LIFT_STEPS steps (from step 0 on for a release; a
+    pivot edge rolled up by an out-of-plane tilt is not a lift) - comes back below LAND_HEIGHT at step
+    j, the time its height crosses 0 (the floor) - interpolated between the last step above 0 and the first at
+    or below it, searched while the side stays below LAND_HEIGHT - or, if it stays above 0 there, the
+    crossing of LAND_HEIGHT before step j. Sorted, both sides together."""
+    out = []
+    zs = {s: np.asarray(z[:last + 1], dtype=float) for s, z in edge.items()}
+    for s, z in zs.items():
+        if z.size <= LIFT_STEPS:
+            continue
+        other = [v for o, v in zs.items() if o != s]
+        raised = (z > LIFT_HEIGHT) & (z > np.maximum.reduce(other)) if other else z > LIFT_HEIGHT
+        up = np.convolve(raised.astype(int), np.ones(LIFT_STEPS, dtype=int), mode="valid")
+        lifted = np.flatnonzero(up == LIFT_STEPS) + LIFT_STEPS - 1   # step that confirms a lift
+        low = z <= LAND_HEIGHT
+        downs, ups = np.flatnonzero(low), np.flatnonzero(~low)
+        pos = 0
+        while True:
+            i = np.searchsorted(lifted, pos)
+            if i >= lifted.size:
+                break
+            k = np.searchsorted(downs, lifted[i] + 1)
+            if k >= downs.size:
+                break
+            j = int(downs[k])
+            u = np.searchsorted(ups, j)
+            e = int(ups[u]) - 1 if u < ups.size else z.size - 1   # end of this run below LAND_HEIGHT
+            floor = np.flatnonzero(z[j:e + 1] <= 0.0)
+            c, lvl = (j + int(floor[0]), 0.0) if floor.size else (j, LAND_HEIGHT)
+            z0, z1 = z[c - 1], z[c]
+            out.append((c - (lvl - z1) / (z0 - z1)) * dt if z0 > lvl >= z1 else c * dt)
+            pos = e + 1
+    return np.sort(np.asarray(out, dtype=float))
 
 
 class _UnloadWatch:
