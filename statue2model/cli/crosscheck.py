@@ -77,7 +77,7 @@ def _cmd_crosscheck(args) -> int:
     from ..crosscheck.isolator_scene import IsolatorScene
     from ..crosscheck.report import summary, table, write_report
     from ..crosscheck.extended import compare_extended
-    from ..crosscheck.world import SimSettings
+    from ..crosscheck.world import SimSettings, check_user_dt
     from ..dynamics.motions import parse_spec
     from ..io.files import prepare_dir, read_json
 
@@ -88,8 +88,7 @@ def _cmd_crosscheck(args) -> int:
     settings = SimSettings(dt=args.dt, solver_iterations=args.iterations)
     statue_settings = SimSettings(dt=args.statue_dt, solver_iterations=args.iterations)
     for name, dt in (("--dt", args.dt), ("--statue-dt", args.statue_dt)):
-        if not 1e-5 <= dt <= 5e-3:
-            raise InputError(f"{name} must be in 1e-5..5e-3 s, got {dt}")
+        check_user_dt(name, dt)
     motion, _ = parse_spec(args.motion)
     scene = load_scene(args.source, args.direction)
     iso = None

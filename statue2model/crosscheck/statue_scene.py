@@ -46,6 +46,7 @@ from .contact import ContactSettings
 from .world import (
     SimSettings,
     World,
+    matrices_from_quats,
     matrix_from_quat,
     quat_from_matrix,
     real_time_factor,
@@ -431,21 +432,9 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
         flight_time=h["n_flight"] * dt, unload_time=unload_t, max_lift=max(0.0, h["lift_max"]))
 
 
-def _rotations(Q: np.ndarray) -> np.ndarray:
-    """Rotation matrices (m, 3, 3) of PyBullet quaternions Q (m, 4: x, y, z, w), normalised
-    (vectorised :func:`world.matrix_from_quat`)."""
-    x, y, z, w = Q.T
-    nq = x * x + y * y + z * z + w * w
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(nq > 0, 2.0 / nq, 0.0)
-    return np.stack([np.stack([1.0 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)], -1),
-                     np.stack([s * (x * y + z * w), 1.0 - s * (x * x + z * z), s * (y * z - x * w)], -1),
-                     np.stack([s * (x * z - y * w), s * (y * z + x * w), 1.0 - s * (x * x + y * y)], -1)], -2)
-
-
 def _theta(Q: np.ndarray, V: np.ndarray) -> np.ndarray:
     """theta (m,) of poses with orientations Q (m, 4): the link frame R = Rc V^T, atan2(R_02, R_22)."""
-    R = _rotations(Q) @ V.T
+    R = matrices_from_quats(Q) @ V.T
     return np.arctan2(R[:, 0, 2], R[:, 2, 2])
 
 
@@ -470,7 +459,7 @@ def _histories(P: np.ndarray, Q: np.ndarray, scene: StatueScene, V: np.ndarray, 
     flight (lowest hull point), n_flight (steps with it above FLIGHT_HEIGHT), lift_max, slip (pivot
     slip, Statue3DResult.max_pivot_slip). Hull vertex heights are formed ``chunk`` steps at a time."""
     m = len(P)
-    Rc = _rotations(Q)
+    Rc = matrices_from_quats(Q)
     R = Rc @ V.T                                          # link frame: identity when upright
     theta = np.arctan2(R[:, 0, 2], R[:, 2, 2])
     tilt = np.arctan2(-R[:, 1, 2], np.hypot(R[:, 0, 2], R[:, 2, 2]))

@@ -43,6 +43,20 @@ if TYPE_CHECKING:
 G = 9.81
 
 
+def check_user_dt(name: str, dt: float) -> float:
+    """``dt`` (s) if it is a time step a user may ask of a cross-check scene (1e-5..5e-3 s: --dt,
+    --statue-dt, [crosscheck] dt and statue_dt), else an InputError naming ``name``.
+
+    >>> check_user_dt("--dt", 0.01)
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: --dt must be in 1e-5..5e-3 s, got 0.01
+    """
+    if not 1e-5 <= dt <= 5e-3:
+        raise InputError(f"{name} must be in 1e-5..5e-3 s, got {dt}")
+    return dt
+
+
 def import_pybullet():
     """The ``pybullet`` module, imported without its build banner ("pybullet build time: ...").
 
@@ -283,3 +297,20 @@ def matrix_from_quat(q) -> np.ndarray:
     return np.array([[1.0 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],
                      [s * (x * y + z * w), 1.0 - s * (x * x + z * z), s * (y * z - x * w)],
                      [s * (x * z - y * w), s * (y * z + x * w), 1.0 - s * (x * x + y * y)]])
+
+
+def matrices_from_quats(Q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (m, 3, 3) of PyBullet quaternions ``Q`` (m, 4: x, y, z, w), normalised:
+    :func:`matrix_from_quat` over many poses at once (the per-step one stays scalar: faster alone).
+
+    >>> Q = np.array([[0.0, 0.0, 0.0, 1.0], [0.1, -0.3, 0.2, 0.9]])
+    >>> bool(np.allclose(matrices_from_quats(Q), [matrix_from_quat(q) for q in Q]))
+    True
+    """
+    x, y, z, w = Q.T
+    nq = x * x + y * y + z * z + w * w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(nq > 0, 2.0 / nq, 0.0)
+    return np.stack([np.stack([1.0 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)], -1),
+                     np.stack([s * (x * y + z * w), 1.0 - s * (x * x + z * z), s * (y * z - x * w)], -1),
+                     np.stack([s * (x * z - y * w), s * (y * z + x * w), 1.0 - s * (x * x + y * y)], -1)], -2)

@@ -481,9 +481,13 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
     if c.iterations < 1 or not c.pulse_freq > 0:
         bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
+    from ..crosscheck.world import check_user_dt
+
     for name in ("dt", "statue_dt"):
-        if not 1e-5 <= getattr(c, name) <= 5e-3:
-            bad(f"[crosscheck] {name} must be in 1e-5..5e-3 s, got {getattr(c, name)}")
+        try:
+            check_user_dt(f"[crosscheck] {name}", getattr(c, name))
+        except InputError as exc:
+            bad(str(exc))
     if not (c.grid == 0 or 0.0005 <= c.grid <= 0.05):
         bad(f"[crosscheck] grid must be 0 or in 0.5..50 mm, got {c.grid}")
     if r.workers is not None and r.workers < 1:
