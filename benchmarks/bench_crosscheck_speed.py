@@ -209,7 +209,7 @@ def main(argv=None):
         runs = ((1e-3, 20), (5e-4, 50)) if a.quick else ((2e-3, 10), (1e-3, 20), (1e-3, 50), (5e-4, 10), (5e-4, 50))
         v = [("lattice", 0.004, SimSettings(dt=dt, solver_iterations=it)) for dt, it in runs]
         v += [("tiles", k * r, SimSettings(dt=dt, solver_iterations=it, maximal_coordinates=True))
-              for k in ((1.0,) if a.quick else (1.0, 2.0)) for dt, it in runs]
+              for k in ((0.7, 1.0) if a.quick else (0.5, 0.7, 1.0, 2.0)) for dt, it in runs]
         v.append(("lattice", r, SimSettings(dt=2.5e-4, solver_iterations=200)))
         isolator_table(design, sc, v)
 

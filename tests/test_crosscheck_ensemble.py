@@ -31,9 +31,10 @@ def test_level_result_fails_and_says_why():
     o3 = [False] * 10 + [True] * 10
     q2 = [0.2] * 16 + [math.inf] * 4
     q3 = [0.3] * 10 + [math.inf] * 10
-    r = ens.level_result(5.0, o2, q2, o3, q3, [2], 0.15, 0.20)
+    r = ens.level_result(5.0, o2, q2, o3, q3, [20], 0.15, 0.20, seeds=range(20), reasons={20: ["3D pivot slips 9 mm"]})
     assert not r["prob_met"] and "3D overturns more often: 3D 10/20 vs 2D 4/20" in r["why"]
-    assert r["differ"] == list(range(10, 16)) and "1 of 20 3D runs slide" in r["why"]
+    assert r["differ"] == list(range(10, 16))
+    assert "1 of 21 records left out by the validity screen" in r["why"] and "seed 20: 3D pivot slips" in r["why"]
     assert not r["median_met"] and "median record overturns the 3D body only" in r["why"]
     ok = ens.level_result(5.0, o2, q2, o2, [0.21] * 16 + [math.inf] * 4, [], 0.15, 0.20)
     assert ok["prob_met"] and ok["median_met"] and ok["why"] == ""
@@ -56,3 +57,19 @@ def test_small_ensemble_agrees_and_a_wrong_e_fails():
     bad, res2 = ens.ensemble_cases(sc, model=wrong, pga_ref=res["pga_ref"], runs_3d=res["runs_3d"], **kw)
     assert not all(c.met for c in bad)
     assert res2["levels"][0]["why"]
+
+
+@pytest.mark.slow
+def test_ensemble_uses_the_standard_screen_a_squat_block_is_not_applicable():
+    """The ensemble screens each record with runs.screen_values (the standard cases' limits): a squat
+    block (b = h) needs more friction than the scene has, every record is screened and the level is
+    'not applicable', never a NO."""
+    pytest.importorskip("pybullet")
+    from statue2model.crosscheck.statue_scene import StatueScene
+
+    sc = StatueScene.block(b=0.3, h=0.3, m=100.0)
+    cases, res = ens.ensemble_cases(sc, n_records=3, levels=(1.0,), durations=(1.5,), free_time=0.5, workers=1)
+    assert [c.status for c in cases] == ["not applicable", "not applicable"]
+    lev = res["levels"][0]
+    assert not lev["applicable"] and len(lev["screened"]) >= 2 and "friction" in lev["why"]
+    assert "not applicable" in ens.level_table(res)

@@ -93,3 +93,22 @@ def test_imperfect_2d_beats_classical_on_the_3d_convex_block():
     assert not by[f"{up}: overturn (classical 2D)"].met
     # the peak in the rolling range is within 20 % (target 10 %: not met, see docs/crosscheck.md)
     assert by[f"{tag}: peak rotation (imperfect 2D)"].rel_error < 0.20
+
+
+def test_lift_time_3d_reads_the_core_edge_height_and_persists():
+    """3D lift-off: the far core edge LIFT_HEIGHT up (core_lift_angle), held LIFT_STEPS samples; a
+    one-sample rattle above the angle is not a lift-off."""
+    from statue2model.crosscheck.imperfect import core_lift_angle, lift_time_3d
+    from statue2model.crosscheck.statue_scene import LIFT_HEIGHT, StatueScene
+
+    p = StatueScene.block(b=0.1, h=0.5, m=100.0).params
+    a = core_lift_angle(p, 0.5, 0.5)
+    assert abs(a - math.asin(LIFT_HEIGHT / (0.5 * p.b_L + 0.5 * p.b_R))) < 1e-15
+    assert core_lift_angle(p) < a                                    # the whole base: a smaller angle
+    t = np.arange(0.0, 0.1, 1e-3)
+    th = np.where(t > 0.05, (t - 0.05) * 1.0, 0.0)                  # ramps through a at t = 0.05 + a
+    th[10] = 10 * a                                                  # one-sample rattle at t = 0.01
+    got = lift_time_3d(t, th, a)
+    assert got is not None and abs(got - (0.05 + a)) < 1e-9
+    assert lift_time_3d(t, th, a, steps=1) == pytest.approx(0.0091, abs=1e-9)   # without persistence: the rattle
+    assert lift_time_3d(t, np.zeros_like(t), a) is None

@@ -1,7 +1,7 @@
 """Command-line stage of the 3D cross-check: ``statue2model crosscheck``.
 
     statue2model crosscheck MESH_OR_PARAMS --motion SPEC [--isolator DESIGN.json] --out DIR
-                            [--direction DEG] [--dt S] [--statue-dt S] [--iterations N] [--grid MM] [--segments N]
+                            [--direction DEG] [--dt S] [--statue-dt S] [--iterations N] [--grid MM] [--groove G] [--segments N]
                             [--pulse-freq HZ] [--quick] [--imperfect] [--records N]
 
 MESH_OR_PARAMS is a scan (its convex hull and mass properties are used) or a
@@ -37,6 +37,9 @@ def add_parsers(sub) -> None:
     p.add_argument("--iterations", type=int, default=50, metavar="N", help="solver iterations (default 50)")
     p.add_argument("--grid", type=float, default=4.0, metavar="MM", help="grooves as a triangular lattice of MM "
                    "on the sphere (default 4; 0: the CNC mesh with --segments per ring)")
+    p.add_argument("--groove", choices=("lattice", "tiles"), default="lattice",
+                   help="groove model: the lattice of --grid (default), or flat tangent tiles of r (6-8 x faster, "
+                   "the plate acceleration at 2D's, the period 1-3 %% long: docs/crosscheck.md, Speed)")
     p.add_argument("--segments", type=int, default=128, metavar="N",
                    help="groove tessellation of the CNC mesh, with --grid 0 (default 128)")
     p.add_argument("--pulse-freq", type=positive_float, default=1.5, metavar="HZ",
@@ -97,7 +100,8 @@ def _cmd_crosscheck(args) -> int:
         if not isinstance(d, dict):
             raise InputError(f"{args.isolator}: not an isolator design")
         iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
-                                        grid=args.grid / 1000 if args.grid > 0 else None)
+                                        grid=args.grid / 1000 if args.grid > 0 else None,
+                                        groove="tiles" if args.groove == "tiles" else None)
     out = prepare_dir(args.out)           # only once the inputs are read: a bad input leaves no folder
     contact = ContactSettings()
     from ..dynamics.model import RockingModel

@@ -16,8 +16,11 @@ level:
   (default 0.20); both medians "overturned" agree.
 
 Each miss says why: which side overturns more, by how much, whether the intervals overlap, how
-many 3D runs the validity screen flags (pivot slip > SLIP_LIMIT or yaw > YAW_LIMIT: the 2D model
-does not apply to a body that slides or twists).
+many 3D runs the validity screen flags. The screen is the standard cases' own
+(:func:`statue2model.crosscheck.runs.screen_values`: the friction the 2D trajectory needs against the
+scene's, 3D slip > runs.SLIP_LIMIT, yaw > runs.YAW_LIMIT); a flagged record leaves the level's
+statistics on both sides (the runs are paired) and is listed; a level left with fewer than 2 records
+is "not applicable".
 
 Levels: multiples of the 2D ensemble's median overturning PGA (:func:`median_overturn_pga`: the
 smallest PGA at which at least half the records overturn the 2D model, by bisection), so the
@@ -44,15 +47,11 @@ from ..dynamics.engine import simulate as simulate_2d
 from ..dynamics.model import RockingModel
 from ..errors import InputError
 from .contact import ContactSettings
-from .runs import Case, model_2d
+from .runs import NOT_APPLICABLE, SLIP_LIMIT, YAW_LIMIT, Case, model_2d, screen_values, slip_of
 from .statue_scene import StatueScene, simulate_statue
 from .world import SimSettings
 
 Z95 = 1.959963984540054
-SLIP_LIMIT = 0.005
-"""Largest pivot slip, m, of a 3D run the 2D (no-sliding) model is taken to describe."""
-YAW_LIMIT = 0.05
-"""Largest yaw, rad, of a 3D run the 2D (planar) model is taken to describe."""
 LEVELS = (0.5, 0.8, 1.2)
 """Default PGA levels, multiples of the 2D ensemble's median overturning PGA."""
 DURATIONS = (6.0, 8.0, 10.0)
@@ -126,7 +125,7 @@ def run_3d(task: tuple) -> dict:
     scene, motion, settings, contact, free_time, dt_out = task
     r = simulate_statue(scene, motion, settings=settings, contact=contact, free_time=free_time, dt_out=dt_out)
     return {"overturned": bool(r.overturned), "peak": math.inf if r.overturned else float(r.theta_max_over_delta),
-            "slip": float(r.max_pivot_slip), "yaw": float(np.abs(r.yaw).max(initial=0.0)), "finite": bool(r.finite),
+            "slip": float(slip_of(r)), "yaw": float(np.abs(r.yaw).max(initial=0.0)), "finite": bool(r.finite),
             "wall_time_s": float(r.wall_time), "sim_time_s": float(r.steps * settings.dt)}
 
 
@@ -138,15 +137,19 @@ def _executor(executor, workers: int):
     return (ProcessExecutor(workers) if workers > 1 else SerialExecutor()), True
 
 
-def level_result(pga: float, o2, q2, o3, q3, screened, prob_target: float, median_target: float) -> dict:
-    """The statistics of one level (o: overturned flags, q: peak |theta| / delta, inf if overturned)."""
+def level_result(pga: float, o2, q2, o3, q3, screened, prob_target: float, median_target: float,
+                 seeds=None, reasons=None) -> dict:
+    """The statistics of one level (o: overturned flags, q: peak |theta| / delta, inf if overturned) over
+    the records the screen kept (``seeds``: their seeds, default 0..n-1); ``screened``: the seeds it took
+    out, ``reasons``: {seed: the screen's reasons}."""
     n = len(o2)
+    seeds = list(range(n)) if seeds is None else list(seeds)
     k2, k3 = int(sum(o2)), int(sum(o3))
     p2, p3 = k2 / n, k3 / n
     ci2, ci3 = wilson(k2, n), wilson(k3, n)
     m2, m2lo, m2hi = median_ci(q2)
     m3, m3lo, m3hi = median_ci(q3)
-    differ = [i for i in range(n) if bool(o2[i]) != bool(o3[i])]
+    differ = [seeds[i] for i in range(n) if bool(o2[i]) != bool(o3[i])]
     prob_ok = abs(p3 - p2) <= prob_target + 1e-12
     if math.isinf(m2) and math.isinf(m3):
         ratio, med_ok = 1.0, True
@@ -172,8 +175,9 @@ def level_result(pga: float, o2, q2, o3, q3, screened, prob_target: float, media
                        f"1 +- {median_target:g}); 95 % intervals [{m2lo:.3f}, {m2hi:.3f}] and [{m3lo:.3f}, {m3hi:.3f}] "
                        f"{'overlap' if med_overlap else 'do not overlap'}")
     if screened:
-        why.append(f"{len(screened)} of {n} 3D runs slide or twist beyond the screen (slip > {SLIP_LIMIT * 1000:g} mm "
-                   f"or yaw > {YAW_LIMIT:g} rad): seeds {screened}")
+        first = (reasons or {}).get(screened[0], [])
+        why.append(f"{len(screened)} of {n + len(screened)} records left out by the validity screen, both sides "
+                   f"(seeds {screened}" + (f"; seed {screened[0]}: {'; '.join(first)}" if first else "") + ")")
     return {"pga": pga, "pga_g": pga / 9.81, "n": n, "p_2d": p2, "p_3d": p3, "ci_2d": list(ci2), "ci_3d": list(ci3),
             "ci_overlap": bool(ci_overlap), "prob_met": bool(prob_ok), "median_2d": m2, "median_3d": m3,
             "median_ci_2d": [m2lo, m2hi], "median_ci_3d": [m3lo, m3hi], "median_ratio": ratio,
@@ -240,14 +244,31 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
         o2 = [x[0] for x in two[sl]]
         q2 = [x[1] for x in two[sl]]
         r3 = three[sl]
-        o3 = [x["overturned"] for x in r3]
-        q3 = [x["peak"] for x in r3]
-        screened = [i for i, x in enumerate(r3) if x["slip"] > SLIP_LIMIT or x["yaw"] > YAW_LIMIT]
-        res = level_result(lev * pga_ref, o2, q2, o3, q3, screened, prob_target, median_target)
+        scr = [screen_values(model, tasks[j * n + i][1], x["slip"], x["yaw"], contact,
+                             tasks[j * n + i][1].end + free_time) for i, x in enumerate(r3)]
+        screened = [i for i, x in enumerate(scr) if not x["applicable"]]
+        keep = [i for i, x in enumerate(scr) if x["applicable"]]
+        reasons = {i: scr[i]["reasons"] for i in screened}
+        tag = f"records x{lev:g} ({lev * pga_ref / 9.81:.3f} g, {n} records)"
+        if len(keep) < 2:
+            why = (f"{NOT_APPLICABLE}: {len(screened)} of {n} records fail the validity screen (seed {screened[0]}: "
+                   f"{'; '.join(reasons[screened[0]])})")
+            out.append({"level": lev, "pga": lev * pga_ref, "pga_g": lev * pga_ref / 9.81, "n": len(keep),
+                        "screened": screened, "screen_reasons": reasons, "why": why, "applicable": False})
+            for q in ("overturning probability", "median peak rotation"):
+                cases.append(Case(f"{tag}: {q}", q, None, None, math.inf, prob_target if "prob" in q else median_target,
+                                  False, "absolute" if "prob" in q else "relative", "", status="not applicable",
+                                  why=why))
+            continue
+        o3 = [r3[i]["overturned"] for i in keep]
+        q3 = [r3[i]["peak"] for i in keep]
+        res = level_result(lev * pga_ref, [o2[i] for i in keep], [q2[i] for i in keep], o3, q3, screened,
+                           prob_target, median_target, seeds=keep, reasons=reasons)
         res["level"] = lev
+        res["applicable"] = True
+        res["screen_reasons"] = reasons
         res["nonfinite_3d"] = [i for i, x in enumerate(r3) if not x["finite"]]
         out.append(res)
-        tag = f"records x{lev:g} ({res['pga_g']:.3f} g, {n} records)"
         note = (f"Wilson 95 %: 2D [{res['ci_2d'][0]:.2f}, {res['ci_2d'][1]:.2f}], 3D [{res['ci_3d'][0]:.2f}, "
                 f"{res['ci_3d'][1]:.2f}]; paired: {len(res['differ'])} records differ")
         c = Case.absolute(f"{tag}: overturning probability", "", res["p_2d"], res["p_3d"], prob_target,
@@ -265,7 +286,8 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
     results = {"levels": out, "pga_ref": pga_ref, "pga_ref_g": pga_ref / 9.81, "n_records": n,
                "durations": list(durations), "free_time": free_time, "model_2d": model.to_dict(),
                "targets": {"probability_difference": prob_target, "median_ratio": median_target},
-               "screen": {"slip_m": SLIP_LIMIT, "yaw_rad": YAW_LIMIT}, "executor": where, "runs_3d": three,
+               "screen": {"slip_m": SLIP_LIMIT, "yaw_rad": YAW_LIMIT, "friction_scene": contact.friction**2},
+               "executor": where, "runs_3d": three,
                "wall_time_s": time.perf_counter() - t0, "wall_time_2d_s": t2d, "wall_time_3d_s": t3d,
                "sim_time_3d_s": sim, "real_time_factor_3d": sim / wall3 if wall3 > 0 else math.inf}
     return cases, results
@@ -293,6 +315,9 @@ def level_table(results: dict) -> str:
         return "ovt" if not math.isfinite(x) else f"{x:.3f}"
 
     for r in results["levels"]:
+        if not r.get("applicable", True):
+            lines.append(f"{r['level']:6.2f} {r['pga_g']:6.3f} not applicable: {r['why']}")
+            continue
         lines.append(f"{r['level']:6.2f} {r['pga_g']:6.3f} {r['p_2d']:5.2f} [{r['ci_2d'][0]:.2f},{r['ci_2d'][1]:.2f}]"
                      f"     {r['p_3d']:5.2f} [{r['ci_3d'][0]:.2f},{r['ci_3d'][1]:.2f}]     "
                      f"{f(r['median_2d']):>6s} [{f(r['median_ci_2d'][0])},{f(r['median_ci_2d'][1])}] "

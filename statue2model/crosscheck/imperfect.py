@@ -49,7 +49,9 @@ Comparison (:func:`imperfect_cases`): the classical 2D model (alpha = 1) and the
 (the identified alpha, theta), both with the identified e, against the imperfect 3D body on cases
 that were not used to identify them: free rocking from a release (quarter period), a one-sine
 pulse at 0.9 x the weak side's a (classical 2D: no uplift), one-sine pulses at 0.8 x and 1.25 x
-the imperfect 2D model's overturning amplitude: lift-off time (both read at |theta| > LIFT_ANGLE),
+the imperfect 2D model's overturning amplitude: lift-off time (each body read where the far edge of
+its contact flat - the core, or the whole base for the classical model - is LIFT_HEIGHT up, the
+standard cases' criterion; 3D for LIFT_STEPS steps: :func:`core_lift_angle`),
 peak rotation, overturn yes / no, with targets; plus one case per quantity stating whether the
 imperfect model is closer to 3D than the classical one.
 
@@ -75,12 +77,12 @@ from ..dynamics.model import RockingModel
 from ..errors import InputError
 from .contact import ContactSettings
 from .runs import Case, first_crossing, overturn_amplitude_2d, threshold_time_2d
-from .statue_scene import StatueScene, simulate_statue
+from .statue_scene import LIFT_HEIGHT, LIFT_STEPS, StatueScene, simulate_statue
 from .world import SimSettings
 
 LIFT_ANGLE = 1e-4
-"""|theta| (rad) above which a body counts as lifted in the identification and the lift-off cases,
-2D and 3D alike: 25 x the 3D contact compliance measured on the default statue at 0.5 a_R
+"""|theta| (rad) above which a body counts as lifted in the identification pulses, 2D and 3D alike
+(the lift-off time cases read the contact height instead, :func:`core_lift_angle`): 25 x the 3D contact compliance measured on the default statue at 0.5 a_R
 (4e-6 rad), and below the rotation of the smallest identification step (about 2e-3 rad)."""
 
 PULSE_DURATION = 0.3
@@ -285,9 +287,30 @@ def identify_3d(scene: StatueScene, settings: SimSettings, contact: ContactSetti
 
 # ----------------------------------------------------------------------------- comparison
 
-def lift_time_3d(t: np.ndarray, theta: np.ndarray, angle: float = LIFT_ANGLE) -> float | None:
-    """First time (s) |theta| passes ``angle`` (rad), linearly interpolated; None if never."""
-    return first_crossing(t, np.abs(np.asarray(theta, float)), angle)
+def core_lift_angle(params, alpha_L: float = 1.0, alpha_R: float = 1.0, height: float = LIFT_HEIGHT) -> float:
+    """|theta| (rad) at which the far edge of a body's contact flat - the core of half-widths
+    alpha_L b_L and alpha_R b_R; the whole base with alpha = 1 - is ``height`` m (LIFT_HEIGHT, the
+    standard cases' contact criterion) above the floor, the body turning about the near edge:
+    (alpha_L b_L + alpha_R b_R) sin|theta| = height."""
+    return math.asin(min(1.0, height / (alpha_L * params.b_L + alpha_R * params.b_R)))
+
+
+def lift_time_3d(t: np.ndarray, theta: np.ndarray, angle: float, steps: int = LIFT_STEPS) -> float | None:
+    """Lift-off of a 3D run sampled every engine step: the first time |theta| passes ``angle`` (rad,
+    :func:`core_lift_angle`: the far core edge LIFT_HEIGHT up) and stays above it ``steps`` samples
+    (statue_scene's LIFT_STEPS: a one-step rattle in the contact solver is not a lift-off), linearly
+    interpolated; None if never."""
+    q = np.abs(np.asarray(theta, float))
+    above = q > angle
+    if steps > 1 and above.size >= steps:
+        run = np.convolve(above.astype(int), np.ones(steps, int), mode="valid") == steps
+        idx = np.flatnonzero(run)
+    else:
+        idx = np.flatnonzero(above)
+    if idx.size == 0:
+        return None
+    i = int(idx[0])
+    return first_crossing(np.asarray(t, float)[max(0, i - 1):], q[max(0, i - 1):], angle)
 
 
 def release_restitution(scene: StatueScene, base: dict, settings: SimSettings, contact: ContactSettings,
@@ -416,19 +439,23 @@ def imperfect_cases(scene: StatueScene, settings: SimSettings | None = None, con
     if math.isfinite(a_ot):
         pulses += [("x0.8 overturning", 0.8 * a_ot), ("x1.25 overturning", 1.25 * a_ot)]
     free_time = 1.5 if quick else 3.0
+    lift3 = core_lift_angle(p, base["alpha_L"], base["alpha_R"])      # the 3D body's built core
     for label, amp in pulses:
         m = motions.sine_pulse(sign * amp, pulse_freq)
         ptag = f"{tag}: one-sine {pulse_freq:g} Hz {label}"
         r3 = simulate_statue(sc, m, settings=settings, contact=contact, free_time=free_time, dt_out=settings.dt)
-        tl3 = lift_time_3d(r3.t, r3.theta)
+        tl3 = lift_time_3d(r3.t, r3.theta, lift3)
         errs = {"lift": {}, "peak": {}}
         for k, mod in models.items():
             r2 = simulate_2d(mod, m, t_end=m.end + free_time, dt_out=1e-3)
-            tl2 = threshold_time_2d(mod, m, LIFT_ANGLE, m.end + free_time) if r2.uplift_time is not None else None
+            ang2 = core_lift_angle(p, mod.alpha_L, mod.alpha_R) if k == "imperfect" else core_lift_angle(p)
+            tl2 = threshold_time_2d(mod, m, ang2, m.end + free_time) if r2.uplift_time is not None else None
             cases.append(Case.equal(f"{ptag}: overturn ({k} 2D)", r2.overturned, r3.overturned, quantity="overturn"))
             cases.append(Case.absolute(f"{ptag}: lift-off time ({k} 2D)", "s", tl2, tl3, lift_target,
                                        quantity="uplift time",
-                                       note=f"|theta| > {LIFT_ANGLE:g} rad in both" + (
+                                       note=f"far edge of the contact flat {LIFT_HEIGHT * 1000:g} mm up in both "
+                                            f"(3D core {lift3:.2e} rad for {LIFT_STEPS} steps, {k} 2D "
+                                            f"{ang2:.2e} rad)" + (
                                            "" if tl2 is not None else "; this 2D model does not lift")))
             errs["lift"][k] = _err(tl2, tl3)
             if not r3.overturned and not r2.overturned:

@@ -293,7 +293,7 @@ def _jf(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
 
-def _slip(r3) -> float:
+def slip_of(r3) -> float:
     """The 3D run's slip, m: the pivot's (from touch-down) or the standing base's (from rest)."""
     sl = np.abs(r3.slide[np.isfinite(r3.slide)]) if r3.slide.size else np.zeros(0)
     return max(r3.max_pivot_slip, float(sl.max(initial=0.0)))
@@ -309,10 +309,17 @@ def screen(model: RockingModel, motion, r3, contact: ContactSettings, t_end: flo
     floor (Statue3DResult.max_pivot_slip, or the standing base's slide if larger) against SLIP_LIMIT and the yaw against YAW_LIMIT (``r3``
     may be a Statue3DResult or a list of them: the worst counts). Returns {'applicable', 'reasons',
     'mu_required', 'mu_scene', 'n_min', 'slip_mm', 'yaw_deg', 'slip_limit_mm', 'yaw_limit_deg'}."""
-    d = contact_demand_2d(model, motion, t_end, theta0=theta0)
     rs = r3 if isinstance(r3, (list, tuple)) else [r3]
-    slip = max(_slip(r) for r in rs)
+    slip = max(slip_of(r) for r in rs)
     yaw = max(float(np.abs(r.yaw).max(initial=0.0)) for r in rs)
+    return screen_values(model, motion, slip, yaw, contact, t_end, theta0)
+
+
+def screen_values(model: RockingModel, motion, slip: float, yaw: float, contact: ContactSettings, t_end: float,
+                  theta0: float = 0.0) -> dict:
+    """:func:`screen` from the 3D run's numbers alone: its largest slip (m, :func:`slip_of`) and yaw
+    (rad); for runs made elsewhere (the record ensemble's worker processes)."""
+    d = contact_demand_2d(model, motion, t_end, theta0=theta0)
     mu = contact.friction**2
     reasons = []
     if d["mu_required"] > mu:
@@ -370,7 +377,7 @@ def calibrate_restitution(scene: StatueScene, settings: SimSettings, contact: Co
             pts.append((impact_speed(p, side, first), e, f))
             out["points"].append({"side": land, "release_frac": f, "theta0": th0, "speed": pts[-1][0], "e": e,
                                   "no_rebound": no_rebound,
-                                  "e_theory": getattr(p, f"e_{land}"), "slip": _slip(r),
+                                  "e_theory": getattr(p, f"e_{land}"), "slip": slip_of(r),
                                   "yaw": float(np.abs(r.yaw).max(initial=0.0)),
                                   "tilt_out": float(np.abs(r.tilt_out).max(initial=0.0))})
         pts.sort()
@@ -713,7 +720,7 @@ def boundary_cases(scene: StatueScene, model: RockingModel, freqs, settings: Sim
             d_hi = contact_demand_2d(model, motions.sine_pulse(1.01 * a2, f), 1 / f + free_time)
             worst = d_lo if (d_lo["mu_required"] > d_hi["mu_required"]) else d_hi
             rs = [cache[b_lo], cache[b_hi]]
-            slip = max(_slip(r) for r in rs)
+            slip = max(slip_of(r) for r in rs)
             yaw = max(float(np.abs(r.yaw).max(initial=0.0)) for r in rs)
             reasons = []
             mu = contact.friction**2

@@ -14,7 +14,7 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated           (spectra, variability,
                                                                          time histories)
-[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, pulse_freq, isolator
+[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator
 [run]        stages, workers, scheduler                                 (what a plain ``run`` does
                                                                          and where sweeps run)
 
@@ -171,6 +171,7 @@ class CrosscheckConfig:
     statue_dt: float = 2e-3             # s, the statue scenes
     iterations: int = 50
     grid: float = 0.004                 # groove lattice spacing on the sphere, m; 0 = the CNC mesh
+    groove: str = "lattice"             # or "tiles" (flat tangent tiles: faster, see docs/crosscheck.md)
     pulse_freq: float = 1.5             # Hz
     isolator: bool = True               # also the statue on the isolator
 
@@ -197,7 +198,8 @@ _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("scan", "up"): ("auto", "x", "y", "z", "-x", "-y", "-z"),
             ("prototype", "policy"): ("mid", "envelope", "core"),
             ("model", "kind"): ("housner", "imperfect"),
-            ("dynamics", "pulse"): ("cosine", "sine")}
+            ("dynamics", "pulse"): ("cosine", "sine"),
+            ("crosscheck", "groove"): ("lattice", "tiles")}
 
 
 @dataclass(frozen=True)

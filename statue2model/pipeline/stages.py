@@ -441,7 +441,8 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     motion = parse_spec(c.motion)[0]
     scene = StatueScene.from_body(ctx.load_body(), ctx.config.scan.direction)
     design = ctx.design() if c.isolator else None
-    iso = IsolatorScene.from_design(design, statue=scene, grid=c.grid or None) if design else None
+    iso = (IsolatorScene.from_design(design, statue=scene, grid=c.grid or None,
+                                     groove="tiles" if c.groove == "tiles" else None) if design else None)
     settings, contact = SimSettings(dt=c.dt, solver_iterations=c.iterations), ContactSettings()
     statue_settings = SimSettings(dt=c.statue_dt, solver_iterations=c.iterations)
     comp = compare(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
