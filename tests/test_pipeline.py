@@ -235,6 +235,9 @@ def test_executors_give_identical_numbers(tmp_path):
         ja = json.loads((tmp_path / "a" / "dynamics" / name).read_text())
         jb = json.loads((tmp_path / "b" / "dynamics" / name).read_text())
         assert ja == jb, name
+    fa, fb = (json.loads((tmp_path / x / "dynamics" / "fragility.json").read_text()) for x in "ab")
+    assert fa["curves"] == fb["curves"] and fa["ratio_of_medians"] == fb["ratio_of_medians"]
+    assert fa["curves"]["overturn"]["n_trials"] == [7] * len(fa["levels"])      # 7 records x 1 sample a level
 
 
 @pytest.mark.slow

@@ -4,10 +4,11 @@
                        [--height H] [--density RHO | --mass M] [--direction DEG]
                        [--base-tol M] [--json OUT]
     statue2model rock PARAMS.json --motion SPEC [model options] [--t-end S] [--json OUT]
-    statue2model spectrum | variability | sweep | identify | motion ...   (see --help of each)
+    statue2model spectrum | variability | sweep | identify | motion | records ...   (see --help of each)
     statue2model slice [MESH] --scale 1:2 [--board 9mm] ... --out DIR
     statue2model isolator design|plates|simulate|identify ...
     statue2model crosscheck MESH_OR_PARAMS --motion SPEC [--isolator DESIGN.json] --out DIR
+    statue2model fragility PARAMS_OR_MESH --records synthetic:N | DIR --levels LO:HI:N [--isolator D.json] --out DIR
     statue2model run [MESH|FOLDER] [--config project.toml] [--out DIR] [--stages LIST] [--force]
                      [--workers N | --scheduler ADDRESS]      every stage, cached, with an HTML report
     statue2model config [--out project.toml]                  the project file with every default
@@ -58,13 +59,14 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
-    from . import crosscheck, dynamics, fabrication, geometry, isolator, run
+    from . import crosscheck, dynamics, fabrication, fragility, geometry, isolator, run
 
     geometry.add_parsers(sub)
     dynamics.add_parsers(sub)
     fabrication.add_parsers(sub)
     isolator.add_parsers(sub)
     crosscheck.add_parsers(sub)
+    fragility.add_parsers(sub)
     run.add_parsers(sub)
     return parser
 

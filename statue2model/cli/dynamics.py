@@ -1,4 +1,5 @@
-"""Command-line stages of the 2D dynamics: rock, spectrum, variability, sweep, identify, motion.
+"""Command-line stages of the 2D dynamics: rock, spectrum, variability, sweep, identify, motion,
+records (a spectrum-compatible set of accelerograms).
 
 Each command reads a PARAMS.json written by ``statue2model props`` (or any JSON
 holding m, h, b_L, b_R, I_G), builds one immutable RockingModel, runs one stage
@@ -10,11 +11,11 @@ import argparse
 from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float
+from .argtypes import finite_float, positive_float, scale_ratio
 
 SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
              "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=1:N][,units=g] | "
-             "synthetic[:duration=S,dt=S,pga=A,seed=N]; A with a unit: 0.3g or 2.94m/s2 (a bare 0.3 is refused); "
+             "synthetic[:duration=S,dt=S,pga=A,seed=N] | bundled:name=elcentro_1940_ns[,pga=A][,scale=1:N]; A with a unit: 0.3g or 2.94m/s2 (a bare 0.3 is refused); "
              "amp > 0 accelerates the ground toward +x; add start=S to delay a pulse")
 
 
@@ -352,6 +353,73 @@ def cmd_motion(args) -> int:
     return 0
 
 
+# --- records ----------------------------------------------------------------------------------
+def _band(text: str) -> tuple[float, float]:
+    parts = str(text).split(":")
+    try:
+        lo, hi = (float(x) for x in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a period band T0:T1 in s: {text!r} (e.g. 0.1:4)") from None
+    return lo, hi
+
+
+def _tolerance(text: str) -> tuple[float, float]:
+    parts = str(text).split(":")
+    try:
+        below, above = (float(x) / 100.0 for x in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a tolerance BELOW:ABOVE in percent: {text!r} (e.g. 10:30)") from None
+    return -abs(below), above
+
+
+def cmd_records(args) -> int:
+    import json
+    import time
+
+    from ..dynamics.floor import parse_floor
+    from ..dynamics.matching import band_for_period, match_set, plot_spectra
+    from ..dynamics.motions import write_record_csv
+    from ..io.files import open_output, write_json
+    from ..isolator.design_spectrum import parse_spectrum
+
+    target = ground = parse_spectrum(args.spectrum)
+    if args.floor:
+        target = parse_floor(args.floor, ground)
+    band = band_for_period(args.t1) if args.t1 is not None else args.band
+    t0 = time.perf_counter()
+    rs = match_set(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,
+                   tolerance=args.tolerance)
+    seconds = time.perf_counter() - t0
+    c = rs.check()
+    line = (f"{len(rs.records)} records, seeds {rs.seeds[0]}..{rs.seeds[-1]}, {rs.iterations} iterations, "
+            f"{seconds:.1f} s: mean/target over {c['band_s'][0]:g}-{c['band_s'][1]:g} s from {c['min_ratio']:.3f} "
+            f"(at {c['period_of_min_s']:.3g} s) to {c['max_ratio']:.3f} (at {c['period_of_max_s']:.3g} s), "
+            f"allowed {1 + rs.tolerance[0]:.2f}-{1 + rs.tolerance[1]:.2f}")
+    if not c["met"] and not args.keep_unmet:
+        raise InputError(f"the set misses its tolerance ({line}); try more records, another --seed or a longer "
+                         f"--duration, or pass --keep-unmet to write it anyway")
+    lam = args.scale
+    names = [f"record_{i + 1:02d}.csv" for i in range(len(rs.records))] + ["set.json", "spectra.png"]
+    with open_output(args.out, "records", command="records") as od:
+        od.claim(names)
+        for name, m in zip(names, rs.records):
+            write_record_csv(od.path / name, m.froude(lam) if lam != 1.0 else m)
+        data = rs.to_dict()
+        data.update(spectrum=args.spectrum, floor=args.floor, duration_s=args.duration, dt_s=args.dt,
+                    froude_scale=(f"1:{lam:g}" if lam != 1.0 else None),
+                    files_dt_s=args.dt / lam ** 0.5, files=names[:-2],
+                    note=("spectra and check at full scale; the files are Froude-scaled (times / sqrt(lambda), "
+                          "accelerations unchanged)" if lam != 1.0 else "full scale"))
+        write_json(od.path / "set.json", json.loads(json.dumps(data)))
+        plot_spectra(rs, od.path / "spectra.png", title=args.floor and "floor spectrum" or "ground spectrum")
+    print(line)
+    if not c["met"]:
+        print(f"WARNING: the set does NOT meet its tolerance (worst mean/target {c['worst_ratio']:.3f} at "
+              f"{c['period_of_worst_s']:.3g} s); set.json says met: false")
+    print(f"wrote {len(rs.records)} records, set.json and spectra.png to {od.path}")
+    return 0
+
+
 def add_parsers(sub) -> None:
     p = sub.add_parser("rock", help="one time history of the 2D rocking model",
                        description="Simulate the rocking model under a ground motion; print the response and write "
@@ -414,3 +482,32 @@ def add_parsers(sub) -> None:
     p.add_argument("--dt", type=positive_float, metavar="S", help="sampling step (default: the record's, or 1 ms)")
     p.add_argument("--csv", metavar="OUT", help="output CSV (default: outputs/motion/table.csv)")
     p.set_defaults(func=cmd_motion)
+
+    p = sub.add_parser("records", help="a spectrum-compatible set of artificial accelerograms",
+                       description="N records matched to a code spectrum (EC8 / NTC 2018) or to the floor spectrum "
+                                   "of a storey; the set's mean spectrum must lie within -10 %/+30 % of the target "
+                                   "over the band. Writes record_01.csv ... (readable as file:path=...), set.json "
+                                   "and spectra.png.")
+    p.add_argument("--spectrum", required=True, metavar="SPEC",
+                   help="ground spectrum: ec8:ag=A[,ground=A-E,type=1|2,xi=5] | ntc2018:ag=A,F0=F,Tc=S[,soil=A-E,"
+                        "topo=T1-T4,xi=5] (the limit state's a_g, F0, Tc* of the site)")
+    p.add_argument("--floor", metavar="z=Z,H=H,T1=S[,code=ec8|ntc2018]",
+                   help="match the floor spectrum at height z of a building of height H (storeys or m) and "
+                        "period T1 instead (EC8 4.3.5.2 / NTC 2018 7.2.3; default code: the spectrum's)")
+    p.add_argument("--n", type=int, default=7, help="number of records (default 7)")
+    p.add_argument("--seed", type=int, default=1, help="seed of the first record; record i uses seed + i (default 1)")
+    p.add_argument("--duration", type=positive_float, default=20.0, metavar="S", help="record length (default 20 s)")
+    p.add_argument("--dt", type=positive_float, default=0.01, metavar="S", help="time step (default 0.01 s)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--band", type=_band, default=(0.1, 4.0), metavar="T0:T1",
+                   help="periods of the tolerance check (default 0.1:4 s)")
+    g.add_argument("--t1", type=positive_float, metavar="S", help="check over EC8's 0.2 T1-2 T1 instead")
+    p.add_argument("--tolerance", type=_tolerance, default=(-0.10, 0.30), metavar="BELOW:ABOVE",
+                   help="how far the mean spectrum may fall below / rise above the target, percent (default 10:30)")
+    p.add_argument("--scale", type=scale_ratio, default=1.0, metavar="1:N",
+                   help="write the records Froude-scaled for a 1:N prototype (times / sqrt(N))")
+    p.add_argument("--keep-unmet", action="store_true",
+                   help="write a set that misses its tolerance (with a warning and met: false) instead of refusing")
+    p.add_argument("--out", default=str(Path("outputs") / "records"), metavar="DIR",
+                   help="output folder (default outputs/records)")
+    p.set_defaults(func=cmd_records)

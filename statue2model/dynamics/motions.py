@@ -11,7 +11,8 @@ body onto its left pivot, theta < 0). Times in s.
 * :meth:`GroundMotion.scaled_to_pga`, :meth:`GroundMotion.froude` - scaling.
 * :func:`table_displacement` - baseline-corrected double integration to the
   displacement a shake table is driven with.
-* :func:`parse_spec` - the command-line SPEC strings.
+* :func:`parse_spec` - the command-line SPEC strings (``bundled:name=elcentro_1940_ns``:
+  a record shipped with the package, :func:`statue2model.io.paths.bundled_record`).
 
 Example
 -------
@@ -498,6 +499,7 @@ _SPEC_KEYS = {
     "sines": ({"amp", "freq", "cycles"}, {"start"}),
     "file": ({"path"}, {"dt", "pga", "scale", "units"}),
     "synthetic": (set(), {"duration", "dt", "pga", "seed", "fg"}),
+    "bundled": ({"name"}, {"pga", "scale"}),
 }
 
 
@@ -564,11 +566,16 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
                                   seed=_seed(args.get("seed", "0")),
                                   f_g=_num("fg", args.get("fg", "2.5"), True))
         return motion, 0.0
-    path = Path(args["path"])
-    if base_dir is not None and not path.is_absolute():
-        path = Path(base_dir) / path
-    motion = read_record(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
-                         units=args.get("units"))
+    if kind == "bundled":     # a record shipped in the package data (statue2model/data/records)
+        from ..io.paths import bundled_record
+
+        motion = read_record(bundled_record(args["name"]))
+    else:
+        path = Path(args["path"])
+        if base_dir is not None and not path.is_absolute():
+            path = Path(base_dir) / path
+        motion = read_record(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
+                             units=args.get("units"))
     if "pga" in args:
         motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga", key="pga"))
     if "scale" in args:

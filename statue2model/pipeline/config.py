@@ -12,8 +12,9 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
              mu_static
 [isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
-[dynamics]   enabled, pulse, freq, amp, motion, pga, isolated           (spectra, variability,
-                                                                         time histories)
+[dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
+             fragility, fragility_records, fragility_duration,          time histories, fragility)
+             fragility_levels, fragility_samples
 [crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator
 [run]        stages, workers, scheduler                                 (what a plain ``run`` does
                                                                          and where sweeps run)
@@ -158,6 +159,11 @@ class DynamicsConfig:
     motion: str = "synthetic:duration=20,pga=0.4g,seed=1"    # time histories, variability
     pga: str = "0.05g:1.2g:24"          # variability: the motion scaled to these PGAs
     isolated: bool = True               # also on the isolator (needs [isolator] enabled)
+    fragility: bool = True              # fragility curves over a set matched to [isolator] spectrum
+    fragility_records: int = 7          # records of the set (seeds 1..N)
+    fragility_duration: float = 10.0    # s, each record
+    fragility_levels: str = "auto"      # PGA levels: auto (0.2-3 x the design PGA, 10) or START:STOP:N
+    fragility_samples: int = 7          # theta_R values of the imperfect model (thesis' sweep)
 
 
 @dataclass(frozen=True)
@@ -194,6 +200,7 @@ _LENGTHS = {("scan", "height"), ("scan", "base_tol"), ("prototype", "board"), ("
             ("prototype", "wall"), ("prototype", "margin"), ("prototype", "edge"), ("prototype", "pass_depth"),
             ("isolator", "thickness"), ("crosscheck", "grid")}
 _ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
+_AUTO_GRIDS = {("dynamics", "fragility_levels")}     # "auto" or a grid
 _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("scan", "up"): ("auto", "x", "y", "z", "-x", "-y", "-z"),
             ("prototype", "policy"): ("mid", "envelope", "core"),
@@ -253,7 +260,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
     """One TOML value -> the field's type, or an InputError naming it."""
     name = f"{where}: [{sec}] {key}"
     if isinstance(value, str) and value.strip().lower() in (AUTO, "none"):
-        if (sec, key) in _CHOICES and AUTO in _CHOICES[sec, key]:
+        if (sec, key) in _CHOICES and AUTO in _CHOICES[sec, key] or (sec, key) in _AUTO_GRIDS:
             return AUTO
         if nullable:
             return None
@@ -474,6 +481,17 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     pgas = grid(d.pga, f"{where}: [dynamics] pga", accel=True)
     if np.any(freqs <= 0) or np.any(amps < 0) or np.any(pgas < 0):
         bad("[dynamics] frequencies must be > 0 and amplitudes, PGAs >= 0")
+    if d.fragility:
+        if not 2 <= d.fragility_records <= 100:
+            bad(f"[dynamics] fragility_records must be in 2..100, got {d.fragility_records}")
+        if not 5.0 <= d.fragility_duration <= 120.0:
+            bad(f"[dynamics] fragility_duration must be in 5..120 s, got {d.fragility_duration}")
+        if not 1 <= d.fragility_samples <= 1000:
+            bad(f"[dynamics] fragility_samples must be in 1..1000, got {d.fragility_samples}")
+        if str(d.fragility_levels).strip().lower() != "auto":
+            lv = grid(d.fragility_levels, f"{where}: [dynamics] fragility_levels", accel=True)
+            if lv.size < 3 or np.any(lv <= 0):
+                bad(f"[dynamics] fragility_levels needs at least 3 PGAs > 0, got {d.fragility_levels!r}")
     for name, spec, on in (("[dynamics] motion", d.motion, d.enabled), ("[crosscheck] motion", c.motion, c.enabled)):
         if not on:
             continue

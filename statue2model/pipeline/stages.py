@@ -359,6 +359,16 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
                             f"t = {coupled.t_capacity:.3f} s (a ball leaves its groove or the top plate tips); "
                             "the run stops there: a failure, as bad as overturning.")
     data.update(outcome_fixed=fixed.outcome, theta_max_over_delta_fixed=fixed.theta_max_over_delta)
+    if c.fragility:
+        from .fragility import fragility_section
+        from .verdict import DEFAULT_SPECTRUM
+
+        fr = fragility_section(ctx, d, model, iso, ctx.config.isolator.spectrum or DEFAULT_SPECTRUM, ctx.executor)
+        figs += fr["figures"]
+        tables += fr["tables"]
+        text += fr["text"]
+        warnings += fr["warnings"]
+        data.update(fr["data"])
     write_json(d / "history.json", hist)
     plot_history_pair(fixed, plate, coupled, d / "history.png")
     figs.append(_fig("history.png", f"Time history under {motion.label}: rotation on a fixed base and on the "
@@ -400,6 +410,12 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
         summary["isolator capacity"] = cap_txt
         summary[f"{motion.label} (isolated)"] = (f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}, "
                                                  f"plate travel {travel}")
+    if data.get("fragility_runs"):
+        med = data.get("fragility_median_fixed")
+        summary["fragility: median overturning PGA (fixed)"] = "not reached" if med is None else f"{med / G:.3f} g"
+        if iso is not None:
+            med = data.get("fragility_median_isolated")
+            summary["fragility: median failure PGA (isolated)"] = "not reached" if med is None else f"{med / G:.3f} g"
     return {"summary": summary, "text": text, "warnings": warnings, "tables": tables, "figures": figs, "data": data}
 
 

@@ -22,6 +22,9 @@ side, < 1 that it is not:
                          (DISPLACEMENT_MARGIN x SDe + mu R_hat, isolator/design.py)
                analyses  the lowest PGA at which the statue on the isolator overturned or
                          the isolator's capacity was exceeded, against the design PGA
+    fragility  the dynamics stage's fragility study (pipeline/fragility.py): median failure
+               PGAs fixed and isolated with their bands, the probabilities at the design PGA,
+               the isolator's ratio of medians (one line, :func:`fragility`)
 
 The recommendation is one plain line; the same verdict goes to run.json, the console
 summary and the top of report.html.
@@ -163,10 +166,45 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             isolated["reason"] = design.get("failure") or design_failure(design)
             lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).")
     out["isolated"] = isolated
+    fr = fragility(dyn, pga, design is not None)
+    if fr:
+        out["fragility"] = fr
+        lines.append(fr["line"])
     out["lines"] = lines
     out["recommendation"] = recommend(fixed, isolated, pga)
     out["status"] = status(out["recommendation"])
     return out
+
+
+def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
+    """The fragility study's numbers for the verdict (the dynamics stage's fragility_* data): median
+    failure PGAs, the probability at the design PGA, the isolator's ratio of medians, and one line."""
+    if not dyn or not dyn.get("fragility_runs"):
+        return {}
+    mf, mi = dyn.get("fragility_median_fixed"), dyn.get("fragility_median_isolated")
+    pf, pi = dyn.get("fragility_p_design_fixed"), dyn.get("fragility_p_design_isolated")
+
+    def med(m, ci, status):
+        if m is None:
+            return f"not fitted ({status})"
+        band = f" ({_g(ci[0])}-{_g(ci[1])})" if ci and None not in ci else ""
+        return f"{_g(m)}{band}"
+
+    line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
+            f"median overturning PGA on a fixed base "
+            f"{med(mf, dyn.get('fragility_median_ci_fixed'), dyn.get('fragility_status_fixed'))}"
+            + (f", P(overturning) at the design PGA {pf:.2f}" if pf is not None else ""))
+    if isolated:
+        line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) "
+                 f"{med(mi, dyn.get('fragility_median_ci_isolated'), dyn.get('fragility_status_isolated'))}"
+                 + (f", P(failure) at the design PGA {pi:.2f}" if pi is not None else ""))
+        r = dyn.get("fragility_ratio")
+        if r is not None:
+            ci = dyn.get("fragility_ratio_ci") or [None, None]
+            line += f"; the isolator multiplies the median by {r:.2f}" + (
+                f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else "")
+    return {"median_fixed": mf, "median_isolated": mi, "p_design_fixed": pf, "p_design_isolated": pi,
+            "ratio": dyn.get("fragility_ratio"), "ratio_ci": dyn.get("fragility_ratio_ci"), "line": line + "."}
 
 
 def status(recommendation: str) -> str:

@@ -1,0 +1,626 @@
+"""Fragility: the probability of failure against the intensity of the ground motion,
+on a fixed base and on the isolator, fitted as lognormal curves.
+
+A study runs every record (a list of :class:`~statue2model.dynamics.motions.GroundMotion`)
+scaled to every intensity level (PGA in m/s^2, or PGV in m/s) for every parameter
+sample (:mod:`statue2model.dynamics.sampling`): records x levels x samples runs. Each
+run's outcome is a yes / no per *outcome*, each with its own curve:
+
+* ``overturn`` - the body overturns on a fixed base (rocking kernel, run_batch);
+* ``overturn_isolated`` - it overturns on the isolator (coupled plate + statue,
+  :func:`~statue2model.isolator.coupled.simulate_coupled`, end_stop "stop": a run that
+  first exceeds the capacity stops there and is counted below, not here);
+* ``capacity_exceeded`` - the top plate passes the isolator's capacity (issue [8]);
+* ``failure_isolated`` - either of the two (the conservative failure on the isolator).
+
+Fit (Baker 2015, Earthquake Spectra 31(1)): at level x_j, z_j of n_j runs fail;
+P(fail | x) = Phi(ln(x / theta) / beta), theta (median) and beta (dispersion) maximise
+the binomial likelihood sum_j [z_j ln P_j + (n_j - z_j) ln(1 - P_j)] (a coarse grid, then
+scipy.optimize TNC, bounded Newton with the analytic gradient, on ln theta, ln beta; beta
+is bounded to [BETA_MIN, BETA_MAX]).
+Runs where the rocking model does not apply (the body slides first,
+:meth:`RockingModel.applicability`) or the solver did not finish are left out of n_j.
+Status of a fit: "ok"; "no failures" (median above the levels: nan); "all failed"
+(below them: nan); "step" (the failures are separated by one level: beta at BETA_MIN).
+
+Confidence bands: bootstrap (``n_boot`` replicates, ``seed``) over the records (the
+dominant, independent input) when there are at least MIN_BOOT_RECORDS of them, else over
+the parameter samples; each replicate re-fits the curves; the bands are the
+(1 - confidence)/2 and (1 + confidence)/2 percentiles of the fitted P at each level, of
+the median, of beta and of the ratio of medians isolated / fixed (paired: the same
+resample for both). They are sampling bands of the study, not model uncertainty.
+
+Early exit (fixed base; the outcome only): a run stops when it overturns; a run whose
+motion never exceeds the uplift limits is not integrated (``quiet``); after the ground
+is still, a run stops once it has peaked on both sides without any impact able to add
+energy (the kernel's ``early_exit``). A body at rest whose remaining record stays
+below the uplift limits cannot move again: the kernel's stick phase already skips the
+rest of the record without integrating (it checks each sample once, in closed form),
+so stopping it earlier saves nothing measurable. A body still rocking after the last
+exceedance is integrated on: a sub-uplift ground motion can still pump a rocking body.
+
+Example
+-------
+>>> import numpy as np
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> from statue2model.dynamics import RockingModel, motions
+>>> from statue2model.dynamics.sampling import lognormal_factor
+>>> block = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
+>>> model = RockingModel.housner(block, e_L=0.9, e_R=0.9)
+>>> recs = [motions.synthetic_record(8.0, 0.01, 1.0, seed=s) for s in range(3)]
+>>> res = run_fragility(model, recs, np.linspace(1.0, 12.0, 8), lognormal_factor(0.2, 10),
+...                     FragilityStudy(n_boot=20))
+>>> c = res.curves["overturn"]
+>>> c.status, int(c.n_trials.sum()), bool(2.0 < c.median < 12.0)
+('ok', 240, True)
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..compute.budget import check_runs
+from ..errors import InputError
+from . import kernel as K
+from .batch import run_batch
+from .engine import FREE_TIME
+from .model import RockingModel
+from .motions import GroundMotion
+from .sampling import ParameterSamples
+
+IMS = ("pga", "pgv")
+FIXED = ("overturn",)
+ISOLATED = ("overturn_isolated", "capacity_exceeded", "failure_isolated")
+LABELS = {"overturn": "overturning, fixed base", "overturn_isolated": "overturning on the isolator",
+          "capacity_exceeded": "isolator capacity exceeded",
+          "failure_isolated": "failure on the isolator (overturning or capacity)"}
+BETA_MIN, BETA_MAX = 1e-3, 5.0
+MIN_BOOT_RECORDS = 5
+BYTES_PER_RUN = 800
+"""Bytes one run of a study costs: its rows P, M, S in the batch (~360 B) and its outcomes."""
+ROWS_PER_TASK = 1000
+"""Rows of one executor task (fixed base): large enough to amortise the task, small enough
+to balance the workers of a 200 000-run study."""
+
+
+@dataclass(frozen=True)
+class FragilityStudy:
+    """How a study runs and is fitted: ``im`` "pga" (levels in m/s^2) or "pgv" (m/s);
+    ``rtol`` of the solvers; ``free_time`` s simulated after each record; bootstrap
+    ``n_boot`` replicates with ``seed`` and ``confidence`` (two-sided level of the bands);
+    ``bootstrap``: "auto" (records if at least MIN_BOOT_RECORDS, else samples), "records"
+    or "samples"."""
+
+    im: str = "pga"
+    rtol: float = 1e-7
+    free_time: float = FREE_TIME
+    n_boot: int = 200
+    confidence: float = 0.90
+    seed: int = 0
+    bootstrap: str = "auto"
+
+    def __post_init__(self):
+        if self.im not in IMS:
+            raise InputError(f"intensity measure must be one of {', '.join(IMS)}, got {self.im!r}")
+        if not (1e-12 <= self.rtol <= 1e-3):
+            raise InputError(f"rtol must lie in [1e-12, 1e-3], got {self.rtol}")
+        if not (math.isfinite(self.free_time) and self.free_time >= 0):
+            raise InputError(f"free_time must be >= 0 s, got {self.free_time}")
+        if isinstance(self.n_boot, bool) or not isinstance(self.n_boot, (int, np.integer)) or \
+                not 0 <= self.n_boot <= 100_000:
+            raise InputError(f"n_boot must be a whole number in 0..100000, got {self.n_boot!r}")
+        if not 0 < self.confidence < 1:
+            raise InputError(f"confidence must lie in (0, 1), got {self.confidence}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+            raise InputError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if self.bootstrap not in ("auto", "records", "samples"):
+            raise InputError(f"bootstrap must be auto, records or samples, got {self.bootstrap!r}")
+
+    def to_dict(self) -> dict:
+        return {"im": self.im, "rtol": self.rtol, "free_time_s": self.free_time, "n_boot": self.n_boot,
+                "confidence": self.confidence, "seed": self.seed, "bootstrap": self.bootstrap}
+
+
+# --- intensity measures -------------------------------------------------------------
+def pgv(motion: GroundMotion) -> float:
+    """Peak ground velocity (m/s) of the motion as given (trapezoidal integration of the
+    record from rest, no baseline correction; |amp| dur for a rectangular pulse)."""
+    if motion.kind == "none":
+        return 0.0
+    if motion.kind == "rect":
+        return abs(motion.amp) * motion.duration
+    if motion.kind == "record":
+        a = np.asarray(motion.samples, dtype=float)
+        v = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * motion.dt)])
+        return float(np.max(np.abs(v)))
+    t = np.linspace(motion.start, motion.end, 4001)
+    a = motion.acc(t)
+    v = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * np.diff(t))])
+    return float(np.max(np.abs(v)))
+
+
+def intensity(motion: GroundMotion, im: str) -> float:
+    """The record's own intensity: PGA (m/s^2) or PGV (m/s)."""
+    return float(motion.pga) if im == "pga" else pgv(motion)
+
+
+# --- the lognormal fit ----------------------------------------------------------------
+def _nll(ln_theta, ln_beta, lnx, z, n):
+    """Negative binomial log-likelihood; ln_theta, ln_beta broadcast against (..., 1)."""
+    from scipy.special import log_ndtr
+
+    u = (lnx - ln_theta) / np.exp(ln_beta)
+    return -(z * log_ndtr(u) + (n - z) * log_ndtr(-u)).sum(axis=-1)
+
+
+def _nll_grad(q, lnx, z, n):
+    """The negative log-likelihood at q = (ln theta, ln beta) and its gradient."""
+    from scipy.special import log_ndtr
+
+    beta = math.exp(q[1])
+    u = (lnx - q[0]) / beta
+    lp, lm = log_ndtr(u), log_ndtr(-u)
+    lphi = -0.5 * u * u - 0.5 * math.log(2 * math.pi)
+    dll = z * np.exp(lphi - lp) - (n - z) * np.exp(lphi - lm)      # d(log-likelihood)/du
+    f = -(z * lp + (n - z) * lm).sum()
+    return f, np.array([(dll / beta).sum(), (dll * u).sum()])
+
+
+def fit_lognormal(levels, n_fail, n_trials) -> tuple[float, float, str]:
+    """(median, beta, status) of the maximum-likelihood lognormal curve through the binomial
+    counts (see the module docstring); median and beta are nan unless status is "ok" or "step"."""
+    from scipy.optimize import minimize
+
+    x = np.asarray(levels, dtype=float)
+    z = np.asarray(n_fail, dtype=float)
+    n = np.asarray(n_trials, dtype=float)
+    keep = n > 0
+    x, z, n = x[keep], z[keep], n[keep]
+    nan = float("nan")
+    if x.size == 0:
+        return nan, nan, "no runs"
+    if z.sum() == 0:
+        return nan, nan, "no failures"
+    if z.sum() == n.sum():
+        return nan, nan, "all failed"
+    lnx = np.log(x)
+    lo, hi = lnx.min() - 3.0, lnx.max() + 3.0
+    bl, bh = math.log(BETA_MIN), math.log(BETA_MAX)
+    gt = np.linspace(lo, hi, 61)[:, None, None]
+    gb = np.linspace(bl, bh, 31)[None, :, None]
+    f = _nll(gt, gb, lnx, z, n)
+    i, j = np.unravel_index(np.argmin(f), f.shape)
+    start = np.array([gt[i, 0, 0], gb[0, j, 0]])
+    res = minimize(_nll_grad, start, args=(lnx, z, n), jac=True, method="TNC",
+                   bounds=[(lo, hi), (bl, bh)], options={"ftol": 1e-14, "gtol": 1e-10})
+    q = res.x if res.fun <= f[i, j] else start
+    beta = float(np.exp(q[1]))
+    return float(np.exp(q[0])), beta, ("step" if beta <= BETA_MIN * 1.0001 else "ok")
+
+
+def lognormal_cdf(x, median: float, beta: float) -> np.ndarray:
+    """Phi(ln(x / median) / beta); nan if the curve is undefined."""
+    from scipy.stats import norm
+
+    x = np.asarray(x, dtype=float)
+    if not (math.isfinite(median) and math.isfinite(beta)):
+        return np.full(x.shape, np.nan)
+    return norm.cdf(np.log(x / median) / beta)
+
+
+@dataclass(frozen=True, eq=False)
+class FragilityCurve:
+    """One outcome: counts per level, the fit, its bootstrap bands (``confidence`` level).
+    levels (L,) in the IM's unit; n_fail, n_trials (L,) int; median (IM unit), beta; status;
+    median_ci, beta_ci: (lo, hi); band_lo, band_hi (L,): P at each level."""
+
+    outcome: str
+    levels: np.ndarray
+    n_fail: np.ndarray
+    n_trials: np.ndarray
+    median: float
+    beta: float
+    status: str
+    median_ci: tuple = (float("nan"), float("nan"))
+    beta_ci: tuple = (float("nan"), float("nan"))
+    band_lo: np.ndarray = None
+    band_hi: np.ndarray = None
+
+    @property
+    def fraction(self) -> np.ndarray:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(self.n_trials > 0, self.n_fail / np.maximum(self.n_trials, 1), np.nan)
+
+    def probability(self, x) -> np.ndarray:
+        """The fitted P(failure | IM = x)."""
+        return lognormal_cdf(x, self.median, self.beta)
+
+    def to_dict(self) -> dict:
+        return {"outcome": self.outcome, "label": LABELS[self.outcome], "median": self.median, "beta": self.beta,
+                "status": self.status, "median_ci": [_finite(x) for x in self.median_ci],
+                "beta_ci": [_finite(x) for x in self.beta_ci],
+                "levels": self.levels, "n_fail": self.n_fail, "n_trials": self.n_trials,
+                "fraction": self.fraction, "fitted": self.probability(self.levels),
+                "band_lo": self.band_lo, "band_hi": self.band_hi}
+
+
+@dataclass(frozen=True, eq=False)
+class FragilityResult:
+    """A study's outcome. ``fails[name]``: (records, samples, levels) bool, ``valid``:
+    (records, samples, levels) bool (runs counted: applicable and finished; one array
+    per side, "fixed" and "isolated"); ``curves[name]``: FragilityCurve; ``ratio``:
+    {"overturn": ..., "failure": ...} each {"value", "ci"}: median isolated / median fixed
+    (overturning on the isolator, resp. any isolated failure, against fixed-base overturning)."""
+
+    im: str
+    levels: np.ndarray
+    record_labels: list
+    record_im: np.ndarray
+    samples: ParameterSamples
+    study: FragilityStudy
+    fails: dict
+    valid: dict
+    curves: dict
+    ratio: dict
+    bootstrap_unit: str
+    model: RockingModel
+    isolator: object = None
+    stats: dict = field(default_factory=dict)
+
+    @property
+    def unit(self) -> str:
+        return "m/s2" if self.im == "pga" else "m/s"
+
+    def to_dict(self) -> dict:
+        per_record = {name: {"n_fail": f.sum(axis=1), "n_trials": self.valid[_side(name)].sum(axis=1)}
+                      for name, f in self.fails.items()}
+        return {"im": self.im, "unit": self.unit, "levels": self.levels, "study": self.study.to_dict(),
+                "bootstrap_unit": self.bootstrap_unit, "n_records": len(self.record_labels),
+                "records": [{"label": lab, self.im: float(v)} for lab, v in zip(self.record_labels, self.record_im)],
+                "samples": self.samples.to_dict(), "model": self.model.to_dict(),
+                "isolator": None if self.isolator is None else self.isolator.to_dict(),
+                "curves": {k: c.to_dict() for k, c in self.curves.items()}, "ratio_of_medians": self.ratio,
+                "per_record": per_record, "stats": self.stats}
+
+    def csv_rows(self) -> tuple[list, list]:
+        """(header, rows): one row per outcome and level."""
+        header = ["outcome", f"{self.im}_{self.unit.replace('/', '_')}", "n_fail", "n_trials", "fraction",
+                  "fitted_p", "band_lo", "band_hi", "median", "beta", "status"]
+        rows = []
+        for c in self.curves.values():
+            fit = c.probability(c.levels)
+            for j, x in enumerate(c.levels):
+                rows.append([c.outcome, f"{x:.9g}", int(c.n_fail[j]), int(c.n_trials[j]), _g(c.fraction[j]),
+                             _g(fit[j]), _g(c.band_lo[j]), _g(c.band_hi[j]), _g(c.median), _g(c.beta), c.status])
+        return header, rows
+
+    def write_csv(self, path):
+        from ..io.csvsafe import write_csv
+
+        header, rows = self.csv_rows()
+        return write_csv(path, header, rows)
+
+    def write_json(self, path):
+        from ..io.files import write_json
+
+        return write_json(path, self.to_dict())
+
+    def plot(self, path):
+        """Fractions (markers), fitted curves (lines) and their bands (shaded), one colour per outcome."""
+        return plot_fragility(self, path)
+
+    def summary_lines(self) -> list[str]:
+        u = self.unit
+        out = []
+        for c in self.curves.values():
+            if c.status in ("ok", "step"):
+                mci = f" [{c.median_ci[0]:.4g}, {c.median_ci[1]:.4g}]" if self.study.n_boot else ""
+                bci = f" [{c.beta_ci[0]:.3f}, {c.beta_ci[1]:.3f}]" if self.study.n_boot else ""
+                out.append(f"{LABELS[c.outcome]}: median {c.median:.4g} {u}{mci}, beta {c.beta:.3f}{bci}"
+                           f"{' (a step: failures separated by one level)' if c.status == 'step' else ''}")
+            else:
+                out.append(f"{LABELS[c.outcome]}: {c.status} in {c.levels[0]:.4g}..{c.levels[-1]:.4g} {u}")
+        for k, r in self.ratio.items():
+            if r["value"] is not None:
+                out.append(f"isolator benefit ({k}): median isolated / fixed = {r['value']:.3g} "
+                           f"[{_g(r['ci'][0])}, {_g(r['ci'][1])}]")
+        return out
+
+
+def _finite(v):
+    """v as a float, or None when it is not finite (JSON: inf has no spelling; null)."""
+    return float(v) if v is not None and np.isfinite(v) else None
+
+
+def _g(v) -> str:
+    return "" if v is None or not np.isfinite(v) else f"{v:.6g}"
+
+
+def _side(name: str) -> str:
+    return "fixed" if name in FIXED else "isolated"
+
+
+# --- running the study ----------------------------------------------------------------------
+def _check_inputs(model, records, levels, samples, study):
+    if not isinstance(model, RockingModel):
+        raise InputError("model must be a RockingModel")
+    if isinstance(records, GroundMotion):
+        records = [records]
+    records = list(records)
+    if not records or not all(isinstance(r, GroundMotion) for r in records):
+        raise InputError("records must be a non-empty list of GroundMotion")
+    if not isinstance(samples, ParameterSamples):
+        raise InputError("samples must be ParameterSamples (statue2model.dynamics.sampling)")
+    lv = np.asarray(levels, dtype=float).ravel()
+    if lv.size == 0 or not np.all(np.isfinite(lv)) or np.any(lv <= 0):
+        raise InputError(f"intensity levels must be finite and > 0 ({'m/s^2' if study.im == 'pga' else 'm/s'})")
+    if np.any(np.diff(lv) <= 0):
+        raise InputError("intensity levels must be strictly increasing")
+    ims = np.array([intensity(r, study.im) for r in records])
+    for r, v in zip(records, ims):
+        if not v > 0:
+            raise InputError(f"record {r.label!r} has zero {study.im.upper()}: it cannot be scaled")
+    return records, lv, ims
+
+
+def _rows_task(task: tuple) -> np.ndarray:
+    """One block of fixed-base rows on a worker: (P, eLw, eLe, eRw, eRe, kinds, M, samples,
+    t_end, rtol, max_steps) -> statistics (rows, N_S). Module level: it pickles."""
+    from .batch import _run_rows
+
+    return _run_rows(task)
+
+
+def _fixed(model, records, gains, samples, study, executor, max_steps):
+    """(fails, valid, n_integrated): (R, S, L) bool arrays of the fixed-base runs."""
+    R, L = gains.shape
+    S_n = samples.n
+    models = samples.models(model)
+    fac = samples.im_factors()
+    fails = np.zeros((R, S_n, L), dtype=bool)
+    valid = np.ones((R, S_n, L), dtype=bool)
+    # group the samples by their restitution tables (the kernel takes one pair per batch)
+    groups: dict = {}
+    for s, m in enumerate(models):
+        groups.setdefault((m.e_L, m.e_R), []).append(s)
+    Pall = np.array([m.kernel_vector(early_exit=True) for m in models])
+    lims = np.array([m.uplift_limits for m in models])
+    jobs = []          # (record, sample indices (rows,), level indices (rows,), P, kinds, M, t_end, quiet)
+    for r, rec in enumerate(records):
+        kind, M0, smp = rec.kernel_args()
+        hi, lo = rec.extremes()
+        for (eL, eR), idx in groups.items():
+            ss = np.repeat(np.asarray(idx), L)
+            ll = np.tile(np.arange(L), len(idx))
+            g = gains[r, ll] * fac[ss]
+            n = ss.size
+            M = np.tile(M0, (n, 1))
+            M[:, K.MA] *= g
+            quiet = (g * hi <= lims[ss, 0]) & (-g * lo <= lims[ss, 1])
+            na = np.array([not models[s].applicability(gk * hi, -gk * lo)[0] for s, gk in zip(ss, g)]) \
+                if any(models[s].slides_first for s in idx) else np.zeros(n, dtype=bool)
+            valid[r, ss, ll] = ~na
+            jobs.append((r, ss, ll, Pall[ss], np.full(n, kind, dtype=np.int64), M,
+                         np.full(n, rec.end + study.free_time), quiet | na, eL, eR, smp))
+    n_int = int(sum(int((~j[7]).sum()) for j in jobs))
+    if executor is None:
+        for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
+            gm = models[ss[0]]
+            S = run_batch(gm, P, kinds, M, smp, t_end, rtol=study.rtol, quiet=quiet, max_steps=max_steps)
+            fails[r, ss, ll] = S[:, K.S_OVERTURNED] > 0
+    else:
+        from ..compute.compile import ensure_compiled
+
+        ensure_compiled()
+        tasks, where = [], []
+        for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
+            todo = np.flatnonzero(~quiet)
+            eLw, eLe = eL.arrays()
+            eRw, eRe = eR.arrays()
+            for a in range(0, todo.size, ROWS_PER_TASK):
+                k = todo[a:a + ROWS_PER_TASK]
+                tasks.append((np.ascontiguousarray(P[k]), eLw, eLe, eRw, eRe, kinds[k], np.ascontiguousarray(M[k]),
+                              K.as_samples(smp), t_end[k], float(study.rtol), int(max_steps)))
+                where.append((r, ss[k], ll[k]))
+        for (r, sk, lk), S in zip(where, executor.map(_rows_task, tasks, desc=None)):
+            bad = S[:, K.S_STATUS] != K.STATUS_OK
+            if np.any(bad):
+                raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {S.shape[0]} runs")
+            fails[r, sk, lk] = S[:, K.S_OVERTURNED] > 0
+    return fails, valid, n_int
+
+
+def _iso_task(task: tuple) -> np.ndarray:
+    """One (record, level) on the isolator: (iso, models, motion, factors, t_end, rtol) ->
+    (samples, 3) int: overturned, capacity exceeded, finished. The plate alone is run once
+    per distinct scaled motion (Coulomb: exact while the statue stays in contact); the
+    coupled system only for the samples the plate's absolute acceleration can lift."""
+    from ..isolator import dynamics as ID
+    from ..isolator.coupled import simulate_coupled
+
+    iso, models, motion, factors, t_end, rtol = task
+    out = np.zeros((len(models), 3), dtype=np.int64)
+    plates: dict = {}
+    for s, (m, f) in enumerate(zip(models, factors)):
+        mo = motion.scaled(float(f))
+        screen = iso.model == "coulomb"
+        if screen:
+            if f not in plates:
+                plates[f] = ID.simulate(iso, mo, t_end=t_end, dt_out=t_end, rtol=rtol)
+            pl = plates[f]
+            if pl.acc_abs_max < min(m.uplift_limits) * (1.0 - 1e-12):
+                out[s] = (0, int(pl.capacity_exceeded), 1)
+                continue
+        try:
+            r = simulate_coupled(iso, m, mo, t_end=t_end, dt_out=t_end, rtol=rtol, screen=False,
+                                 max_records=1, max_steps=2_000_000)
+        except RuntimeError:
+            out[s] = (0, 0, 0)
+            continue
+        cap = bool(r.capacity_exceeded)
+        out[s] = (int(r.overturned and not cap), int(cap), 1)
+    return out
+
+
+def _isolated(iso, model, records, gains, samples, study, executor):
+    from ..isolator.device import Isolator
+
+    if not isinstance(iso, Isolator):
+        raise InputError("isolator must be an Isolator (statue2model.isolator.device)")
+    if model.linearised:
+        raise InputError("the isolated runs need the nonlinear rocking model (linearised=False)")
+    if not iso.M > model.params.m:
+        raise InputError(f"the isolator's supported mass M = {iso.M:g} kg must exceed the statue's mass "
+                         f"m = {model.params.m:g} kg")
+    R, L = gains.shape
+    models = samples.models(model)
+    fac = samples.im_factors()
+    tasks = [(iso, models, rec.scaled(float(gains[r, j])), fac, rec.end + study.free_time, study.rtol)
+             for r, rec in enumerate(records) for j in range(L)]
+    res = [_iso_task(t) for t in tasks] if executor is None else executor.map(_iso_task, tasks)
+    arr = np.array(res).reshape(R, L, samples.n, 3).transpose(0, 2, 1, 3)
+    return arr[..., 0] > 0, arr[..., 1] > 0, arr[..., 2] > 0
+
+
+def run_fragility(model: RockingModel, records, levels, samples: ParameterSamples, study: FragilityStudy | None = None,
+                  isolator=None, executor=None, max_steps: int = 20_000_000) -> FragilityResult:
+    """Run and fit a fragility study (module docstring): ``records`` a list of GroundMotion
+    (each scaled so that its IM equals each of ``levels``: m/s^2 for PGA, m/s for PGV, times
+    the sample's im_factor), ``samples`` the parameter samples, ``isolator`` an Isolator for
+    the isolated curves (None: fixed base only). ``executor``: None runs here (numba threads
+    for the fixed base, one after the other on the isolator), or an Executor (SerialExecutor,
+    ProcessExecutor, DaskExecutor); the numbers are bit-identical either way."""
+    study = FragilityStudy() if study is None else study
+    if not isinstance(study, FragilityStudy):
+        raise InputError("study must be a FragilityStudy")
+    records, lv, ims = _check_inputs(model, records, levels, samples, study)
+    if isolator is not None:
+        from ..isolator.device import Isolator
+
+        if not isinstance(isolator, Isolator):
+            raise InputError("isolator must be an Isolator (statue2model.isolator.device)")
+    R, L, S_n = len(records), lv.size, samples.n
+    n_runs = R * L * S_n * (2 if isolator is not None else 1)
+    check_runs(n_runs, BYTES_PER_RUN, f"{R} records x {L} levels x {S_n} samples = {n_runs} runs",
+               "use fewer records, levels or samples")
+    gains = lv[None, :] / ims[:, None]          # (R, L): scale of each record at each level
+    t0 = time.perf_counter()
+    fails, valid = {}, {}
+    f, v, n_int = _fixed(model, records, gains, samples, study, executor, max_steps)
+    fails["overturn"], valid["fixed"] = f, v
+    t_fixed = time.perf_counter() - t0
+    stats = {"runs_fixed": R * L * S_n, "integrated_fixed": n_int, "wall_fixed_s": t_fixed}
+    if isolator is not None:
+        t1 = time.perf_counter()
+        ot, cap, ok = _isolated(isolator, model, records, gains, samples, study, executor)
+        fails.update(overturn_isolated=ot, capacity_exceeded=cap, failure_isolated=ot | cap)
+        valid["isolated"] = ok
+        stats.update(runs_isolated=R * L * S_n, failed_isolated=int((~ok).sum()),
+                     wall_isolated_s=time.perf_counter() - t1)
+    unit = study.bootstrap
+    if unit == "auto":
+        unit = "records" if R >= MIN_BOOT_RECORDS else "samples"
+    curves, ratio = _fit_all(lv, fails, valid, study, unit)
+    stats["wall_s"] = time.perf_counter() - t0
+    return FragilityResult(study.im, lv, [r.label for r in records], ims, samples, study, fails, valid, curves,
+                           ratio, unit, model, isolator, stats)
+
+
+def _fit_all(lv, fails, valid, study, unit):
+    axis = 1 if unit == "records" else 0          # summed away: the other unit is resampled
+    # counts per resampling unit: (units, L)
+    z = {k: (f & valid[_side(k)]).sum(axis=axis) for k, f in fails.items()}
+    n = {k: valid[_side(k)].sum(axis=axis) for k in fails}
+    fits = {k: fit_lognormal(lv, z[k].sum(0), n[k].sum(0)) for k in fails}
+    pairs = [("overturn", "overturn_isolated", "overturn"), ("failure", "failure_isolated", "overturn")]
+    rng = np.random.default_rng(study.seed)
+    n_units = next(iter(z.values())).shape[0]
+    boot = {k: np.full((study.n_boot, 2), np.nan) for k in fails}
+    for b in range(study.n_boot):
+        pick = rng.integers(0, n_units, n_units)
+        for k in fails:
+            med, beta, st = fit_lognormal(lv, z[k][pick].sum(0), n[k][pick].sum(0))
+            if st == "no failures":
+                med = np.inf
+            elif st == "all failed":
+                med = 0.0
+            boot[k][b] = (med, beta)
+    lo_q, hi_q = 50 * (1 - study.confidence), 50 * (1 + study.confidence)
+    curves = {}
+    for k in fails:
+        med, beta, st = fits[k]
+        bands = np.full((2, lv.size), np.nan)
+        mci = bci = (float("nan"), float("nan"))
+        if study.n_boot:
+            bm, bb = boot[k][:, 0], boot[k][:, 1]
+            P = np.empty((study.n_boot, lv.size))
+            for b in range(study.n_boot):
+                if np.isfinite(bm[b]) and bm[b] > 0 and np.isfinite(bb[b]):
+                    P[b] = lognormal_cdf(lv, bm[b], bb[b])
+                else:
+                    P[b] = 0.0 if bm[b] == np.inf else 1.0
+            bands = np.percentile(P, [lo_q, hi_q], axis=0)
+            with np.errstate(invalid="ignore"):      # inf medians (no failures in a replicate)
+                mci = tuple(float(x) for x in np.percentile(bm, [lo_q, hi_q], method="inverted_cdf"))
+            fb = bb[np.isfinite(bb)]
+            if fb.size:
+                bci = tuple(float(x) for x in np.percentile(fb, [lo_q, hi_q]))
+        curves[k] = FragilityCurve(k, lv, z[k].sum(0).astype(int), n[k].sum(0).astype(int), med, beta, st,
+                                   mci, bci, bands[0], bands[1])
+    ratio = {}
+    for name, iso_k, fix_k in pairs:
+        if iso_k not in fails:
+            continue
+        a, b = curves[iso_k].median, curves[fix_k].median
+        value = a / b if np.isfinite(a) and np.isfinite(b) else None
+        ci = (None, None)
+        if study.n_boot:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                rr = boot[iso_k][:, 0] / boot[fix_k][:, 0]
+            rr = rr[~np.isnan(rr)]
+            if rr.size:
+                with np.errstate(invalid="ignore"):
+                    ci = tuple(float(x) for x in np.percentile(rr, [lo_q, hi_q], method="inverted_cdf"))
+        ratio[name] = {"value": value, "ci": [_finite(x) for x in ci], "isolated": iso_k, "fixed": fix_k,
+                       "note": None if value is not None else
+                       f"undefined: isolated {curves[iso_k].status}, fixed {curves[fix_k].status} in the levels run"}
+    return curves, ratio
+
+
+# --- plot -------------------------------------------------------------------------------
+COLOURS = {"overturn": "#d62728", "overturn_isolated": "#1f77b4", "capacity_exceeded": "#6a3d9a",
+           "failure_isolated": "#2ca02c"}
+
+
+def plot_fragility(res: FragilityResult, path):
+    """The fragility curves of ``res`` as a PNG at ``path``."""
+    from ..report.dynamics_plots import _save
+    from ..report.plots import _pyplot
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    scale = 9.81 if res.im == "pga" else 1.0
+    xs = np.geomspace(res.levels[0], res.levels[-1], 200)
+    for k, c in res.curves.items():
+        col = COLOURS[k]
+        ax.plot(c.levels / scale, c.fraction, "o", ms=3.5, color=col, alpha=0.7)
+        if c.status in ("ok", "step"):
+            ax.plot(xs / scale, c.probability(xs), "-", color=col,
+                    label=f"{LABELS[k]} (median {c.median / scale:.3g}{' g' if res.im == 'pga' else ' m/s'}, "
+                          f"beta {c.beta:.2f})")
+        else:
+            ax.plot([], [], "o", color=col, label=f"{LABELS[k]} ({c.status})")
+        if c.band_lo is not None and np.all(np.isfinite(c.band_lo)):
+            ax.fill_between(c.levels / scale, c.band_lo, c.band_hi, color=col, alpha=0.15, lw=0)
+    ax.set_xlabel("PGA (g)" if res.im == "pga" else "PGV (m/s)")
+    ax.set_ylabel("probability")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(alpha=0.3)
+    ax.set_title(f"fragility: {len(res.record_labels)} records x {res.levels.size} levels x {res.samples.n} "
+                 f"samples; bands {res.study.confidence:.0%} ({res.bootstrap_unit} bootstrap)", fontsize=9)
+    ax.legend(fontsize=7.5, loc="lower right")
+    fig.tight_layout()
+    return _save(fig, path)
