@@ -185,3 +185,37 @@ def test_cli(tmp_path):
     bad = subprocess.run(cmd[:8] + ["0.1:1:5", "--out", str(tmp_path / "o2")], capture_output=True, text=True, check=False,
                          timeout=300)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "has no unit" in bad.stderr
+
+
+def test_energy_early_exit_decides_without_changing_outcomes():
+    """early_exit="outcome": a run stops once its energy plus all the rest of the record could pump
+    in stays below the overturning barrier. Outcomes equal those of full runs (with and without the
+    sweeps' early exit) over a grid of gains; on a record whose strong part is followed by a weak
+    tail the exit fires (S_DECIDED) and the run ends before the record does."""
+    from statue2model.dynamics import kernel as K
+    from statue2model.dynamics.batch import run_batch
+    from statue2model.dynamics.model import RockingModel
+    from statue2model.geometry.rocking_params import RockingParams
+
+    p = RockingParams.rectangular_block(0.1, 0.5, 100.0)
+    model = RockingModel.housner(p, e_L=0.9, e_R=0.9)
+    t = np.arange(0.0, 20.0, 0.01)
+    strong = np.where(t < 3.0, np.sin(2 * np.pi * 1.5 * t), 0.0)
+    tail = np.where(t >= 3.0, 0.02 * np.sin(2 * np.pi * 3.1 * t), 0.0)        # far below uplift
+    rec = motions.record(strong + tail, 0.01)
+    kind, M0, smp = rec.kernel_args()
+    gains = np.linspace(1.5, 6.0, 40)                                          # m/s^2 peaks of the burst
+    M = np.tile(M0, (gains.size, 1))
+    M[:, K.MA] *= gains
+    out = {}
+    for mode in (False, True, "outcome"):
+        P = np.tile(model.kernel_vector(early_exit=mode), (gains.size, 1))
+        out[mode] = run_batch(model, P, np.full(gains.size, kind), M, smp, np.full(gains.size, 22.0), rtol=1e-8)
+    ot = {m: out[m][:, K.S_OVERTURNED] > 0 for m in out}
+    assert np.array_equal(ot[False], ot["outcome"]) and np.array_equal(ot[True], ot["outcome"])
+    assert ot[False].any() and not ot[False].all()                             # the grid spans the boundary
+    dec = (out["outcome"][:, K.S_DECIDED] > 0) & ~ot["outcome"]
+    assert dec.any()
+    assert np.all(out["outcome"][dec, K.S_T_FINAL] < 20.0)
+    with pytest.raises(InputError):
+        model.kernel_vector(early_exit="yes")

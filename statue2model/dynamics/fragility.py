@@ -36,8 +36,10 @@ is still, a run stops once it has peaked on both sides without any impact able t
 energy (the kernel's ``early_exit``). A body at rest whose remaining record stays
 below the uplift limits cannot move again: the kernel's stick phase already skips the
 rest of the record without integrating (it checks each sample once, in closed form),
-so stopping it earlier saves nothing measurable. A body still rocking after the last
-exceedance is integrated on: a sub-uplift ground motion can still pump a rocking body.
+so stopping it earlier saves nothing measurable. A body still rocking is integrated on
+(a sub-uplift ground motion can still pump it) until its outcome is decided on energy
+(``kernel_vector(early_exit="outcome")``): its energy plus all the energy the rest of the
+record could pump in stays below the overturning barrier (docs/fragility.md).
 
 Example
 -------
@@ -317,8 +319,12 @@ class FragilityResult:
         out = []
         for c in self.curves.values():
             if c.status in ("ok", "step"):
-                mci = f" [{c.median_ci[0]:.4g}, {c.median_ci[1]:.4g}]" if self.study.n_boot else ""
-                bci = f" [{c.beta_ci[0]:.3f}, {c.beta_ci[1]:.3f}]" if self.study.n_boot else ""
+                banded = self.study.n_boot and all(math.isfinite(x) for x in c.median_ci)
+                mci = f" [{c.median_ci[0]:.4g}, {c.median_ci[1]:.4g}]" if banded else ""
+                bci = f" [{c.beta_ci[0]:.3f}, {c.beta_ci[1]:.3f}]" if banded else ""
+                if self.study.n_boot and not banded:
+                    mci = (f" (no band: the bootstrap over the {self.bootstrap_unit} has one unit to resample; "
+                           f"use at least {MIN_BOOT_RECORDS} records or 2 parameter samples)")
                 out.append(f"{LABELS[c.outcome]}: median {c.median:.4g} {u}{mci}, beta {c.beta:.3f}{bci}"
                            f"{' (a step: failures separated by one level)' if c.status == 'step' else ''}")
             else:
@@ -386,7 +392,7 @@ def _fixed(model, records, gains, samples, study, executor, max_steps):
     groups: dict = {}
     for s, m in enumerate(models):
         groups.setdefault((m.e_L, m.e_R), []).append(s)
-    Pall = np.array([m.kernel_vector(early_exit=True) for m in models])
+    Pall = np.array([m.kernel_vector(early_exit="outcome") for m in models])
     lims = np.array([m.uplift_limits for m in models])
     jobs = []          # (record, sample indices (rows,), level indices (rows,), P, kinds, M, t_end, quiet)
     for r, rec in enumerate(records):
@@ -538,8 +544,9 @@ def _fit_all(lv, fails, valid, study, unit):
     pairs = [("overturn", "overturn_isolated", "overturn"), ("failure", "failure_isolated", "overturn")]
     rng = np.random.default_rng(study.seed)
     n_units = next(iter(z.values())).shape[0]
-    boot = {k: np.full((study.n_boot, 2), np.nan) for k in fails}
-    for b in range(study.n_boot):
+    n_boot = study.n_boot if n_units >= 2 else 0     # one unit: every replicate the same, no band
+    boot = {k: np.full((n_boot, 2), np.nan) for k in fails}
+    for b in range(n_boot):
         pick = rng.integers(0, n_units, n_units)
         for k in fails:
             med, beta, st = fit_lognormal(lv, z[k][pick].sum(0), n[k][pick].sum(0))
@@ -554,10 +561,10 @@ def _fit_all(lv, fails, valid, study, unit):
         med, beta, st = fits[k]
         bands = np.full((2, lv.size), np.nan)
         mci = bci = (float("nan"), float("nan"))
-        if study.n_boot:
+        if n_boot:
             bm, bb = boot[k][:, 0], boot[k][:, 1]
-            P = np.empty((study.n_boot, lv.size))
-            for b in range(study.n_boot):
+            P = np.empty((n_boot, lv.size))
+            for b in range(n_boot):
                 if np.isfinite(bm[b]) and bm[b] > 0 and np.isfinite(bb[b]):
                     P[b] = lognormal_cdf(lv, bm[b], bb[b])
                 else:
@@ -577,7 +584,7 @@ def _fit_all(lv, fails, valid, study, unit):
         a, b = curves[iso_k].median, curves[fix_k].median
         value = a / b if np.isfinite(a) and np.isfinite(b) else None
         ci = (None, None)
-        if study.n_boot:
+        if n_boot:
             with np.errstate(invalid="ignore", divide="ignore"):
                 rr = boot[iso_k][:, 0] / boot[fix_k][:, 0]
             rr = rr[~np.isnan(rr)]

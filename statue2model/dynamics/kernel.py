@@ -378,6 +378,49 @@ def _fill_still(out_t, out_y, io, t_until):
 
 
 @njit(cache=True)
+def _remaining_abs_acc(M, samples):
+    """(n,) bound of the ground motion still to come from sample k: |gain| x the integral of |a| from
+    t_k to the end, m/s, for a record that is linear between samples (the integral of |a| over
+    one interval is at most dt (|a_k| + |a_k+1|) / 2)."""
+    n = samples.shape[0]
+    out = np.zeros(n)
+    g = abs(M[MA]) * M[MDT] * 0.5
+    for k in range(n - 2, -1, -1):
+        out[k] = out[k + 1] + g * (abs(samples[k]) + abs(samples[k + 1]))
+    return out
+
+
+@njit(cache=True, inline="always")
+def _energy_bound(th, om, s, P):
+    """sqrt of an upper bound of the mechanical energy per unit pivot inertia, 1/s: 1/2 theta'^2
+    + p^2 U(q) with U(q) = int_0^q alpha sin(delta - x) dx <= cos(delta - q) - cos(delta) (alpha <= 1;
+    linearised: delta q - q^2 / 2)."""
+    q = s * th
+    if s > 0:
+        p2, d = P[P2R], P[DR]
+    else:
+        p2, d = P[P2L], P[DL]
+    if P[LIN] > 0.0:
+        u = d * q - 0.5 * q * q
+    else:
+        u = math.cos(d - q) - math.cos(d)
+    return math.sqrt(max(0.0, 0.5 * om * om + p2 * u))
+
+
+@njit(cache=True, inline="always")
+def _barrier(P):
+    """sqrt of a lower bound, over both sides, of the energy per unit inertia that overturning
+    needs: p^2 alpha (1 - cos delta) (linearised: p^2 alpha delta^2 / 2), 1/s."""
+    if P[LIN] > 0.0:
+        r = P[P2R] * P[AR] * 0.5 * P[DR] * P[DR]
+        left = P[P2L] * P[AL] * 0.5 * P[DL] * P[DL]
+    else:
+        r = P[P2R] * P[AR] * (1.0 - math.cos(P[DR]))
+        left = P[P2L] * P[AL] * (1.0 - math.cos(P[DL]))
+    return math.sqrt(max(0.0, min(r, left)))
+
+
+@njit(cache=True)
 def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0, t_end,
                     rtol, max_steps, out_t, out_y, imp, peaks, S):
     """Integrate one run. Arrays written: out_y (len(out_t), 3) = theta, theta',
@@ -450,6 +493,26 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     overturned = False
     early = P[EARLY] > 0.0
     t_quiet = M[MT1] if kind != M_NONE else t0
+    # early exit on energy (records, P[EARLY] = 2: the outcome only, the maxima need not be final):
+    # |d sqrt(E/I)/dt| <= p^2 |a_g| / (g sqrt 2) and impacts
+    # (e <= 1) only take energy away, so once sqrt(E/I) + that times the remaining integral of
+    # |a_g| is below the overturning barrier the body cannot overturn any more: decided
+    bounded = P[EARLY] > 1.5 and kind == M_RECORD
+    if bounded:
+        for k in range(eLe.shape[0]):
+            if eLe[k] > 1.0:
+                bounded = False
+        for k in range(eRe.shape[0]):
+            if eRe[k] > 1.0:
+                bounded = False
+    if bounded:
+        a_rem = _remaining_abs_acc(M, samples)
+        k_pump = max(P[P2L], P[P2R]) / (P[GRAV] * math.sqrt(2.0))
+        barrier = _barrier(P) * (1.0 - 1e-9)
+    else:
+        a_rem = np.zeros(1)
+        k_pump = 0.0
+        barrier = 0.0
     seen_r = False
     seen_l = False
     t_last = t
@@ -558,6 +621,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 t = t + 1e-12 * max(1.0, abs(t))
             continue
         # extremum of q inside the step
+        validated = False     # the dense output checked against a direct step inside this step
         x_e = -1.0
         q_e = 0.0
         is_peak = False
@@ -566,7 +630,15 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         xe1 = 1.0
         Fe1 = dn_
         found = (d0 > 0.0 and dn_ <= 0.0) or (d0 < 0.0 and dn_ >= 0.0)
-        if not found and f0 * fn <= 0.0:
+        scan = not found and f0 * fn <= 0.0
+        if scan:
+            # theta' cannot reach zero inside the step when it stays, at both ends, above
+            # twice h times the largest theta'' of the step's stages (13 points of it)
+            amax = 0.0
+            for k in range(_NS + 1):
+                amax = max(amax, abs(Ks[k, 1]))
+            scan = min(abs(d0), abs(dn_)) <= 2.0 * h * amax
+        if scan:
             # theta'' changes sign: theta' may cross zero and come back inside the step
             if not dense:
                 _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
@@ -664,6 +736,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 # check the dense output against a step taken to the event
                 thv, omv = _step(t, th, om, f0, x_ev, s, reg, P, seg, Ks)
                 nrhs += _NS - 1
+                validated = True
                 if not floor and (abs(thv - th_ev) > 10.0 * (atol_t + rtol * abs(thv)) or
                                   abs(omv - om_ev) > 10.0 * (atol_o + rtol * abs(omv))):
                     retry = True
@@ -672,25 +745,27 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         if x_e >= 0.0 and x_e < h and not retry and not floor:
             thv, omv = _step(t, th, om, f0, x_e, s, reg, P, seg, Ks)
             nrhs += _NS - 1
+            validated = True
             if abs(s * thv - q_e) > 10.0 * (atol_t + rtol * abs(thv)) or abs(omv) > 10.0 * (atol_o + rtol * abs(om)):
                 retry = True
             else:
                 q_e = s * thv
         t_ev = t + x_ev if x_ev < h else tn
-        if not retry and not floor and reg == 0:
+        checked = validated
+        poor = False
+        if not retry and not floor and reg == 0 and dense and not validated:
             # in the rolling transition (stiff when theta_side is small) the dense output
-            # may be poor while the end point passes: check it at mid-step (a fixed point,
-            # so the output grid never changes the solution)
+            # may be poor while the end point passes: where the step's extremum scan read it
+            # and no step to an extremum or an event has checked it already, check it at
+            # mid-step (a fixed point) and retry shorter if it is poor.
+            # Output samples never change the solution: they get their own check below.
             xo = 0.5 * h
-            if not dense:
-                _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
-                nrhs += 3
-                dense = True
             thv, omv = _step(t, th, om, f0, xo, s, reg, P, seg, Ks)
             nrhs += _NS - 1
             if abs(thv - D8.dense_eval(xo / h, F, 0, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
                     abs(omv - D8.dense_eval(xo / h, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv)):
                 retry = True
+            checked = True
         if retry:
             nsteps -= 1
             nrej += 1
@@ -729,8 +804,20 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
                     nrhs += 3
                     dense = True
-                tho = D8.dense_eval(xo / h, F, 0, th)
-                omo = D8.dense_eval(xo / h, F, 1, om)
+                if reg == 0 and not checked:
+                    # the same mid-step check, for the output only (no retry): a poor dense
+                    # output is replaced by steps taken to each sample
+                    thv, omv = _step(t, th, om, f0, 0.5 * h, s, reg, P, seg, Ks)
+                    nrhs += _NS - 1
+                    poor = abs(thv - D8.dense_eval(0.5, F, 0, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
+                        abs(omv - D8.dense_eval(0.5, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv))
+                    checked = True
+                if reg == 0 and poor:
+                    tho, omo = _step(t, th, om, f0, xo, s, reg, P, seg, Ks)
+                    nrhs += _NS - 1
+                else:
+                    tho = D8.dense_eval(xo / h, F, 0, th)
+                    omo = D8.dense_eval(xo / h, F, 1, om)
             out_y[io, 0] = tho
             out_y[io, 1] = omo
             out_y[io, 2] = 1.0 if reg == 0 else 2.0
@@ -746,6 +833,14 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 if s < 0 and qn > qmax_l:
                     qmax_l = qn
             h = h_next
+            if hits and bounded and t >= M[MT0]:
+                kk = int(math.floor((t - M[MT0]) / M[MDT] + 0.5)) - 1     # from the sample before t
+                if kk < 0:
+                    kk = 0
+                rem = a_rem[kk] if kk < a_rem.shape[0] else 0.0
+                if _energy_bound(th, om, s, P) + k_pump * rem < barrier:
+                    S[S_DECIDED] = 1.0
+                    break
             if hits and t < t_end:
                 seg_end = segment(t, kind, M, samples, seg)
                 f0 = _rhs(t, th, s, reg, P, seg)

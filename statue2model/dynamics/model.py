@@ -290,10 +290,15 @@ class RockingModel:
         return max(self.e_L.values) ** 2 * p.I_L / p.I_R > 1 + 1e-12 or \
             max(self.e_R.values) ** 2 * p.I_R / p.I_L > 1 + 1e-12
 
-    def kernel_vector(self, rest_tol: float = 1e-9, early_exit: bool = False) -> np.ndarray:
+    def kernel_vector(self, rest_tol: float = 1e-9, early_exit: bool | str = False) -> np.ndarray:
         """The flat parameter vector of :mod:`statue2model.dynamics.kernel`. ``early_exit``:
-        stop once the ground is still, a peak has been seen on each side and no impact
-        can add energy (the maxima and the outcome are then final; for sweeps)."""
+        True - stop once the ground is still, a peak has been seen on each side and no impact
+        can add energy (the maxima and the outcome are then final; for sweeps); "outcome" -
+        also stop a record's run as soon as its energy plus all the energy the rest of the
+        record could pump in stays below the overturning barrier (the outcome is final, the
+        maxima are not; for fragility studies)."""
+        if early_exit not in (True, False, "outcome"):
+            raise InputError(f"early_exit must be True, False or 'outcome', got {early_exit!r}")
         p = self.params
         P = np.zeros(K.N_P)
         P[K.P2L], P[K.P2R] = p.p_L**2, p.p_R**2
@@ -306,7 +311,7 @@ class RockingModel:
         P[K.LIN] = 1.0 if self.linearised else 0.0
         P[K.LIM_UP], P[K.LIM_DN] = self.uplift_limits
         P[K.REST_TOL] = rest_tol
-        P[K.EARLY] = 1.0 if early_exit and not self.energy_gain_possible else 0.0
+        P[K.EARLY] = 0.0 if not early_exit or self.energy_gain_possible else 2.0 if early_exit == "outcome" else 1.0
         return P
 
     def to_dict(self) -> dict:
