@@ -147,3 +147,30 @@ def join_dash_values(argv: list[str], options: dict = DASH_VALUES) -> list[str]:
         out.append(a)
         i += 1
     return out
+
+
+def scan_or_params(source: str):
+    """(path, params): ``source`` a scan (params None: the caller loads the body) or a PARAMS.json
+    of `statue2model props` (its RockingParams); an InputError naming the file otherwise."""
+    from pathlib import Path
+
+    from ..errors import InputError
+    from ..pipeline.run import MESH_SUFFIXES
+
+    path = Path(source)
+    if not path.is_file():
+        raise InputError(f"file not found: {source}")
+    if path.suffix.lower() == ".json":
+        from ..geometry.rocking_params import RockingParams
+        from ..io.files import read_json
+
+        data = read_json(path)
+        if not isinstance(data, dict):
+            raise InputError(f"{source}: not a JSON object of rocking parameters")
+        try:
+            return path, RockingParams.from_dict(data)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{source} does not hold rocking parameters ({exc})") from None
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise InputError(f"{source}: expected a scan ({', '.join(MESH_SUFFIXES)}) or a PARAMS.json")
+    return path, None

@@ -10,12 +10,10 @@ Writes DIR/crosscheck.json (a list ``cases``) and overlay plots (PNG).
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float
+from .argtypes import finite_float, positive_float, scan_or_params
 
-MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
 
 
 def add_parsers(sub) -> None:
@@ -57,19 +55,9 @@ def load_scene(source: str, direction: float | None = None):
     """A StatueScene from a scan or a PARAMS.json."""
     from ..crosscheck.statue_scene import StatueScene
 
-    path = Path(source)
-    if not path.is_file():
-        raise InputError(f"file not found: {source}")
-    if path.suffix.lower() == ".json":
-        from ..io.files import read_json
-        from ..geometry.rocking_params import RockingParams
-
-        data = read_json(path)
-        if not isinstance(data, dict):
-            raise InputError(f"{source}: not a JSON object of rocking parameters")
-        return StatueScene.from_params(RockingParams.from_dict(data))
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise InputError(f"{source}: expected a scan ({', '.join(MESH_SUFFIXES)}) or a PARAMS.json")
+    path, params = scan_or_params(source)
+    if params is not None:
+        return StatueScene.from_params(params)
     from ..geometry.body import load_body
 
     return StatueScene.from_body(load_body(path), direction)

@@ -16,9 +16,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float
+from .argtypes import finite_float, positive_float, scan_or_params
 
-MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
 
 
 def add_parsers(sub) -> None:
@@ -62,22 +61,9 @@ def add_parsers(sub) -> None:
 
 
 def _params(source: str, direction):
-    from ..geometry.rocking_params import RockingParams
-    from ..io.files import read_json
-
-    path = Path(source)
-    if not path.is_file():
-        raise InputError(f"file not found: {source}")
-    if path.suffix.lower() == ".json":
-        data = read_json(path)
-        if not isinstance(data, dict):
-            raise InputError(f"{source}: not a JSON object of rocking parameters")
-        try:
-            return RockingParams.from_dict(data)
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{source} does not hold rocking parameters ({exc})") from None
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise InputError(f"{source}: expected a scan ({', '.join(MESH_SUFFIXES)}) or a PARAMS.json")
+    path, params = scan_or_params(source)
+    if params is not None:
+        return params
     from ..geometry.body import load_body
 
     return load_body(path).rocking(direction)
