@@ -405,3 +405,26 @@ def test_stress_ball_at_the_rim():
     assert r.finite and r.ball_left_groove and r.outcome == "ball left its groove"
     with pytest.raises(InputError):
         simulate_isolator(sc, motions.free(), u0=0.2, t_end=1.0)
+
+
+@pytest.mark.slow
+def test_free_standing_statue_checked_against_the_coupled_model(statue):
+    """mount 'contact' with the user's model: the 2D side of 'statue overturns' and 'capacity exceeded'
+    is the coupled plate + statue model, and the counted case is the failure itself. A 10 mm capacity
+    under a 0.2 g record: both models fail by the capacity; the fails case is met."""
+    from dataclasses import replace
+
+    from statue2model.crosscheck.isolator_cases import isolated_statue_cases
+    from statue2model.crosscheck.runs import user_model
+
+    iso = replace(_design_isolator(statue, groove="tiles"), capacity=0.01)
+    m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)
+    cases, _, _ = isolated_statue_cases(iso, m, SimSettings(maximal_coordinates=True), ContactSettings(),
+                                        free_time=0.5, mount="contact", label="free", model=user_model(statue))
+    by = {c.name: c for c in cases}
+    fails = by["free: fails (overturns or capacity exceeded)"]
+    assert fails.counted and fails.met and fails.value_2d == 1.0 and fails.value_3d == 1.0
+    assert "coupled 2D model" in by["free: statue overturns"].note
+    cap = by["free: isolator capacity exceeded"]
+    assert cap.value_2d == 1.0 and cap.value_3d == 1.0
+    assert cap.status == "met" and by["free: statue overturns"].status == "met"      # both agree: counted

@@ -231,8 +231,12 @@ def test_frozen_and_to_dict():
         sp.S = 2.0
     d = sp.to_dict()
     assert d == {"code": "EC8-1", "a_g": pytest.approx(0.25 * G), "S": 1.15, "eta": 1.0, "F0": 2.5,
-                 "T_B": 0.2, "T_C": 0.6, "T_D": 2.0, "xi": 5.0}
+                 "T_B": 0.2, "T_C": 0.6, "T_D": 2.0, "xi": 5.0, "limit_state": None}
     assert D.ElasticSpectrum(**json.loads(json.dumps(d))) == sp
+    n = D.parse_spectrum("ntc2018:ag=0.1g,F0=2.5,Tc=0.3,soil=C,ls=slv")
+    assert n.limit_state == "SLV" and D.ElasticSpectrum(**json.loads(json.dumps(n.to_dict()))) == n
+    with pytest.raises(InputError, match="limit state"):
+        D.parse_spectrum("ntc2018:ag=0.1g,F0=2.5,Tc=0.3,ls=ULS")
 
 
 @pytest.mark.parametrize("text,ref", [

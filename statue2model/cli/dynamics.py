@@ -490,7 +490,7 @@ def add_parsers(sub) -> None:
                                    "and spectra.png.")
     p.add_argument("--spectrum", required=True, metavar="SPEC",
                    help="ground spectrum: ec8:ag=A[,ground=A-E,type=1|2,xi=5] | ntc2018:ag=A,F0=F,Tc=S[,soil=A-E,"
-                        "topo=T1-T4,xi=5] (the limit state's a_g, F0, Tc* of the site)")
+                        "topo=T1-T4,xi=5,ls=SLO|SLD|SLV|SLC|SLA] (the limit state's a_g, F0, Tc* of the site)")
     p.add_argument("--floor", metavar="z=Z,H=H,T1=S[,code=ec8|ntc2018]",
                    help="match the floor spectrum at height z of a building of height H (storeys or m) and "
                         "period T1 instead (EC8 4.3.5.2 / NTC 2018 7.2.3; default code: the spectrum's)")

@@ -33,7 +33,7 @@ def add_parsers(sub) -> None:
     src = d.add_mutually_exclusive_group(required=True)
     src.add_argument("--spectrum", metavar="SPEC",
                      help="elastic response spectrum: ec8:ag=0.25g,ground=C,type=1[,xi=5] | "
-                          "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B[,topo=T1][,xi=5]")
+                          "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B[,topo=T1][,xi=5][,ls=SLV]")
     src.add_argument("--motion", metavar="SPEC", help="a ground motion simulated on every candidate (as for `rock`)")
     d.add_argument("--mu", type=finite_float, required=True, help="rolling friction coefficient (Tables 19, 25)")
     d.add_argument("--target", type=_accel, metavar="A",

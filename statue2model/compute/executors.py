@@ -269,8 +269,6 @@ class ProcessExecutor(Executor):
                     bar.update(1)
             return [f.result() for f in futures]
         except BaseException:
-            for f in futures:
-                f.cancel()
             self._abandon()
             raise
         finally:
@@ -278,12 +276,15 @@ class ProcessExecutor(Executor):
                 bar.close()
 
     def _abandon(self) -> None:
-        """On an error or Ctrl-C: stop the workers now, without waiting for their tasks."""
+        """On an error or Ctrl-C: stop the workers now, without waiting for their tasks. The
+        pending futures are not cancelled here: the terminated workers break the pool and its
+        manager thread fails them all (cancelling them first races with it: CPython < 3.12,
+        gh-107219, printed an InvalidStateError traceback from that thread on Ctrl-C)."""
         pool, self._pool = self._pool, None
         if pool is None:
             return
         procs = list(getattr(pool, "_processes", {}).values())
-        pool.shutdown(wait=False, cancel_futures=True)
+        pool.shutdown(wait=False, cancel_futures=False)
         for p in procs:
             if p.is_alive():
                 p.terminate()

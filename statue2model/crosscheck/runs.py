@@ -816,7 +816,7 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
                 say("isolated statue, free-standing")
                 c, h, r = isolated_statue_cases(iso_scene, motion, iso_settings, contact, mu_3d=calib.get("mu_3d"),
                                                 free_time=2.0, mount="contact",
-                                                label="isolated statue (free-standing)")
+                                                label="isolated statue (free-standing)", model=user)
                 cases += c; hist.update(h); runs.update(r)
     if calib is not None:
         runs["calibration"] = calib

@@ -194,7 +194,9 @@ def add_statue(world: World, scene: StatueScene, contact: ContactSettings, theta
                       baseOrientation=quat_from_matrix(Ry), baseInertialFramePosition=scene.com.tolist(),
                       baseInertialFrameOrientation=quat_from_matrix(V),
                       useMaximalCoordinates=int(world.settings.maximal_coordinates))
-    world.call("changeDynamics", body, -1, localInertiaDiagonal=w.tolist(), linearDamping=0.0, angularDamping=0.0,
+    # mass again: a maximal-coordinate body given localInertiaDiagonal alone gets mass 0 (NaN at the first step)
+    world.call("changeDynamics", body, -1, mass=scene.mass, localInertiaDiagonal=w.tolist(), linearDamping=0.0,
+               angularDamping=0.0,
                lateralFriction=contact.friction, restitution=contact.restitution, rollingFriction=0.0,
                spinningFriction=0.0, collisionMargin=contact.margin)
     return body

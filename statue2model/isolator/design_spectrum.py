@@ -113,7 +113,9 @@ class ElasticSpectrum:
     code: "EC8-1", "EC8-2" or "NTC2018"; a_g: design ground acceleration on type A
     ground, m/s^2; S: soil factor (S_S S_T for NTC); eta: damping correction; F0:
     plateau amplification (2.5 for EC8); T_B, T_C, T_D: corner periods, s; xi:
-    damping ratio in percent.
+    damping ratio in percent; limit_state: the NTC limit state the site parameters belong
+    to (SLO, SLD, SLV, SLC, or SLA, the damage to artistic contents of the Linee Guida for
+    cultural heritage), a label carried into the reports (None if not given).
     """
 
     code: str
@@ -125,6 +127,7 @@ class ElasticSpectrum:
     T_C: float
     T_D: float
     xi: float = 5.0
+    limit_state: str | None = None
 
     def __post_init__(self):
         for name in ("a_g", "S", "eta", "F0", "T_B", "T_C", "T_D"):
@@ -205,11 +208,20 @@ def ntc_soil(soil: str, a_g: float, F0: float, Tc_star: float) -> tuple[float, f
     return S_S, cc * Tc_star ** ex
 
 
+NTC_LIMIT_STATES = ("SLO", "SLD", "SLV", "SLC", "SLA")
+
+
 def ntc2018(a_g: float, F0: float, Tc_star: float, soil: str = "A", topography: str = "T1",
-            xi: float = 5.0) -> ElasticSpectrum:
+            xi: float = 5.0, limit_state: str | None = None) -> ElasticSpectrum:
     """NTC 2018 §3.2.3.2.1 horizontal elastic spectrum from the site parameters
     a_g (m/s^2), F0 and T_C* (s): S = S_S S_T, T_C = C_C T_C*, T_B = T_C / 3,
-    T_D = 4.0 a_g/g + 1.6."""
+    T_D = 4.0 a_g/g + 1.6. ``limit_state`` (NTC_LIMIT_STATES) names the state whose return
+    period the given a_g, F0, T_C* are the site's for (they come from the national hazard
+    grid for that state; this function does not look them up)."""
+    if limit_state is not None:
+        limit_state = str(limit_state).strip().upper()
+        if limit_state not in NTC_LIMIT_STATES:
+            raise InputError(f"NTC limit state {limit_state!r} is not one of {', '.join(NTC_LIMIT_STATES)}")
     a_g = _finite("design ground acceleration a_g (m/s^2)", a_g)
     S_S, C_C = ntc_soil(soil, a_g, F0, Tc_star)
     topo = str(topography).strip().upper()
@@ -217,7 +229,7 @@ def ntc2018(a_g: float, F0: float, Tc_star: float, soil: str = "A", topography: 
         raise InputError(f"NTC topographic category {topography!r} is not one of T1, T2, T3, T4")
     T_C = C_C * float(Tc_star)
     return ElasticSpectrum("NTC2018", a_g, S_S * NTC_TOPOGRAPHY[topo], damping_correction(xi), float(F0),
-                           T_C / 3.0, T_C, 4.0 * a_g / G + 1.6, float(xi))
+                           T_C / 3.0, T_C, 4.0 * a_g / G + 1.6, float(xi), limit_state)
 
 
 # --- command-line form ---------------------------------------------------------------
@@ -241,13 +253,17 @@ def _number(key: str, text: str) -> float:
 
 
 _KEYS = {"ec8": ({"ag"}, {"ground", "type", "xi"}),
-         "ntc2018": ({"ag", "f0", "tc"}, {"soil", "topo", "xi"})}
+         "ntc2018": ({"ag", "f0", "tc"}, {"soil", "topo", "xi", "ls"})}
 
 
 def parse_spectrum(text: str) -> ElasticSpectrum:
     """A spectrum from its command-line form, e.g. "ec8:ag=0.25g,ground=C,type=1,xi=5" or
-    "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1" (ag with a unit, g or m/s2;
-    keys are case-insensitive)."""
+    "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1,ls=SLV" (ag with a unit, g or m/s2;
+    keys are case-insensitive; ls: the NTC limit state the site parameters are for).
+
+    >>> parse_spectrum("ntc2018:ag=0.1g,F0=2.5,Tc=0.3,soil=C,ls=sla").limit_state
+    'SLA'
+    """
     if not isinstance(text, str):
         raise InputError(f"spectrum must be a string like 'ec8:ag=0.25g,ground=C', got {text!r}")
     code, sep, rest = text.partition(":")
@@ -280,4 +296,4 @@ def parse_spectrum(text: str) -> ElasticSpectrum:
             raise InputError(f"spectrum: type must be 1 or 2, got {kind!r}")
         return ec8(a_g, values.get("ground", "A"), int(kind), xi)
     return ntc2018(a_g, _number("F0", values["f0"]), _number("Tc", values["tc"]),
-                   values.get("soil", "A"), values.get("topo", "T1"), xi)
+                   values.get("soil", "A"), values.get("topo", "T1"), xi, values.get("ls"))

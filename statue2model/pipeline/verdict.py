@@ -75,7 +75,7 @@ def hazard(cfg) -> dict:
     fields = dict(kv.split("=", 1) for kv in text.split(":", 1)[-1].split(",") if "=" in kv)
     soil = fields.get("ground") or fields.get("soil") or "A"
     out = {"spectrum": text, "code": sp.code, "soil": soil, "a_g": sp.a_g, "S": sp.S, "pga": sp.a_g * sp.S,
-           "limit_state": fields.get("ls") or fields.get("limit") or None, "floor": fields.get("floor")}
+           "limit_state": sp.limit_state, "floor": fields.get("floor")}
     out["text"] = (f"{sp.code} spectrum, ground/soil {soil}, a_g {sp.a_g / G:.3f} g, S {sp.S:.2f}: design PGA "
                    f"{out['pga'] / G:.3f} g" + (f", limit state {out['limit_state']}" if out["limit_state"] else "")
                    + (f", floor {out['floor']}" if out["floor"] else ""))
