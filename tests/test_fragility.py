@@ -219,3 +219,14 @@ def test_energy_early_exit_decides_without_changing_outcomes():
     assert np.all(out["outcome"][dec, K.S_T_FINAL] < 20.0)
     with pytest.raises(InputError):
         model.kernel_vector(early_exit="yes")
+
+
+def test_pgv_of_a_drifting_record_is_read_after_a_high_pass():
+    """A 20 s record with a spurious constant acceleration offset (a velocity drift) keeps its PGV:
+    the offset is removed by the high-pass (fragility.PGV_HIGHPASS) before integrating."""
+    t = np.arange(0.0, 20.0, 0.01)
+    a = 2.0 * np.sin(2 * np.pi * 1.0 * t) * np.exp(-((t - 8.0) / 3.0) ** 2)
+    clean = pgv(motions.record(a, 0.01))
+    drifting = pgv(motions.record(a + 0.05, 0.01))            # raw integral: +1 m/s by the end
+    assert clean == pytest.approx(2.0 / (2 * np.pi), rel=0.05)
+    assert drifting == pytest.approx(clean, rel=0.05)

@@ -31,7 +31,8 @@ def add_parsers(sub) -> None:
     p.add_argument("--units", choices=["g", "m/s2"], default=None, help="units of the CSV records (default m/s2)")
     p.add_argument("--levels", required=True, metavar="LO:HI:N", help="N intensity levels from LO to HI, e.g. "
                    "0.05g:1g:40 (PGA) or 0.05:1:20 (PGV, m/s)")
-    p.add_argument("--im", choices=["pga", "pgv"], default="pga", help="intensity measure (default pga)")
+    p.add_argument("--im", choices=["pga", "pgv"], default="pga", help="intensity measure (default pga; pgv: "
+                   "from the acceleration high-passed at 0.1 Hz for records of 10 s or more)")
     p.add_argument("--samples", type=int, default=1, metavar="N", help="parameter samples per record and level "
                    "(default 1)")
     p.add_argument("--vary", action="append", default=[], metavar="NAME=LO:HI",
