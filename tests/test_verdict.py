@@ -100,3 +100,21 @@ def test_verdict_box_is_rendered_first_in_the_browser(chromium, tmp_path):
     assert int(attrs["data-verdict-height"]) > 40
     assert attrs["data-verdict-first"] == "true"
     assert "Recommendation: isolate with &lt;the&gt; designed device" in dom
+
+
+def test_fragility_line_of_the_assessment():
+    """The dynamics stage's fragility numbers become one assessment line: medians with their bands,
+    the probabilities at the design PGA (tiny ones as '< 0.01'), the isolator's ratio of medians."""
+    from statue2model.pipeline.verdict import fragility
+
+    dyn = {"fragility_runs": 70, "fragility_median_fixed": 0.632 * 9.81, "fragility_median_ci_fixed": [6.0, 6.45],
+           "fragility_p_design_fixed": 4e-6, "fragility_median_isolated": 0.572 * 9.81,
+           "fragility_median_ci_isolated": [4.8, 6.2], "fragility_p_design_isolated": 0.3,
+           "fragility_ratio": 0.905, "fragility_ratio_ci": [0.76, 1.02], "fragility_status_fixed": "ok"}
+    f = fragility(dyn, 0.287 * 9.81, True)
+    assert "0.632 g (0.612 g-0.657 g)" in f["line"] and "at the design PGA < 0.01" in f["line"]
+    assert "P(failure) at the design PGA 0.30" in f["line"] and "multiplies the median by 0.91 (0.76-1.02)" in f["line"]
+    assert "isolator" not in fragility(dyn, 0.287 * 9.81, False)["line"]
+    none = fragility({**dyn, "fragility_median_fixed": None, "fragility_status_fixed": "no failures"}, 2.8, False)
+    assert "not fitted (no failures)" in none["line"]
+    assert fragility({}, 2.8, True) == {} and fragility(None, 2.8, True) == {}

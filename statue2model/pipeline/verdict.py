@@ -184,6 +184,9 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     mf, mi = dyn.get("fragility_median_fixed"), dyn.get("fragility_median_isolated")
     pf, pi = dyn.get("fragility_p_design_fixed"), dyn.get("fragility_p_design_isolated")
 
+    def prob(x):
+        return "< 0.01" if x < 0.005 else "> 0.99" if x > 0.995 else f"{x:.2f}"
+
     def med(m, ci, status):
         if m is None:
             return f"not fitted ({status})"
@@ -193,11 +196,11 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
             f"median overturning PGA on a fixed base "
             f"{med(mf, dyn.get('fragility_median_ci_fixed'), dyn.get('fragility_status_fixed'))}"
-            + (f", P(overturning) at the design PGA {pf:.2f}" if pf is not None else ""))
+            + (f", P(overturning) at the design PGA {prob(pf)}" if pf is not None else ""))
     if isolated:
         line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) "
                  f"{med(mi, dyn.get('fragility_median_ci_isolated'), dyn.get('fragility_status_isolated'))}"
-                 + (f", P(failure) at the design PGA {pi:.2f}" if pi is not None else ""))
+                 + (f", P(failure) at the design PGA {prob(pi)}" if pi is not None else ""))
         r = dyn.get("fragility_ratio")
         if r is not None:
             ci = dyn.get("fragility_ratio_ci") or [None, None]
