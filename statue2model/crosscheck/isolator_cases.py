@@ -226,7 +226,7 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
         coupled = simulate_coupled(iso2, model, motion, t_end=t_end, dt_out=0.01)
     ot2 = bool(coupled.overturned) if coupled is not None else False
     cap2 = coupled if coupled is not None else r2
-    t_ot3 = next((float(n.split("t = ")[1].split(" s")[0]) for n in r3.notes if "overturned at t" in n), None)
+    t_ot3 = r3.t_overturn
     side2 = ("the coupled 2D model (plate + rocking statue)" if coupled is not None else
              "the 2D plate model (the statue does not uplift)")
     c_ot = Case.equal(f"{label}: statue overturns", ot2, overturn, quantity="overturn",

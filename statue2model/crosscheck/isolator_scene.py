@@ -404,6 +404,7 @@ class Isolator3DResult:
                       over the step / dt + the step's ground acceleration), for filtering
     capacity        : the |u| checked (m, scene.travel_capacity); t_capacity, u_at_capacity: the first
                       engine step at which |u| passed it (None if never)
+    t_overturn      : the engine step's time, s, at which the statue overturned (None if it did not)
     """
 
     scene: IsolatorScene
@@ -428,6 +429,7 @@ class Isolator3DResult:
     capacity: float = math.inf
     t_capacity: float | None = None
     u_at_capacity: float | None = None
+    t_overturn: float | None = None
 
     @property
     def capacity_exceeded(self) -> bool:
@@ -462,7 +464,7 @@ class Isolator3DResult:
              "grid": self.scene.grid, "groove": self.scene.groove,
              "capacity": self.capacity if math.isfinite(self.capacity) else None,
              "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
-             "u_at_capacity": self.u_at_capacity,
+             "u_at_capacity": self.u_at_capacity, "t_overturn": self.t_overturn,
              "settings": self.settings.to_dict(), "notes": list(self.notes)}
         if self.theta is not None:
             d["theta_max"] = float(np.nanmax(np.abs(self.theta))) if self.theta.size else 0.0
@@ -632,7 +634,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
         u_max = 0.0
         af = []
         cap = scene.travel_capacity
-        t_cap = u_cap = None
+        t_cap = u_cap = t_ot = None
         for k in range(n + 1):
             xp, vx = plate_point()
             u = xp - x_top0
@@ -658,6 +660,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
                 d = scene.statue.params.delta_R if theta > 0 else scene.statue.params.delta_L
                 if abs(theta) >= d:
                     overturned = True
+                    t_ot = k * dt
             if k % every == 0 or (hit and stop_at_capacity):
                 for b, (cx, cy) in zip(balls, centres):
                     bp = world.call("getBasePositionAndOrientation", b)[0]
@@ -686,7 +689,7 @@ def simulate_isolator(scene: IsolatorScene, motion, *, u0: float = 0.0, t_end: f
         theta=np.asarray(th) if statue is not None else None, peaks_t=pk_t, peaks_u=pk_u,
         ball_r_max=ball_r, u_max=u_max, acc_abs_max=a_abs_max, pga=motion.pga, statue_overturned=overturned,
         ball_left_groove=left, finite=finite, wall_time=wall, steps=steps, notes=tuple(notes),
-        acc_step=np.asarray(af), capacity=cap, t_capacity=t_cap, u_at_capacity=u_cap)
+        acc_step=np.asarray(af), capacity=cap, t_capacity=t_cap, u_at_capacity=u_cap, t_overturn=t_ot)
 
 
 def _peaks(t: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -377,6 +377,15 @@ def _fill_still(out_t, out_y, io, t_until):
     return io
 
 
+@njit(cache=True, inline="always")
+def _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, rtol):
+    """True if the step's dense output (coefficients F) misses a step taken directly to mid-step by
+    more than 10 x the tolerance, in theta or theta' (one step of _NS - 1 evaluations; Ks is overwritten)."""
+    thv, omv = _step(t, th, om, f0, 0.5 * h, s, reg, P, seg, Ks)
+    return abs(thv - D8.dense_eval(0.5, F, 0, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
+        abs(omv - D8.dense_eval(0.5, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv))
+
+
 @njit(cache=True)
 def _remaining_abs_acc(M, samples):
     """(n,) bound of the ground motion still to come from sample k: |gain| x the integral of |a| from
@@ -759,12 +768,8 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             # and no step to an extremum or an event has checked it already, check it at
             # mid-step (a fixed point) and retry shorter if it is poor.
             # Output samples never change the solution: they get their own check below.
-            xo = 0.5 * h
-            thv, omv = _step(t, th, om, f0, xo, s, reg, P, seg, Ks)
+            retry = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, rtol)
             nrhs += _NS - 1
-            if abs(thv - D8.dense_eval(xo / h, F, 0, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
-                    abs(omv - D8.dense_eval(xo / h, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv)):
-                retry = True
             checked = True
         if retry:
             nsteps -= 1
@@ -807,10 +812,8 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 if reg == 0 and not checked:
                     # the same mid-step check, for the output only (no retry): a poor dense
                     # output is replaced by steps taken to each sample
-                    thv, omv = _step(t, th, om, f0, 0.5 * h, s, reg, P, seg, Ks)
+                    poor = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, rtol)
                     nrhs += _NS - 1
-                    poor = abs(thv - D8.dense_eval(0.5, F, 0, th)) > 10.0 * (atol_t + rtol * abs(thv)) or \
-                        abs(omv - D8.dense_eval(0.5, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv))
                     checked = True
                 if reg == 0 and poor:
                     tho, omo = _step(t, th, om, f0, xo, s, reg, P, seg, Ks)
