@@ -88,11 +88,12 @@ def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, execu
     m_i, p_i, ci = fit("failure_isolated")
     ratio = res.ratio.get("failure") if iso is not None else None
     rows = []
-    for name, cv in res.curves.items():
-        med = "-" if cv.status not in ("ok", "step") else f"{cv.median / G:.3f} g"
-        band = ("-" if cv.status not in ("ok", "step") or not all(map(math.isfinite, cv.median_ci)) else
+    for name in res.curves:
+        m, p_at, cv = fit(name)
+        med = "-" if m is None else f"{m / G:.3f} g"
+        band = ("-" if m is None or not all(map(math.isfinite, cv.median_ci)) else
                 f"{cv.median_ci[0] / G:.3f}-{cv.median_ci[1] / G:.3f} g")
-        p_at = "-" if cv.status not in ("ok", "step") else f"{float(cv.probability(pga)):.3f}"
+        p_at = "-" if p_at is None else f"{p_at:.3f}"
         rows.append([LABELS[name], cv.status, med, band, "-" if not math.isfinite(cv.beta) else f"{cv.beta:.3f}",
                      p_at, f"{int(cv.n_fail.sum())} / {int(cv.n_trials.sum())}"])
     n_runs = len(rs.records) * lv.size * samples.n
