@@ -15,10 +15,14 @@ MeshLab user would do by hand:
 5. fragments   : drop loose open or closed scraps that are tiny next to the largest
                  part (volume below ``min_fragment`` of it and area below 1 %)
 6. winding     : make neighbouring faces agree
-7. holes       : close boundary loops (two holes touching at a vertex stay two,
-                 :func:`~statue2model.geometry.topology.hole_loops`) that are small (perimeter up to ``max_hole`` of
+7. holes       : close boundary loops that are small (perimeter up to ``max_hole`` of
                  the diagonal, fan to the centroid) or flat (a planar cut such as an
-                 open base, capped by constrained Delaunay triangulation)
+                 open base, capped by constrained Delaunay triangulation). Holes that
+                 share vertices (a bow tie, or the two holes left where two sheets met
+                 along a deleted non-manifold edge) are walked apart into simple loops
+                 (:func:`~statue2model.geometry.topology.hole_loops`), and a flat cap never
+                 reuses an edge of the mesh or of another cap (it is cut at the edge's
+                 midpoint instead): a fill adds no non-manifold edge
 8. shells      : cavities kept (wound inward), overlapping or touching shells united,
                  loose pieces dropped or refused (:mod:`statue2model.geometry.shells`)
 9. proof       : every edge on exactly two faces, neighbours wound alike, no
@@ -257,15 +261,53 @@ class Hole:
         return "(" + ", ".join(f"{x:.4g}" for x in self.centre) + ")"
 
 
+def _edge_keys(tris: np.ndarray, n: int) -> np.ndarray:
+    """(3 t,) undirected key lo * n + hi of every edge of the triangles (t, 3)."""
+    e = tris[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    return np.minimum(e[:, 0], e[:, 1]) * np.int64(n) + np.maximum(e[:, 0], e[:, 1])
+
+
+def _split_edges(patch: np.ndarray, keys: list[int], n: int, first_new: int) -> np.ndarray:
+    """``patch`` (t, 3) with every edge in ``keys`` (undirected, lo * n + hi) cut at a new
+    vertex (indices first_new, first_new + 1, ... in the order of ``keys``): each triangle
+    p -> q -> r on such an edge p-q becomes (p, m, r) and (m, q, r). Same surface, same
+    winding; the edge p-q is no longer used."""
+    tris = [list(t) for t in patch.tolist()]
+    for i, key in enumerate(keys):
+        a, b = divmod(int(key), n)
+        m = first_new + i
+        out = []
+        for t in tris:
+            if a in t and b in t:
+                k = t.index(a)
+                p, q, r = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]) if t[(k + 1) % 3] == b else \
+                    (t[(k + 2) % 3], t[k], t[(k + 1) % 3])
+                out += [[p, m, r], [m, q, r]]
+            else:
+                out.append(t)
+        tris = out
+    return np.array(tris, dtype=np.int64)
+
+
 def fill_holes(
     vertices: np.ndarray, faces: np.ndarray, topo: EdgeTopology, max_perimeter: float, flat_tol: float
 ) -> tuple[np.ndarray, np.ndarray, list[Hole]]:
     """Close the boundary loops that are small or planar. Returns new arrays and one
-    :class:`Hole` per loop (``how == 'open'`` for those left open)."""
+    :class:`Hole` per loop (``how == 'open'`` for those left open).
+
+    Every loop is simple (:func:`~statue2model.geometry.topology.hole_loops`), so a fan to
+    a new centre point only adds the loop's own boundary edges (each then on two faces)
+    and spokes to the new point. A flat cap also adds diagonals between loop vertices: a
+    diagonal that is already an edge of the mesh or of another cap (two holes sharing
+    two vertices, e.g. where the faces around a non-manifold edge were deleted) would be
+    a non-manifold edge, so the cap is cut there instead, at the diagonal's midpoint (the
+    same flat surface, another triangulation)."""
+    n = len(vertices)
     new_vertices = [vertices]
     new_faces = [faces]
     holes = []
-    next_index = len(vertices)
+    next_index = n
+    caps: list[tuple[int, np.ndarray]] = []         # (position in new_faces, loop) of caps with diagonals
     for loop in hole_loops(vertices, faces, topo):
         pts = vertices[loop]
         perimeter = float(np.linalg.norm(pts - np.roll(pts, -1, axis=0), axis=1).sum())
@@ -277,6 +319,8 @@ def fill_holes(
         cap = _cap_planar(pts, loop, flat_tol) if len(loop) >= 3 else None
         if cap is not None:
             patch = loop[cap]
+            if len(loop) > 3:
+                caps.append((len(new_faces), loop))
             new_faces.append(patch)
             how = "flat"
             depth = 0.0
@@ -293,6 +337,24 @@ def fill_holes(
         else:
             area, how = float("nan"), "open"
         holes.append(Hole(perimeter, area, depth, centre, how))
+    if caps:
+        mark = np.zeros(n, dtype=bool)
+        mark[np.concatenate([loop for _, loop in caps])] = True
+        existing = np.unique(_edge_keys(faces[mark[faces].any(axis=1)], n))
+        taken: set[int] = set()
+        for pos, loop in caps:
+            patch = new_faces[pos]
+            nxt = np.roll(loop, -1)
+            rim = set((np.minimum(loop, nxt) * np.int64(n) + np.maximum(loop, nxt)).tolist())
+            inner = [k for k in np.unique(_edge_keys(patch, n)).tolist() if k not in rim]
+            hit = np.isin(inner, existing)
+            clash = [k for k, h in zip(inner, hit) if h or k in taken]
+            taken.update(k for k in inner if k not in clash)
+            if clash:
+                lo, hi = np.divmod(np.array(clash), n)
+                new_vertices.append(0.5 * (vertices[lo] + vertices[hi]))
+                new_faces[pos] = _split_edges(patch, clash, n, next_index)
+                next_index += len(clash)
     return np.vstack(new_vertices), np.vstack(new_faces), holes
 
 

@@ -178,6 +178,7 @@ def resolve_shells(vertices: np.ndarray, faces: np.ndarray, *, max_loose: float 
         loose_vol = [p.volume() for p in apart] + [size[c] - _cavities(c, owner, cavity, size) for c in loose]
         loose_where = [_where(*(np.asarray(x) for x in _bbox(p))) for p in apart] + [_where(lo[c], hi[c]) for c in loose]
         rest_sel = np.isin(owner[labels], loose)
+        apart_faces = sum(p.num_tri() for p in apart)
     else:
         body_volume = size[main] - _cavities(main, owner, cavity, size)
         sel = owner[labels] == main
@@ -185,9 +186,10 @@ def resolve_shells(vertices: np.ndarray, faces: np.ndarray, *, max_loose: float 
         loose_vol = [size[c] - _cavities(c, owner, cavity, size) for c in loose]
         loose_where = [_where(lo[c], hi[c]) for c in loose]
         rest_sel = np.isin(owner[labels], loose)
+        apart_faces = 0
     if loose_vol:
         total = float(sum(loose_vol))
-        n_faces = int(rest_sel.sum())
+        n_faces = int(rest_sel.sum()) + apart_faces
         if total > max_loose * body_volume:
             big = int(np.argmax(loose_vol))
             raise InputError(

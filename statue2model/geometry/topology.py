@@ -225,13 +225,146 @@ def split_nonmanifold_vertices(vertices: np.ndarray, faces: np.ndarray) -> tuple
     return v, new_index[inverse.reshape(-1)].reshape(-1, 3), n_split
 
 
+def simple_loops(loop: np.ndarray) -> list[np.ndarray]:
+    """Split a closed vertex loop that visits a vertex more than once into simple loops.
+
+    The loop's edges run loop[i] -> loop[i + 1] (and back to loop[0]); every edge ends up
+    in exactly one of the returned loops, each of which visits a vertex once. A loop
+    through a vertex twice (a figure of eight) filled as one, from a centre point, would
+    put that vertex's spoke on four faces: a non-manifold edge. Pieces of fewer than
+    three vertices (an edge and its reverse) are dropped.
+
+    >>> [s.tolist() for s in simple_loops(np.array([0, 1, 2, 0, 3, 4]))]
+    [[0, 1, 2], [0, 3, 4]]
+    >>> [s.tolist() for s in simple_loops(np.array([5, 1, 6, 2, 5, 3, 6, 4]))]
+    [[5, 1, 6, 2], [5, 3, 6, 4]]
+    """
+    stack: list[int] = []
+    where: dict[int, int] = {}
+    out = []
+    for v in np.asarray(loop).tolist():
+        i = where.get(v)
+        if i is None:
+            where[v] = len(stack)
+            stack.append(v)
+            continue
+        piece = stack[i:]                      # v ... back to v
+        for u in piece[1:]:
+            del where[u]
+        del stack[i + 1:]
+        if len(piece) >= 3:
+            out.append(np.array(piece, dtype=np.int64))
+    if len(stack) >= 3:
+        out.append(np.array(stack, dtype=np.int64))
+    return out
+
+
+def _corner_angles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(f, 3) angle of every face corner, radians."""
+    p = vertices[faces]
+    out = np.empty(faces.shape)
+    for k in range(3):
+        a = p[:, (k + 1) % 3] - p[:, k]
+        b = p[:, (k + 2) % 3] - p[:, k]
+        out[:, k] = np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.einsum("ij,ij->i", a, b))
+    return out
+
+
+def _fan_measures(vertices: np.ndarray, faces: np.ndarray, labels: np.ndarray, at: np.ndarray):
+    """For every vertex flagged in ``at`` ((n,) bool) and every fan of faces around it
+    (``labels``, :func:`corner_fans`): the sum of the fan's corner angles there (radians)
+    and its unit mean normal (area-weighted). Two dicts {vertex: {fan label: value}}."""
+    rows, cols = np.nonzero(at[faces])
+    angles = _corner_angles(vertices, faces[rows])[np.arange(len(rows)), cols]
+    p = vertices[faces[rows]]
+    area_vec = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    theta: dict[int, dict[int, float]] = {}
+    normal: dict[int, dict[int, np.ndarray]] = {}
+    for i, (r, c) in enumerate(zip(rows.tolist(), cols.tolist())):
+        vert, lab = int(faces[r, c]), int(labels[r, c])
+        fan_theta = theta.setdefault(vert, {})
+        fan_theta[lab] = fan_theta.get(lab, 0.0) + float(angles[i])
+        fan_normal = normal.setdefault(vert, {})
+        fan_normal[lab] = fan_normal.get(lab, 0.0) + area_vec[i]
+    for fan_normal in normal.values():
+        for lab, n in fan_normal.items():
+            fan_normal[lab] = n / (np.linalg.norm(n) + 1e-300)
+    return theta, normal
+
+
+def _ccw(a: np.ndarray, b: np.ndarray, axis: np.ndarray) -> float:
+    """Angle in [0, 2 pi) turning counter-clockwise about ``axis`` (unit) from ray ``a`` to ray ``b``."""
+    a = a - np.dot(a, axis) * axis
+    b = b - np.dot(b, axis) * axis
+    return float(np.arctan2(np.dot(axis, np.cross(a, b)), np.dot(a, b)) % (2 * np.pi))
+
+
+def _pair_fans(v: int, ins: list[int], outs: list[int], fan_of_in: list[int], fan_of_out: list[int],
+               theta: dict[int, float], normal: dict[int, np.ndarray], vertices: np.ndarray,
+               edges: np.ndarray) -> dict[int, int]:
+    """Which boundary edge leaving vertex ``v`` follows each one arriving (one to one).
+
+    Each open fan of faces around v turns counter-clockwise (about its outward normal) from
+    the boundary edge leaving v at its first face to the one arriving at its last face. A
+    pairing pi (the arriving edge of fan i goes on with the leaving edge of fan pi(i)) puts
+    a gap, a hole through v, between the end of fan i and the start of fan pi(i). The
+    pairing kept has the least sum over fans of the gap's angle:
+
+    * back to its own start, 2 pi less the fan's corner angles (``theta``, radians): the
+      fan is a sheet of its own, closed at v by the hole;
+    * on to another fan, the counter-clockwise turn from one edge to the other about the
+      two fans' mean normal (``normal``, unit), plus pi (1 - n_i . n_j): in one sheet the
+      gaps to the next fan round add up to a full turn less the fans (any other pairing
+      costs at least a full turn more); fans that face different ways (two sheets that
+      touched along a deleted non-manifold edge, or at a vertex) cost up to 2 pi more.
+
+    So two holes in one sheet that touch at v (a bow tie) come apart, and two sheets each
+    keep their own hole. Beyond five fans, or for fans without one arriving and one
+    leaving edge each, the nearest leaving edge in angle is taken, one to one.
+    """
+    fans = sorted(set(fan_of_in))
+    if len(ins) == len(outs) == len(fans) == len(set(fan_of_out)) and set(fan_of_out) == set(fans) \
+            and 2 <= len(fans) <= 5:
+        import itertools
+
+        e_in = dict(zip(fan_of_in, ins))
+        e_out = dict(zip(fan_of_out, outs))
+        d_in = [vertices[edges[e_in[f], 0]] - vertices[v] for f in fans]
+        d_out = [vertices[edges[e_out[f], 1]] - vertices[v] for f in fans]
+        n = [normal[f] for f in fans]
+        d = len(fans)
+        cost = np.empty((d, d))
+        for i in range(d):
+            for j in range(d):
+                if i == j:
+                    cost[i, j] = max(0.0, 2 * np.pi - theta[fans[i]])
+                    continue
+                axis = n[i] + n[j]
+                axis = axis / (np.linalg.norm(axis) + 1e-300)
+                cost[i, j] = _ccw(d_in[i], d_out[j], axis) + np.pi * (1 - np.dot(n[i], n[j]))
+        best = min(itertools.permutations(range(d)), key=lambda p: sum(cost[i, p[i]] for i in range(d)))
+        return {e_in[fans[i]]: e_out[fans[best[i]]] for i in range(d)}
+    left = list(outs)
+    out = {}
+    for k in ins:
+        if not left:
+            break
+        du = vertices[edges[k, 0]] - vertices[v]
+        dx = [vertices[edges[j, 1]] - vertices[v] for j in left]
+        cosine = [np.dot(du, x) / (np.linalg.norm(du) * np.linalg.norm(x) + 1e-300) for x in dx]
+        out[k] = left.pop(int(np.argmax(cosine)))
+    return out
+
+
 def hole_loops(vertices: np.ndarray, faces: np.ndarray, topo: EdgeTopology) -> list[np.ndarray]:
-    """The holes of a consistently wound, edge-manifold mesh as closed vertex loops.
+    """The holes of a consistently wound, edge-manifold mesh as simple closed vertex loops.
 
     Unlike :func:`boundary_loops`, a vertex where holes touch (it has several fans of
-    faces and as many boundary edges leaving it) does not merge them: a boundary edge
-    u -> v arriving through one fan continues along the edge v -> x leaving through
-    another fan (the one across the gap), the nearest in angle when there are several.
+    faces and as many boundary edges leaving it) does not merge them: at such a vertex
+    each arriving boundary edge is paired one to one with a leaving one (see
+    :func:`_pair_fans`), and a loop that still visits a vertex more than once is split
+    there (:func:`simple_loops`). Every returned loop visits each vertex once, and every
+    boundary edge that closes into a loop is in exactly one of them.
 
     >>> import trimesh
     >>> s = trimesh.creation.icosphere(2)
@@ -242,46 +375,53 @@ def hole_loops(vertices: np.ndarray, faces: np.ndarray, topo: EdgeTopology) -> l
     [3, 3]
     """
     faces = np.asarray(faces, dtype=np.int64)
-    edges = topo.boundary_edges
-    if not len(edges):
+    edges = np.asarray(topo.boundary_edges, dtype=np.int64)
+    n_edges = len(edges)
+    if not n_edges:
         return []
-    n_out = np.bincount(edges[:, 0], minlength=len(vertices))
-    multi = n_out[edges[:, 0]] > 1
-    succ = {}
-    # the common case: one boundary edge leaves the vertex
-    by_start = {}
-    for k, (a, b) in enumerate(edges.tolist()):
-        by_start.setdefault(a, []).append(k)
-    if multi.any():
-        labels = corner_fans(faces, len(vertices))
-        pos = lambda face, vert: int(np.flatnonzero(faces[face] == vert)[0])
-        fan_out = {k: labels[topo.boundary_face[k], pos(topo.boundary_face[k], edges[k, 0])]
-                   for k in np.flatnonzero(multi).tolist()}
-    for k, (u, v) in enumerate(edges.tolist()):
-        out = by_start.get(v, [])
-        if len(out) == 1:
-            succ[k] = out[0]
+    n_v = len(vertices)
+    n_out = np.bincount(edges[:, 0], minlength=n_v)
+    first_out = np.full(n_v, -1, dtype=np.int64)
+    first_out[edges[::-1, 0]] = np.arange(n_edges)[::-1]
+    succ = np.where(n_out[edges[:, 1]] == 1, first_out[edges[:, 1]], -1)
+    multi = np.flatnonzero(n_out > 1)
+    if len(multi):                             # vertices where holes touch: pair their edges
+        vv = np.asarray(vertices, dtype=float)
+        labels = corner_fans(faces, n_v)
+        is_multi = np.zeros(n_v, dtype=bool)
+        is_multi[multi] = True
+        theta, normal = _fan_measures(vv, faces, labels, is_multi)
+        bf = topo.boundary_face
+
+        def fan_at(k: int, vert: int) -> int:
+            face = bf[k]
+            return int(labels[face, int(np.flatnonzero(faces[face] == vert)[0])])
+
+        ins_at: dict[int, list[int]] = {}
+        for k in np.flatnonzero(is_multi[edges[:, 1]]).tolist():
+            ins_at.setdefault(int(edges[k, 1]), []).append(k)
+        outs_at: dict[int, list[int]] = {}
+        for k in np.flatnonzero(is_multi[edges[:, 0]]).tolist():
+            outs_at.setdefault(int(edges[k, 0]), []).append(k)
+        for v in multi.tolist():
+            ins, outs = ins_at.get(v, []), outs_at.get(v, [])
+            pairs = _pair_fans(v, ins, outs, [fan_at(k, v) for k in ins], [fan_at(k, v) for k in outs],
+                               theta.get(v, {}), normal.get(v, {}), vv, edges)
+            for k, j in pairs.items():
+                succ[k] = j
+    loops = []
+    seen = np.zeros(n_edges, dtype=bool)
+    for start in range(n_edges):
+        if seen[start]:
             continue
-        if not out:
-            continue
-        fan_in = labels[topo.boundary_face[k], pos(topo.boundary_face[k], v)]
-        other = [j for j in out if fan_out[j] != fan_in] or out
-        du = vertices[u] - vertices[v]
-        cosines = [np.dot(du, vertices[edges[j, 1]] - vertices[v])
-                   / (np.linalg.norm(du) * np.linalg.norm(vertices[edges[j, 1]] - vertices[v]) + 1e-300)
-                   for j in other]
-        succ[k] = other[int(np.argmax(cosines))]
-    loops, seen = [], set()
-    for start in range(len(edges)):
-        if start in seen:
-            continue
-        loop, k = [], start
-        while k not in seen and k in succ:
-            seen.add(k)
-            loop.append(int(edges[k, 0]))
-            k = succ[k]
-        if k == start and len(loop) >= 3:
-            loops.append(np.array(loop, dtype=np.int64))
+        walk, k = [], start
+        while k >= 0 and not seen[k]:
+            seen[k] = True
+            walk.append(k)
+            k = int(succ[k])
+        if k >= 0 and k in walk:               # closed (a tail leading into the cycle stays open)
+            cycle = walk[walk.index(k):]
+            loops.extend(simple_loops(edges[cycle, 0]))
     return loops
 
 
