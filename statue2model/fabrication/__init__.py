@@ -13,4 +13,6 @@ writes the files; ``statue2model slice`` on the command line):
     prototype   the stack as built: closed-form mass properties, STL
     slicing     the whole computation -> SliceResult
     output      layer and sheet DXF, previews, BOM, assembly order, JSON
+    robust      shapely/GEOS operations retried on cleaned polygons (make_valid,
+                snapped to 1e-9 / 1e-6 m), else one named error
 """

@@ -119,7 +119,7 @@ def write_section_dxf(path, section: MultiPolygon, label: str = "") -> Path:
 def read_section_dxf(path, doc=None) -> MultiPolygon:
     """Read the cut contours of a DXF back into a MultiPolygon in m (outer contours minus holes)."""
     import ezdxf
-    from shapely.ops import unary_union
+    from . import robust
 
     doc = doc or ezdxf.readfile(str(path))
     outer, inner = [], []
@@ -128,9 +128,11 @@ def read_section_dxf(path, doc=None) -> MultiPolygon:
             continue
         pts = np.array([(x, y) for x, y, *_ in e.get_points()]) / MM
         (outer if e.dxf.layer == CUT_OUTSIDE else inner).append(Polygon(pts))
-    shape = unary_union(outer).difference(unary_union(inner)) if inner else unary_union(outer)
-    parts = [shape] if isinstance(shape, Polygon) else list(shape.geoms)
-    return MultiPolygon([p for p in parts if isinstance(p, Polygon) and p.area > 0])
+    what = f"reading the contours of {path}"
+    shape = robust.union_all(outer, what=what)
+    if inner:
+        shape = robust.difference(shape, robust.union_all(inner, what=what), what=what)
+    return MultiPolygon(robust.polygons(shape))
 
 
 def audit(path) -> list[str]:

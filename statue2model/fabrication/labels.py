@@ -62,6 +62,7 @@ import shapely
 from shapely.geometry import MultiLineString, Polygon
 
 from ..errors import InputError
+from . import robust
 
 CELL_WIDTH = 0.6          # glyph cell width / height
 ADVANCE = 0.8             # character advance / height
@@ -195,7 +196,7 @@ class Label:
         """The strokes buffered by ``pad`` (m): the area the grooves of a tool of
         diameter 2 pad remove. A Polygon, or a MultiPolygon when the glyphs stay
         apart; empty for pad = 0 (lines have no area)."""
-        return MultiLineString(list(self.strokes)).buffer(pad)
+        return robust.buffer(MultiLineString(list(self.strokes)), pad, what=f"the grooves of label {self.text}")
 
 
 def _unit_layout(text: str) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
@@ -252,7 +253,7 @@ def _touch_height(segs: np.ndarray, centres: np.ndarray, half: np.ndarray, r: fl
 
 
 def _polygons(geom) -> list[Polygon]:
-    return [p for p in shapely.get_parts(geom) if isinstance(p, Polygon) and not p.is_empty]
+    return robust.polygons(geom)
 
 
 def place_label(part: Polygon, text: str, front_deg: float, *, keep_out=None,
@@ -279,9 +280,11 @@ def place_label(part: Polygon, text: str, front_deg: float, *, keep_out=None,
     unit, centre, half = _unit_layout(text)
     r = margin + tool_diameter / 2
 
-    allowed = part if part.is_valid else shapely.make_valid(part)
+    what = f"the room for label {text}"
+    allowed = part if part.is_valid else robust.as_multipolygon(part)
     if keep_out is not None and not keep_out.is_empty:
-        allowed = allowed.difference(keep_out if keep_out.is_valid else shapely.make_valid(keep_out))
+        allowed = robust.difference(allowed, keep_out if keep_out.is_valid else robust.as_multipolygon(keep_out),
+                                    what=what)
     comps = sorted(_polygons(allowed), key=lambda p: -p.area)
     if not comps:
         return None
@@ -339,7 +342,7 @@ def place_label(part: Polygon, text: str, front_deg: float, *, keep_out=None,
     seeds, radius = [], 0.0
     for p in comps[:3]:
         tol = max(1e-7, 0.05 * p.area / p.length)
-        mic = shapely.get_coordinates(shapely.maximum_inscribed_circle(p, tol))  # centre, contact
+        mic = shapely.get_coordinates(robust.safe_op(shapely.maximum_inscribed_circle, p, tol, what=what))
         seeds += [mic[0], shapely.get_coordinates(p.centroid)[0]]
         radius = max(radius, float(np.hypot(*(mic[1] - mic[0]))), tol)
     c = np.asarray(seeds) @ to_frame.T
@@ -350,7 +353,7 @@ def place_label(part: Polygon, text: str, front_deg: float, *, keep_out=None,
         # search on the outline simplified within eps, from the best seed and from the
         # best points of a grid over the region; then the best end exactly
         eps = 0.01 * radius
-        approx, segs = fit(shapely.simplify(allowed, eps))
+        approx, segs = fit(robust.simplify(allowed, eps, what=what))
         lo, hi = segs.reshape(-1, 2).min(axis=0), segs.reshape(-1, 2).max(axis=0)
         spacing = (hi - lo) / (_GRID + 1)
         u = [np.linspace(lo[i], hi[i], _GRID + 2)[1:-1] for i in (0, 1)]

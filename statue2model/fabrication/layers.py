@@ -76,6 +76,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from ..errors import InputError
+from . import robust
 
 POLICIES = ("mid", "envelope", "core")
 SLAB_PLANES = 5
@@ -180,23 +181,32 @@ def layer_sections_checked(vertices, faces, bottoms, board: float, policy: str =
         for k in range(len(bottoms)):
             slab = [s for s in flat[k * SLAB_PLANES:(k + 1) * SLAB_PLANES]]
             per_layer.append(tuple(flat_checks[k * SLAB_PLANES:(k + 1) * SLAB_PLANES]))
+            where = _where(k, bottoms[k] + 0.5 * board)
             if policy == "envelope":
-                geom = shapely.union_all(slab)
+                geom = robust.union_all(slab, what=f"the union of the sections through {where}")
             else:
                 geom = slab[0]
                 for s in slab[1:]:
-                    geom = geom.intersection(s)
+                    geom = robust.intersection(geom, s, what=f"the common part of the sections through {where}")
             out.append(_as_multipolygon(geom))
     else:
         raise InputError(f"section policy {policy!r} is not one of {', '.join(POLICIES)}")
     if tolerance > 0:
-        out = [_as_multipolygon(shapely.simplify(s, tolerance, preserve_topology=True)) for s in out]
+        out = [_as_multipolygon(robust.simplify(s, tolerance, what=f"simplifying the outline of "
+                                                f"{_where(k, bottoms[k] + 0.5 * board)}"))
+               for k, s in enumerate(out)]
     return out, per_layer
 
 
+def _where(k: int, z: float) -> str:
+    """'layer 12 (z = 109.3 mm)': 0-based index k, mid-board height z in m."""
+    return f"layer {k + 1} (z = {z * 1000:.1f} mm)"
+
+
 def _as_multipolygon(geom) -> MultiPolygon:
-    polys = [g for g in shapely.get_parts(shapely.make_valid(geom)) if isinstance(g, Polygon) and g.area > 0]
-    return MultiPolygon(polys)
+    """A valid MultiPolygon of the areal parts of ``geom`` (robust.as_multipolygon:
+    a collection that make_valid returns with a MultiPolygon inside keeps it)."""
+    return robust.as_multipolygon(geom)
 
 
 def _segments(vertices: np.ndarray, faces: np.ndarray, z: float,
@@ -351,20 +361,24 @@ def winding_numbers(points: np.ndarray, segs: np.ndarray) -> np.ndarray:
     return out
 
 
-def _arrangement(segs: np.ndarray) -> tuple[MultiPolygon, float, float, float]:
+def _arrangement(segs: np.ndarray, what: str = "the noded section") -> tuple[MultiPolygon, float, float, float]:
     """Node the segments, polygonise, and count each face's winding number:
-    (faces with w != 0, sum of w * area, area with w >= 2, area with w < 0)."""
+    (faces with w != 0, sum of w * area, area with w >= 2, area with w < 0).
+    ``what`` names the section in a robust.GeometryError."""
     segs = segs[np.any(segs[:, 0] != segs[:, 1], axis=1)]
     if len(segs) == 0:
         return MultiPolygon(), 0.0, 0.0, 0.0
-    noded = shapely.node(shapely.multilinestrings(shapely.linestrings(segs)))
-    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
+    noded = robust.safe_op(shapely.node, shapely.multilinestrings(shapely.linestrings(segs)),
+                           what=f"noding the segments of {what}")
+    faces = shapely.get_parts(robust.safe_op(shapely.polygonize, shapely.get_parts(noded),
+                                             what=f"polygonising {what}"))
     faces = faces[shapely.area(faces) > 0]
     if len(faces) == 0:
         return MultiPolygon(), 0.0, 0.0, 0.0
     area = shapely.area(faces)
     w = winding_numbers(shapely.get_coordinates(shapely.point_on_surface(faces)), segs)
-    geom = _as_multipolygon(shapely.union_all(faces[w != 0])) if np.any(w != 0) else MultiPolygon()
+    geom = (_as_multipolygon(robust.union_all(faces[w != 0], what=f"joining the faces of {what}"))
+            if np.any(w != 0) else MultiPolygon())
     return geom, float(np.sum(w * area)), float(area[w >= 2].sum()), float(area[w < 0].sum())
 
 
@@ -396,7 +410,7 @@ def section_at(vertices: np.ndarray, faces: np.ndarray, z: float,
         check = SectionCheck(float(z), len(segs), float(loops.area), a_w, "loops", merged=merged)
         return _moved(loops, origin), check
     note = f"filled loops {loops.area * 1e6:.2f} mm^2 against a winding integral of {a_w * 1e6:.2f} mm^2"
-    arr, w_sum, overlap, inverted = _arrangement(segs)
+    arr, w_sum, overlap, inverted = _arrangement(segs, f"the section at z = {z * 1000:.2f} mm")
     if _agree(loops.area, arr.area):
         geom, method = loops, "loops"           # the arrangement confirms the loops
     elif _agree(w_sum, a_w):

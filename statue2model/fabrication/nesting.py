@@ -67,6 +67,7 @@ from shapely import affinity
 from shapely.geometry import Polygon
 
 from ..errors import InputError
+from . import robust
 
 # Absolute slack (m) by which every guarantee is kept with room to spare, far
 # above the rounding of coordinates ~1 m and far below any cutting tolerance.
@@ -252,8 +253,9 @@ def _fill(rings: list[np.ndarray], x0: float, y0: float, g: float, mx: int, my: 
 
 
 def _masks(part: Polygon, angles: list[float], sheet: tuple[float, float], spacing: float,
-           margin: float, g: float) -> list[_Mask]:
-    """The part's masks at the candidate angles at which it fits on an empty sheet."""
+           margin: float, g: float, name: str = "a part") -> list[_Mask]:
+    """The part's masks at the candidate angles at which it fits on an empty sheet
+    (``name``: the part, in an error)."""
     W, H = sheet
     shell = Polygon(part.exterior)
     # the cells to mark are those whose centre is within r of the part's outline; the
@@ -262,7 +264,7 @@ def _masks(part: Polygon, angles: list[float], sheet: tuple[float, float], spaci
     # simplification GEOS does (1 % of the distance)
     r = spacing / 2 + g * math.sqrt(0.5) + 2 * _EPS
     rb = 1.02 * r / math.cos(math.pi / (4 * _QUAD_SEGS)) + _EPS
-    halo = shell.buffer(rb, quad_segs=_QUAD_SEGS)
+    halo = robust.buffer(shell, rb, quad_segs=_QUAD_SEGS, what=f"the spacing band around {name} (nesting)")
     halo_rings = [np.asarray(rr.coords) for poly in getattr(halo, "geoms", [halo])
                   for rr in [poly.exterior, *poly.interiors]]
     body = np.asarray(part.exterior.coords)
@@ -422,7 +424,8 @@ def nest(parts: Sequence[Polygon], sheet_size: tuple[float, float], spacing: flo
                              f"{W * 1000:.0f} x {H * 1000:.0f} mm sheet with {margin * 1000:g} mm "
                              "margins at any allowed angle")
 
-    masks = [_masks(p, cand[i], (W, H), spacing, margin, g) for i, p in enumerate(parts)]
+    masks = [_masks(p, cand[i], (W, H), spacing, margin, g, names[i] if names is not None else f"part {i}")
+             for i, p in enumerate(parts)]
     flat = [m for ms in masks for m in ms]
     pad = (max(0, -min(m.lo[0] for m in flat)), max(0, -min(m.lo[1] for m in flat)))
     shape = (max(math.ceil(W / g) + pad[0], max(m.hi[0] + pad[0] + m.cells.shape[0] for m in flat)),

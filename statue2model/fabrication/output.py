@@ -36,6 +36,7 @@ from .. import __version__
 from ..io.csvsafe import csv_text
 from ..io.files import OutputDir, atomic_write, open_output, output_error, swap_in, write_json
 from ..geometry.props import props_dict
+from . import robust
 from .dxf import Drawing, write_dxf
 from .prototype import CHECKED, ERROR_LIMIT
 from .slicing import SliceResult
@@ -142,7 +143,8 @@ def bom_rows(res: SliceResult) -> list[dict]:
                      "quantity": count, "size_mm": f"diameter {spec.rod * 1000:g}, length {length_mm:g}",
                      "parts": "", "cut_outside_m": "", "cut_inside_m": "", "engrave_m": "", "drill_holes": "",
                      "machining_min": "", "note": "cut to length"})
-    glue_area = sum(a.intersection(b).area for a, b in zip(res.sections[:-1], res.sections[1:]))
+    glue_area = sum(robust.intersection(a, b, what=f"the glue film on layer {k + 1}").area
+                    for k, (a, b) in enumerate(zip(res.sections[:-1], res.sections[1:])))
     rows.append({"item": "glue", "material": "PVA wood glue", "quantity": round(glue_area, 3),
                  "size_mm": f"m^2 at {spec.glue * 1000:g} mm", "parts": "", "cut_outside_m": "",
                  "cut_inside_m": "", "engrave_m": "", "drill_holes": "", "machining_min": "",

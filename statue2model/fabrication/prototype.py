@@ -28,6 +28,7 @@ import shapely
 from shapely.geometry import Point, Polygon
 
 from ..geometry.massprops import MassProperties
+from . import robust
 
 
 def area_moments(geom) -> np.ndarray:
@@ -91,10 +92,10 @@ class _Accumulator:
                               com=com, inertia=inertia)
 
 
-def _holes_geom(centres: np.ndarray, hole: float):
+def _holes_geom(centres: np.ndarray, hole: float, what: str = "the rod holes"):
     if hole <= 0 or len(centres) == 0:
         return None
-    return shapely.union_all([Point(c).buffer(0.5 * hole, quad_segs=32) for c in centres])
+    return robust.union_all([Point(c).buffer(0.5 * hole, quad_segs=32) for c in centres], what=what)
 
 
 def stack_mass_properties(layers, pitch: float, board: float, glue: float, holes, hole: float,
@@ -116,13 +117,15 @@ def stack_moments(layers, pitch: float, board: float, glue: float, holes, hole: 
     acc = (_Accumulator(), _Accumulator(), _Accumulator())
     drilled = []
     for k, layer in enumerate(layers):
-        cut = _holes_geom(holes[k], hole)
-        drilled.append(layer.difference(cut) if cut is not None else layer)
+        cut = _holes_geom(holes[k], hole, f"the rod holes of layer {k + 1}")
+        drilled.append(robust.difference(layer, cut, what=f"drilling the rod holes of layer {k + 1}")
+                       if cut is not None else layer)
     for k, layer in enumerate(drilled):
         z0 = k * pitch
         acc[0].prism(area_moments(layer), z0, z0 + board, 1.0)
         if glue > 0 and k + 1 < len(drilled):
-            acc[1].prism(area_moments(layer.intersection(drilled[k + 1])), z0 + board, z0 + pitch, 1.0)
+            film = robust.intersection(layer, drilled[k + 1], what=f"the glue film on layer {k + 1}")
+            acc[1].prism(area_moments(film), z0 + board, z0 + pitch, 1.0)
     if rod > 0:
         for r in rods:
             acc[2].cylinder(r.x, r.y, 0.5 * rod, r.z_bottom, r.z_top, 1.0)
@@ -169,7 +172,8 @@ def stack_mesh(layers, pitch: float, board: float, glue: float):
         z0 = k * pitch
         extrude(layer, z0, board)
         if glue > 0 and k + 1 < len(layers):
-            extrude(layer.intersection(layers[k + 1]), z0 + board, glue)
+            extrude(robust.intersection(layer, layers[k + 1], what=f"the glue film on layer {k + 1}"),
+                    z0 + board, glue)
     if not solids:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
     offsets = np.cumsum([0] + [len(v) for v, _ in solids[:-1]])

@@ -40,6 +40,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Point, Polygon
 
 from ..errors import InputError
+from . import robust
 
 EXTRA = 1e-4
 """Extra inset of hole centres (m), so the wall holds with margin after rounding."""
@@ -91,7 +92,7 @@ class RodPlan:
 
 
 def _parts(section: MultiPolygon) -> list[Polygon]:
-    return list(section.geoms)
+    return list(robust.as_multipolygon(section).geoms)
 
 
 def _diameter(points: np.ndarray) -> tuple[float, np.ndarray]:
@@ -137,17 +138,21 @@ class _Planner:
         self.sep = hole + wall + EXTRA    # least centre distance of two holes
         self.parts: list[list[_Part]] = []
         for k, sec in enumerate(sections):
-            self.parts.append([_Part(k, i, poly, poly.buffer(-self.inset)) for i, poly in enumerate(_parts(sec))])
-        self.admissible = [shapely.union_all([p.admissible for p in layer]) if layer else Polygon()
-                           for layer in self.parts]
+            self.parts.append([_Part(k, i, poly, robust.buffer(poly, -self.inset, what=f"the room for rod holes in "
+                                                                          f"layer {k + 1} part {_letter(i)}"))
+                               for i, poly in enumerate(_parts(sec))])
+        self.admissible = [robust.union_all([p.admissible for p in layer],
+                                            what=f"the room for rod holes in layer {k + 1}") if layer else Polygon()
+                           for k, layer in enumerate(self.parts)]
         self.links: list[list[_Link]] = []
         for k in range(len(self.parts) - 1):
             row = []
             for lo in self.parts[k]:
                 for up in self.parts[k + 1]:
-                    if not lo.poly.intersects(up.poly) or lo.poly.intersection(up.poly).area <= 0:
+                    what = f"the rod holes through {_name(lo)} and {_name(up)}"
+                    if not lo.poly.intersects(up.poly) or robust.intersection(lo.poly, up.poly, what=what).area <= 0:
                         continue
-                    common = lo.admissible.intersection(up.admissible)
+                    common = robust.intersection(lo.admissible, up.admissible, what=what)
                     if common.is_empty:
                         cap, room = 0, 0.0
                     else:
@@ -205,11 +210,12 @@ class _Planner:
         for link in sorted(self.links[a], key=lambda lk: -lk.capacity):
             if link.capacity == 0:
                 continue
-            room = link.lower.admissible.intersection(link.upper.admissible)
+            what = f"the rod holes through {_name(link.lower)} and {_name(link.upper)}"
+            room = robust.intersection(link.lower.admissible, link.upper.admissible, what=what)
             blocked = [keep_out] if keep_out is not None else []
             blocked += [Point(c).buffer(self.sep + EXTRA, 32) for c in centres]
             if blocked:
-                room = room.difference(shapely.union_all(blocked))
+                room = robust.difference(room, robust.union_all(blocked, what=what), what=what)
             if room.is_empty:
                 continue
             dist, pair = _diameter(_vertices(room))
@@ -253,10 +259,12 @@ def place_rods(sections, pitch: float, board: float, hole: float, wall: float,
     a = 0
     keep_out = None
     while a < n - 1:
-        start = planner.admissible[a] if keep_out is None else planner.admissible[a].difference(keep_out)
+        start = planner.admissible[a] if keep_out is None else robust.difference(
+            planner.admissible[a], keep_out, what=f"the room for rod holes in layer {a + 1}")
         best, region, b = None, start, a
         while b + 1 < n:
-            cand = region.intersection(planner.admissible[b + 1])
+            cand = robust.intersection(region, planner.admissible[b + 1],
+                                       what=f"the common room for rods through layers {a + 1}-{b + 2}")
             centres, failure = planner.plan(a, b + 1, cand)
             if centres is None:
                 break
@@ -291,16 +299,20 @@ def place_rods(sections, pitch: float, board: float, hole: float, wall: float,
             holes[k].extend(best)
         if b >= n - 1:
             break
-        keep_out = shapely.union_all([Point(c).buffer(planner.sep + EXTRA, 32) for c in best])
+        keep_out = robust.union_all([Point(c).buffer(planner.sep + EXTRA, 32) for c in best],
+                                    what=f"the rod holes of layer {b + 1}")
         a = b
     hole_arrays = tuple(np.array(h).reshape(-1, 2) for h in holes)
     return RodPlan(rods=tuple(rods), segments=tuple(segments), holes=hole_arrays, hole=hole,
                    unaligned=tuple(unaligned), warnings=tuple(warnings))
 
 
+def _letter(index: int) -> str:
+    return chr(ord("A") + index) if index < 26 else str(index + 1)
+
+
 def _name(part: _Part) -> str:
-    letter = chr(ord("A") + part.index) if part.index < 26 else str(part.index + 1)
-    return f"layer {part.layer + 1} part {letter}"
+    return f"layer {part.layer + 1} part {_letter(part.index)}"
 
 
 def _inradius(poly: Polygon) -> float:

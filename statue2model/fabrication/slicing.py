@@ -58,6 +58,10 @@ from .prototype import (
     stack_moments,
     stack_volume_moments,
 )
+from .robust import GeometryError
+from .robust import difference as _difference
+from .robust import intersection as _intersection
+from .robust import union_all as _union_all
 from .rods import RodPlan, place_rods
 from .spec import SliceSpec
 from .toolcheck import as_cut, compensate, layer_list, summarise, trim_layer
@@ -167,7 +171,18 @@ def scaled_mass(mass: MassProperties, lam: float) -> MassProperties:
 
 def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
                front_deg: float | None = None) -> SliceResult:
-    """Everything the prototype needs, computed in memory (see module docstring)."""
+    """Everything the prototype needs, computed in memory (see module docstring).
+
+    A polygon operation that fails even on cleaned polygons (robust.py) raises
+    robust.GeometryError (an InputError: one line) naming the layer, its height on
+    the prototype and on the statue, and what was being done."""
+    try:
+        return _slice_body(body, spec, direction_deg, front_deg)
+    except GeometryError as exc:
+        raise GeometryError(f"{exc}; {GEOMETRY_HINT}") from None
+
+
+def _slice_body(body, spec: SliceSpec, direction_deg: float | None, front_deg: float | None) -> SliceResult:
     clock = {}
     t0 = time.perf_counter()
     lam = spec.scale
@@ -195,7 +210,15 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
     clock["sections"] = time.perf_counter() - t0
 
     t = time.perf_counter()
-    trimmed = [trim_layer(s, spec.tool) for s in raw]
+
+    def on_layer(k: int, fn, *args, **kwargs):
+        """fn(*args, **kwargs); a GeometryError (robust.py) names layer k and its heights."""
+        try:
+            return fn(*args, **kwargs)
+        except GeometryError as exc:
+            raise GeometryError(f"layer {k + 1} ({_z_text(bottoms, spec, lam, [k + 1])}): {exc}") from None
+
+    trimmed = [on_layer(k, trim_layer, s, spec.tool) for k, s in enumerate(raw)]
     secs = [k for k, _, _ in trimmed]
     tool = tuple(r for _, r, _ in trimmed)
     removed = [x for _, _, x in trimmed]
@@ -214,20 +237,26 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
     t = time.perf_counter()
     names = part_names([len(s.geoms) for s in secs])
     parts = []
-    no_label = []
+    no_label, no_label_geos = [], []
     for k, sec in enumerate(secs):
         centres = plan.holes[k]
         for i, poly in enumerate(sec.geoms):
             inside = centres[shapely.contains_xy(poly, centres[:, 0], centres[:, 1])] if len(centres) else centres
-            keep_out = (shapely.union_all([Point(c).buffer(0.5 * spec.hole + spec.wall, quad_segs=8)
-                                           for c in inside]) if len(inside) else None)
-            label = place_label(poly, names[k][i], front_deg, keep_out=keep_out, tool_diameter=0.0)
+            try:
+                keep_out = (_union_all([Point(c).buffer(0.5 * spec.hole + spec.wall, quad_segs=8) for c in inside],
+                                       what=f"the rod holes of part {names[k][i]}") if len(inside) else None)
+                label = place_label(poly, names[k][i], front_deg, keep_out=keep_out, tool_diameter=0.0)
+            except GeometryError:      # a label is not worth failing the run: marked by hand
+                label = None
+                no_label_geos.append(names[k][i])
             if label is None:
                 no_label.append(names[k][i])
-            cut = compensate(MultiPolygon([poly]), spec.tool).geoms[0] if spec.compensate else poly
+            cut = on_layer(k, compensate, MultiPolygon([poly]), spec.tool).geoms[0] if spec.compensate else poly
             parts.append(Part(k, i, names[k][i], poly, cut, inside.reshape(-1, 2), label))
     if no_label:
-        warnings.append(f"no room for an engraved label on part(s) {', '.join(no_label)}: mark them by hand")
+        why = (f" (on {', '.join(no_label_geos)} the geometry library failed even on cleaned polygons)"
+               if no_label_geos else "")
+        warnings.append(f"no room for an engraved label on part(s) {', '.join(no_label)}{why}: mark them by hand")
     clock["labels"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -245,7 +274,7 @@ def slice_body(body, spec: SliceSpec, direction_deg: float | None = None,
     clock["nesting"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    built = [as_cut(s, spec.tool) for s in secs]
+    built = [on_layer(k, as_cut, s, spec.tool) for k, s in enumerate(secs)]
     moments = stack_moments(built, spec.pitch, spec.board, spec.glue, plan.holes, spec.hole, plan.rods, rod=spec.rod)
     proto_mass = combine(moments, (spec.osb_density, spec.glue_density, spec.rod_density))
     # the same materials, all at the board's density: what the densities of glue and rods do
@@ -288,6 +317,11 @@ def _z_text(bottoms, spec: SliceSpec, lam: float, layers: list[int]) -> str:
     span = f"{lo * 1000:.1f}" + (f"-{hi * 1000:.1f}" if hi > lo else "")
     real = f"{lo * lam * 1000:.0f}" + (f"-{hi * lam * 1000:.0f}" if hi > lo else "")
     return f"z = {span} mm on the prototype, {real} mm on the statue"
+
+
+GEOMETRY_HINT = ("the scan's surface is nearly degenerate there (slivers, edges that nearly coincide): repair it near "
+                 "that height, or move the section planes with a slightly different --board or --tolerance")
+"""The advice that ends a GeometryError of the slice (robust.py)."""
 
 
 ROD_LINES = 6
@@ -386,8 +420,11 @@ def _policy_effect(v, faces, bottoms, raw, spec: SliceSpec, scan_mass, direction
 
     axis = unit_vectors(direction_deg)[1]
     mid = layer_sections(v, faces, bottoms, spec.board, "mid", spec.tolerance)
-    gain = stack_volume_moments([r.difference(m) for r, m in zip(raw, mid)], spec.pitch, spec.pitch)
-    loss = stack_volume_moments([m.difference(r) for r, m in zip(raw, mid)], spec.pitch, spec.pitch)
+    step = "the {} policy against the mid-board sections (layer {})"
+    gain = stack_volume_moments([_difference(r, m, what=step.format(spec.policy, k + 1))
+                                 for k, (r, m) in enumerate(zip(raw, mid))], spec.pitch, spec.pitch)
+    loss = stack_volume_moments([_difference(m, r, what=step.format(spec.policy, k + 1))
+                                 for k, (r, m) in enumerate(zip(raw, mid))], spec.pitch, spec.pitch)
     plus, minus = effect(scan_mass, gain, 1.0, axis), effect(scan_mass, loss, -1.0, axis)
     what = "the union" if spec.policy == "envelope" else "the common part"
     return {f"the {spec.policy} policy (each board is {what} of the sections through it)":
@@ -408,7 +445,8 @@ def _causes(comparison, spec, lam, bottoms, raw, secs, built, removed, tool, che
         label = " and ".join(b for b in (f"{n_drop} part(s) narrower than the cutter dropped" if n_drop else "",
                                          f"{n_thin} sliver(s) opened away" if n_thin else "") if b)
         effects[label] = effect(scan_mass, stack_volume_moments(removed, spec.pitch, spec.pitch), -1.0, axis)
-    added = [b.difference(s) if not s.is_empty else b for b, s in zip(built, secs)]
+    added = [_difference(b, s, what=f"the wood the cutter leaves on layer {k + 1}") if not s.is_empty else b
+             for k, (b, s) in enumerate(zip(built, secs))]
     if any(a.area > 0 for a in added):
         effects["wood the cutter leaves in inside corners and narrow gaps"] = effect(
             scan_mass, stack_volume_moments(added, spec.pitch, spec.pitch), 1.0, axis)
@@ -422,7 +460,9 @@ def _causes(comparison, spec, lam, bottoms, raw, secs, built, removed, tool, che
                 + (" and inside-out folds it subtracts" if inverted else "")] = {
             "volume": dv / scan_mass.volume, "h": dv * (zc - scan_mass.com[2]) / scan_mass.volume / scan_mass.com[2],
             "I_G_per_mass": 0.0}
-    holes = [shapely.union_all([Point(c).buffer(0.5 * spec.hole, quad_segs=32) for c in plan.holes[k]]).intersection(b)
+    holes = [_intersection(_union_all([Point(c).buffer(0.5 * spec.hole, quad_segs=32) for c in plan.holes[k]],
+                                      what=f"the rod holes of layer {k + 1}"), b,
+                           what=f"the rod holes of layer {k + 1}")
              if len(plan.holes[k]) else None for k, b in enumerate(built)]
     if any(h is not None for h in holes):
         drilled = effect(scan_mass, stack_volume_moments(holes, spec.pitch, spec.pitch), -1.0, axis)

@@ -23,6 +23,10 @@ few lines (one per kind, with the layers), not one line per part.
 Compensation (off by default; CAM software normally does it) gives the path of the
 cutter's centre instead of the outline: every part offset outward by r.
 
+Every offset and overlay goes through :mod:`.robust` (an invalid layer is made valid
+first; a GEOS TopologyException is retried on cleaned polygons); what still fails is
+a :class:`~.robust.GeometryError`, which ``slicing`` names with the layer.
+
 Example
 -------
 >>> from shapely.geometry import MultiPolygon, Polygon, box
@@ -44,6 +48,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
+
+from . import robust
 
 RESOLUTION = 16
 """Segments per quarter circle of the offsets."""
@@ -105,7 +111,7 @@ class ToolReport:
 
 
 def _regions(geom, min_area: float) -> list[Polygon]:
-    return [g for g in shapely.get_parts(geom) if isinstance(g, Polygon) and g.area > min_area]
+    return [g for g in robust.polygons(geom) if g.area > min_area]
 
 
 def _deviation(region: Polygon, outline) -> float:
@@ -113,15 +119,32 @@ def _deviation(region: Polygon, outline) -> float:
     return float(np.max(shapely.distance(pts, outline))) if len(pts) else 0.0
 
 
+def _offset(geom, d: float, what: str):
+    return robust.buffer(geom, d, quad_segs=RESOLUTION, what=what)
+
+
+def _closing(layer, r: float):
+    """The layer closed by a disc of radius r (what the cutter leaves)."""
+    return _offset(_offset(layer, r, "the cutter check (outward offset)"), -r, "the cutter check (closing)")
+
+
+def _opening(layer, r: float):
+    """The layer opened by a disc of radius r (what the cutter can reach round)."""
+    return _offset(_offset(layer, -r, "the cutter check (inward offset)"), r, "the cutter check (opening)")
+
+
 def as_cut(layer: MultiPolygon, tool: float) -> MultiPolygon:
     """The parts as a cutter of diameter ``tool`` makes them (the closing)."""
-    r = 0.5 * tool
-    closed = layer.buffer(r, quad_segs=RESOLUTION).buffer(-r, quad_segs=RESOLUTION)
-    return MultiPolygon(_regions(closed.union(layer), 0.0))
+    layer = robust.as_multipolygon(layer)
+    if layer.is_empty:
+        return layer
+    closed = _closing(layer, 0.5 * tool)
+    return MultiPolygon(_regions(robust.union(closed, layer, what="the boards as cut"), 0.0))
 
 
 def check_layer(layer: MultiPolygon, tool: float, tol: float = 5e-4) -> ToolReport:
     """Inside corners, narrow openings and thin features of one layer (see module)."""
+    layer = robust.as_multipolygon(layer)
     if layer.is_empty:
         return ToolReport(0, 0, 0, 0.0, 0.0, 0.0)
     r = 0.5 * tool
@@ -137,8 +160,8 @@ def _closing_findings(layer, r: float, tol: float) -> tuple[int, int, float, flo
     """(inside corners, narrow openings, uncut area, largest deviation) of the closing."""
     min_area = (0.1 * tol) ** 2
     outline = layer.boundary
-    closed = layer.buffer(r, quad_segs=RESOLUTION).buffer(-r, quad_segs=RESOLUTION)
-    uncut = closed.difference(layer)
+    closed = _closing(layer, r)
+    uncut = robust.difference(closed, layer, what="the cutter check (uncut wood)")
     corners = narrow = 0
     max_dev = 0.0
     for region in _regions(uncut, min_area):
@@ -165,8 +188,8 @@ def _thin_features(layer, r: float, tol: float, opened=None) -> list[Polygon]:
     diameter (or tol) beyond it: slivers, not just sharp tips."""
     min_area = (0.1 * tol) ** 2
     if opened is None:
-        opened = layer.buffer(-r, quad_segs=RESOLUTION).buffer(r, quad_segs=RESOLUTION)
-    return [g for g in _regions(layer.difference(opened), min_area)
+        opened = _opening(layer, r)
+    return [g for g in _regions(robust.difference(layer, opened, what="the cutter check (thin features)"), min_area)
             if _deviation(g, opened.boundary) > max(tol, 2 * r)]
 
 
@@ -178,21 +201,23 @@ def trim_layer(layer: MultiPolygon, tool: float, tol: float = 5e-4) -> tuple[Mul
     cutter's diameter fits in it anywhere); a thin feature (see module) is removed
     from its part, which may split it. Corners and narrow openings are then
     checked on what is kept (they only add wood: see :func:`as_cut`)."""
+    layer = robust.as_multipolygon(layer)
     if layer.is_empty:
         return layer, ToolReport(0, 0, 0, 0.0, 0.0, 0.0, trimmed=True), MultiPolygon()
     r = 0.5 * tool
     parts = np.array(list(layer.geoms), dtype=object)
-    eroded = layer.buffer(-r, quad_segs=RESOLUTION)
+    eroded = _offset(layer, -r, "the cutter check (inward offset)")
     wide = shapely.intersects(parts, eroded) if not eroded.is_empty else np.zeros(len(parts), dtype=bool)
     dropped = list(parts[~wide])
     kept = MultiPolygon(list(parts[wide]))
     removed = list(dropped)
     thin: list[Polygon] = []
     if not kept.is_empty:
-        opened = eroded.buffer(r, quad_segs=RESOLUTION)
+        opened = _offset(eroded, r, "the cutter check (opening)")
         thin = _thin_features(kept, r, tol, opened)
         if thin:
-            kept = _as_multipolygon(kept.difference(shapely.union_all(thin)))
+            slivers = robust.union_all(thin, what="the cutter check (slivers)")
+            kept = _as_multipolygon(robust.difference(kept, slivers, what="the cutter check (opening slivers away)"))
             removed.extend(thin)
     corners, narrow, uncut_area, max_dev = _closing_findings(kept, r, tol) if not kept.is_empty else (0, 0, 0.0, 0.0)
     rep = ToolReport(
@@ -200,11 +225,13 @@ def trim_layer(layer: MultiPolygon, tool: float, tol: float = 5e-4) -> tuple[Mul
         thin_area=float(sum(g.area for g in thin)), max_deviation=max_dev,
         dropped_parts=len(dropped), dropped_area=float(sum(g.area for g in dropped)), trimmed=True,
     )
-    return kept, rep, _as_multipolygon(shapely.union_all(removed)) if removed else MultiPolygon()
+    taken = _as_multipolygon(robust.union_all(removed, what="the cutter check (what it takes out)")) if removed \
+        else MultiPolygon()
+    return kept, rep, taken
 
 
 def _as_multipolygon(geom) -> MultiPolygon:
-    return MultiPolygon([g for g in shapely.get_parts(shapely.make_valid(geom)) if isinstance(g, Polygon) and g.area > 0])
+    return robust.as_multipolygon(geom)
 
 
 def layer_list(layers: list[int], most: int = 12) -> str:
@@ -267,6 +294,6 @@ def compensate(layer: MultiPolygon, tool: float) -> MultiPolygon:
     vanish when narrower than the cutter)."""
     r = 0.5 * tool
     parts = []
-    for poly in layer.geoms:
-        parts.extend(_regions(poly.buffer(r, quad_segs=RESOLUTION), 0.0))
+    for poly in robust.as_multipolygon(layer).geoms:
+        parts.extend(_regions(_offset(poly, r, "the tool compensation (cutter-centre path)"), 0.0))
     return MultiPolygon(parts)
