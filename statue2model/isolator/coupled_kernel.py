@@ -479,7 +479,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             while io < n_out and io * dt_out < t_stop:
                 _record_output(io, io * dt_out, y, md, Q, seg, out)
                 io += 1
-            amax = max(amax, IK._max_abs_f(t, t_stop, seg))
+            amax = max(amax, IK._max_abs_f(t, t_stop, seg, seg_end))
             if side_p != 0 and te_p <= te_s and te_p < t_lim:
                 t = te_p
                 md[MD_PS] = float(side_p)

@@ -7,9 +7,13 @@ f(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi).
 Coulomb (eq. 20): while sliding with velocity sign s, u'' + omega^2 u = -s mu g - f(t)
 is linear with a closed-form solution on each piece, so the plate is advanced
 exactly: reversals (u' = 0) are roots of the closed-form velocity, found by
-sampling at 1/16 of the shortest period and bisecting to machine precision; a
-stuck plate (|omega^2 u + f| <= mu g) moves with the ground until f leaves that
-band, found exactly as for the rocking uplift.
+sampling each piece at 1/16 of the shortest period and bisecting to machine
+precision; where s u' > 0 at both ends of a sub-interval but s u'' turns from
+negative to positive inside it, s u' is also checked at that minimum (closed form
+on a record's piece, bisected under a sine), so a stop inside one record sample is
+not missed. A stuck plate
+(|omega^2 u + f| <= mu g) moves with the ground until f leaves that band, found
+exactly as for the rocking uplift.
 
 Bouc-Wen (eqs. 22-24, beta = gamma = 1/2, n = 1 or 2): while u' keeps its sign,
 z is an exact function of u - u_r (the loading branch is an exponential (n = 1)
@@ -30,6 +34,15 @@ u' -> -e_stop u' (a Newton impact), and the run goes on; when the rebound would
 rise less than REST_TOL x cap against a force that pushes the plate back onto
 the stop, it stays on the stop (u' = 0) until the force pulls it away (the
 one-sided counterpart of a stuck plate, found exactly as that).
+
+Peak absolute acceleration (stats[I_AMAX]) over the continuous solution, not at
+output samples: while the plate moves one way, a_abs = -(omega^2 u + s mu g)
+(Coulomb) or -(omega^2 u + (1 - 1/q) mu g z) (Bouc-Wen) is monotonic, so its
+extremes are at the ends of the phase (reversals, stick/slide changes, steps); while
+stuck (or on the end stop) a_abs = u_g'', whose largest |.| on [t, t_stop] is taken at
+the ends and at the sine's crests inside (:func:`_max_abs_f`), with t_stop the exact
+unstick time, also when that falls inside a record sample. So |a_abs| never exceeds
+omega^2 max|u| + mu g (the static friction bound), the end stop's reaction apart.
 """
 from __future__ import annotations
 
@@ -145,9 +158,37 @@ def _coulomb_bisect(lo, hi, t, seg, cf, om, s, level, on_v):
 
 
 @njit(cache=True)
-def _max_abs_f(ta, tb, seg):
-    """max |f| on [ta, tb] for one piece (ends, and the sine's crests inside)."""
-    m = max(abs(K._acc(ta, seg)), abs(K._acc(tb, seg) if seg[7] != seg[7] else seg[7]))
+def _coulomb_min_v(lo, hi, t, seg, cf, om, s):
+    """The time of the minimum of s u' on [lo, hi] (absolute times), where s u'' < 0 at lo
+    and > 0 at hi. Without a sine in the ground motion (a record, a constant) u'' is the
+    free oscillation's alone, -om^2 rho cos(x - theta) with x = om (t - ta): the zero in
+    between in closed form; else bisection to machine precision on the sign of s u''."""
+    if cf[2] == 0.0 and cf[3] == 0.0:
+        th = math.atan2(cf[5], cf[4])
+        xl = om * (lo - t)
+        k = math.ceil((xl - th - 0.5 * math.pi) / math.pi)
+        tm = t + (th + 0.5 * math.pi + k * math.pi) / om
+        return min(max(tm, lo), hi)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        _, _, am = _coulomb_state(mid, t, seg, cf, om)
+        if s * am < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
+def _max_abs_f(ta, tb, seg, t_piece_end):
+    """max |f| on [ta, tb] for one piece that ends at ``t_piece_end`` (tb <= t_piece_end): its
+    ends and the sine's crests inside. At tb = t_piece_end a record's exact sample (seg[7]) is
+    used; a tb inside the piece (a stuck phase that ends mid-sample) takes the piece's line
+    at tb, never the next sample's value (a state no longer valid then)."""
+    fb = seg[7] if (tb >= t_piece_end and seg[7] == seg[7]) else K._acc(tb, seg)
+    m = max(abs(K._acc(ta, seg)), abs(fb))
     if seg[3] != 0.0 and seg[1] == 0.0:
         w, ts, ph = seg[4], seg[5], seg[6]
         xa = w * (ta - ts) + ph
@@ -230,7 +271,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
                 out_v[k_out] = 0.0
                 out_a[k_out] = K._acc(tk, seg)
                 k_out += 1
-            amax = max(amax, _max_abs_f(t, t_stop, seg))
+            amax = max(amax, _max_abs_f(t, t_stop, seg, t_piece_end))
             if te < tb or (te == tb and side != 0):
                 t = te
                 s = float(side)
@@ -257,13 +298,26 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         h = span / nsub
         t_rev = np.inf
         lo = t
+        v_lo = v
+        a_lo = -om2 * u - s * mug - K._acc(t, seg)
         for i in range(1, nsub + 1):
             ti = t + i * h if i < nsub else tb
-            _, vi, _ = _coulomb_state(ti, t, seg, cf, om)
+            _, vi, ai = _coulomb_state(ti, t, seg, cf, om)
             if s * vi <= 0.0:
                 t_rev = _coulomb_bisect(lo, ti, t, seg, cf, om, s, 0.0, bool(True))
                 break
+            if s * v_lo > 0.0 and s * a_lo < 0.0 and s * ai > 0.0:
+                # s u' has a minimum inside (lo, ti): if it reaches 0 there, the plate stops
+                # inside the sub-interval although s u' > 0 at both ends (a phase starting
+                # from rest, u' = 0 and u'' ~ 0 at lo, is not such a minimum)
+                tm = _coulomb_min_v(lo, ti, t, seg, cf, om, s)
+                _, vm, _ = _coulomb_state(tm, t, seg, cf, om)
+                if s * vm <= 0.0:
+                    t_rev = _coulomb_bisect(lo, tm, t, seg, cf, om, s, 0.0, bool(True))
+                    break
             lo = ti
+            v_lo = vi
+            a_lo = ai
         t_stop = min(t_rev, tb)
         u_end, v_end, _ = _coulomb_state(t_stop, t, seg, cf, om)
         hit = False
@@ -463,6 +517,10 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         u_cap = u0
         n_hits = 1
         stopped = True
+    else:
+        # a_abs(0) = -(omega^2 u0 + cz z0) with z0 = 0: the steps below see a_abs at their ends
+        # only (exact between reversals, where a_abs is monotonic), never at the start
+        amax = abs(om2 * u0)
     while not stopped:
         t_piece_end = K.segment(t, kind, M, samples, seg)
         if pin != 0.0:
@@ -478,7 +536,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
                 out_a[k_out] = K._acc(k_out * dt_out, seg)
                 out_z[k_out] = z_r
                 k_out += 1
-            amax = max(amax, _max_abs_f(t, t_stop, seg))
+            amax = max(amax, _max_abs_f(t, t_stop, seg, t_piece_end))
             if te <= t_next and side != 0:
                 t = te
                 s = float(side)
