@@ -72,8 +72,43 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
+    """Run one command; returns its exit status. A Ctrl-C at any moment of the command
+    (even one Python could only report as "Exception ignored", see
+    :class:`~statue2model.compute.executors.InterruptGuard`) ends it with the one line
+    ``statue2model: interrupted`` and status 130."""
+    from ..compute.executors import InterruptGuard
+
+    with InterruptGuard() as guard:
+        try:
+            parser = build_parser()
+            args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
+            code = _dispatch(args)
+        except KeyboardInterrupt:
+            code = 130
+        guard.stop()
+        if code == 130 or guard.interrupted:
+            print("statue2model: interrupted", file=sys.stderr)
+            code = 130
+            _forget_unhandled_interrupt()
+    return code
+
+
+def _forget_unhandled_interrupt() -> None:
+    """CPython 3.11 notes a KeyboardInterrupt that leaves an ``exec``/``eval`` of a string
+    (dataclasses and namedtuple make their methods so, e.g. while a module is imported) as
+    "unhandled", even once it is caught; ``python -m statue2model`` then ends by killing
+    itself with SIGINT instead of exiting with the status returned. The interrupt was
+    handled here: clear the note (a private flag; where it is not found, nothing is done)."""
+    try:
+        import ctypes
+
+        ctypes.c_int.in_dll(ctypes.pythonapi, "_Py_UnhandledKeyboardInterrupt").value = 0
+    except (ImportError, AttributeError, ValueError, OSError):  # pragma: no cover - other Pythons
+        pass
+
+
+def _dispatch(args) -> int:
+    """The command's handler; its errors as exit statuses (KeyboardInterrupt goes to main)."""
     try:
         return args.func(args)
     except OutputError as exc:
@@ -82,9 +117,6 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"statue2model: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("statue2model: interrupted", file=sys.stderr)
-        return 130
     except OSError as exc:
         if exc.errno not in OUTPUT_ERRNOS or os.environ.get("STATUE2MODEL_DEBUG"):
             return _internal(exc)

@@ -36,10 +36,12 @@ processes, 2 workers
 >>> [c.tolist() for c in chunks(10, 2, per_worker=2, min_chunk=1)]   # contiguous row blocks
 [[0, 1, 2], [3, 4, 5], [6, 7], [8, 9]]
 
-A Dask cluster: start ``dask scheduler`` on one machine and ``dask worker
-tcp://HOST:8786`` on each machine (statue2model installed on all of them), then
-``make_executor("tcp://HOST:8786")``, or ``statue2model spectrum ... --scheduler
-tcp://HOST:8786`` on the command line.
+A Dask cluster on this machine, every port on the loopback interface (docs/run.md):
+``dask scheduler --host 127.0.0.1 --port 8786 --dashboard-address 127.0.0.1:8787``
+and ``dask worker tcp://127.0.0.1:8786 --host 127.0.0.1 --dashboard-address 127.0.0.1:0``, then
+``make_executor("tcp://127.0.0.1:8786")``, or ``statue2model spectrum ... --scheduler
+tcp://127.0.0.1:8786`` on the command line. Across machines: TLS and authentication
+(Dask's security settings), statue2model installed on every machine.
 """
 from __future__ import annotations
 
@@ -84,6 +86,159 @@ def _one_line(exc: BaseException) -> str:
     return text.splitlines()[0] if text else type(exc).__name__
 
 
+class InterruptGuard:
+    """Ctrl-C for a whole command: installed by the CLI's ``main`` around its work (a
+    context manager, main thread only; elsewhere it does nothing and ``interrupted``
+    stays False).
+
+    Python raises KeyboardInterrupt wherever the main thread is when SIGINT arrives. In a
+    weakref callback or a ``__del__`` run by the garbage collector (numba's and
+    multiprocessing's caches hold such callbacks) the exception cannot propagate: Python
+    prints "Exception ignored ... KeyboardInterrupt" and goes on, and the Ctrl-C is lost.
+    This guard
+
+    * counts every SIGINT (``interrupted``: at least one arrived), so the command's exit
+      status is 130 whatever happened to the exception;
+    * takes such a lost KeyboardInterrupt (``sys.unraisablehook``, a C-level append: no
+      Python code runs where the interrupt was lost), prints nothing, and a watcher thread
+      delivers the interrupt again within 0.05 s (``_thread.interrupt_main``): it is then
+      raised in ordinary code (other unraisable exceptions go to the previous hook, as
+      before);
+    * holds a Ctrl-C back inside :class:`interrupts_deferred` blocks (starting or
+      stopping a pool's processes), raised when the block ends;
+    * after :meth:`stop` (the command is already ending) only counts.
+
+    On leaving, the previous SIGINT handler and unraisable hook are restored.
+    """
+
+    poll = 0.05
+    """Seconds between the watcher's looks at lost interrupts."""
+
+    def __init__(self):
+        self.count = 0
+        """SIGINTs received while installed."""
+        self.stopping = False
+        self._defer = 0
+        self._held = False
+        self._installed = False
+        self._previous = None
+        self._previous_hook = None
+        self._lost: list = []
+        self._done = None
+        self._watcher = None
+
+    @property
+    def interrupted(self) -> bool:
+        """Whether a Ctrl-C (SIGINT) arrived while the guard was installed."""
+        return self.count > 0
+
+    def stop(self) -> None:
+        """The command is ending: later SIGINTs are counted, never raised."""
+        self.stopping = True
+
+    def __call__(self, signum, frame) -> None:       # the SIGINT handler
+        self.count += 1
+        if self.stopping:
+            return
+        if self._defer:
+            self._held = True
+            return
+        raise KeyboardInterrupt
+
+    def _take_lost(self) -> bool:
+        """Pass the unraisable exceptions collected so far on; whether one was a KeyboardInterrupt."""
+        interrupt = False
+        while self._lost:
+            u = self._lost.pop(0)
+            if isinstance(u.exc_type, type) and issubclass(u.exc_type, KeyboardInterrupt):
+                interrupt = True
+            else:
+                (self._previous_hook or sys.__unraisablehook__)(u)
+            del u
+        return interrupt
+
+    def _watch(self) -> None:
+        import _thread
+
+        while not self._done.wait(self.poll):
+            if self._take_lost() and not self.stopping:
+                _thread.interrupt_main()       # this guard's handler runs again, in the main thread
+
+    def __enter__(self) -> InterruptGuard:
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self)
+            self._previous_hook, sys.unraisablehook = sys.unraisablehook, self._lost.append
+            self._done = threading.Event()
+            self._watcher = threading.Thread(target=self._watch, name="statue2model-interrupts", daemon=True)
+            self._watcher.start()
+            self._installed = True
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stopping = True
+        if not self._installed:
+            return
+        self._done.set()
+        self._watcher.join()
+        _check_signals()         # an interrupt delivered again but not yet handled is counted here, not raised
+        if sys.unraisablehook == self._lost.append:
+            sys.unraisablehook = self._previous_hook
+        self._take_lost()
+        if signal.getsignal(signal.SIGINT) is self:
+            signal.signal(signal.SIGINT, self._previous if self._previous is not None else signal.default_int_handler)
+        self._installed = False
+
+
+def _check_signals() -> None:
+    """A Python-level call: Python runs pending signal handlers when a function starts."""
+
+
+def _current_guard() -> InterruptGuard | None:
+    handler = signal.getsignal(signal.SIGINT)
+    return handler if isinstance(handler, InterruptGuard) else None
+
+
+class interrupts_deferred:
+    """A block that a Ctrl-C must not cut in half (starting a pool's worker processes, or
+    stopping them): SIGINT is blocked in this thread meanwhile, so processes started here
+    begin with it blocked (a terminal's Ctrl-C goes to the whole process group: a worker
+    still importing statue2model would print a KeyboardInterrupt traceback; the workers
+    ignore SIGINT anyway, the parent stops them). A SIGINT that arrives meanwhile is
+    raised as KeyboardInterrupt when the block ends normally (``raise_held=False``: only
+    counted, for a block that runs while an exception is already on its way)."""
+
+    def __init__(self, raise_held: bool = True):
+        self.raise_held = raise_held
+        self._guard = None
+        self._blocked = False
+
+    def __enter__(self) -> interrupts_deferred:
+        import threading
+
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        self._guard = _current_guard()
+        if self._guard is not None:
+            self._guard._defer += 1
+        if hasattr(signal, "pthread_sigmask"):
+            self._blocked = signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        guard = self._guard
+        if guard is not None:
+            guard._defer -= 1
+            held, guard._held = guard._held, guard._held and guard._defer > 0
+        else:
+            held = False
+        if self._blocked:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # one that is pending runs its handler now
+        if held and exc_type is None and self.raise_held and not guard.stopping:
+            raise KeyboardInterrupt
+
+
 class Executor:
     """Base class: ``map(fn, items, desc=None) -> list`` in the order of ``items``.
 
@@ -122,6 +277,30 @@ def _bar(desc: str | None, total: int):
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="task", leave=False)
+
+
+PROGRESS_DELAY = 1.0
+"""Seconds of work before :func:`progress_bar` shows its bar (short work prints nothing)."""
+
+
+class _NoBar:
+    def update(self, n=1):
+        pass
+
+    def close(self):
+        pass
+
+
+def progress_bar(desc: str, total: int, unit: str = "step", delay: float = PROGRESS_DELAY):
+    """A progress bar on stderr (tqdm: done / total, rate, time left) for long work done
+    in this process, shown once the work has run ``delay`` s and removed when closed;
+    ``update(k)`` after each k steps, ``close()`` at the end (use try/finally). Where tqdm
+    is missing, a bar that shows nothing."""
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover - tqdm is a dependency
+        return _NoBar()
+    return tqdm(total=total, desc=desc, unit=unit, leave=False, delay=delay)
 
 
 class SerialExecutor(Executor):
@@ -259,10 +438,16 @@ class ProcessExecutor(Executor):
         items = list(items)
         if not items:
             return []
-        pool = self._get_pool()
-        futures = [pool.submit(fn, x) for x in items]
-        bar = _bar(desc, len(futures))
+        bar = None
         try:
+            if self._pool is None:
+                from multiprocessing import resource_tracker
+
+                resource_tracker.ensure_running()   # started first: it unblocks SIGINT after starting
+            with interrupts_deferred():     # the pool starts (or takes) all its tasks whole, then Ctrl-C
+                pool = self._get_pool()
+                futures = [pool.submit(fn, x) for x in items]
+            bar = _bar(desc, len(futures))
             for f in as_completed(futures):
                 f.result()  # raise the first failure at once
                 if bar is not None:
@@ -283,11 +468,18 @@ class ProcessExecutor(Executor):
         pool, self._pool = self._pool, None
         if pool is None:
             return
-        procs = list(getattr(pool, "_processes", {}).values())
-        pool.shutdown(wait=False, cancel_futures=False)
-        for p in procs:
-            if p.is_alive():
-                p.terminate()
+        with interrupts_deferred(raise_held=False):     # a second Ctrl-C does not leave workers running
+            procs = list((getattr(pool, "_processes", None) or {}).values())
+            manager = getattr(pool, "_executor_manager_thread", None)
+            pool.shutdown(wait=False, cancel_futures=False)
+            for p in procs:
+                if p.is_alive():
+                    p.terminate()
+            # the manager thread now fails the pending futures and closes its pipes; wait for it
+            # (bounded): at exit, CPython 3.11 wakes it through a pipe it may be closing at that
+            # moment ("Exception ignored ... OSError: Bad file descriptor" from threading._shutdown)
+            if manager is not None and manager.is_alive():
+                manager.join(timeout=10.0)
 
     def close(self) -> None:
         if self._pool is not None:
@@ -303,11 +495,49 @@ def _dask_call(item, fn):
     return fn(item)
 
 
-class _DropReconnectLog:
-    """A logging filter dropping distributed's 'Failed to reconnect to scheduler' record."""
+class _DropConnectionLogs:
+    """A logging filter dropping distributed's records about a lost connection to the
+    scheduler ('Failed to reconnect to scheduler', and the tracebacks of its connection
+    and reconnection tasks: CommClosedError, OSError, CancelledError, TimeoutError): the
+    executor's own one line says it (:meth:`DaskExecutor._lost`)."""
 
     def filter(self, record) -> bool:
-        return "reconnect to scheduler" not in str(getattr(record, "msg", ""))
+        if "reconnect to scheduler" in str(getattr(record, "msg", "")):
+            return False
+        exc = record.exc_info[1] if record.exc_info else None
+        if exc is None:
+            return True
+        import asyncio
+        import concurrent.futures
+
+        try:
+            from distributed.comm.core import CommClosedError
+        except ImportError:  # pragma: no cover - filter installed only with distributed
+            CommClosedError = OSError
+        return not isinstance(exc, (CommClosedError, OSError, asyncio.CancelledError,
+                                    concurrent.futures.CancelledError, TimeoutError))
+
+
+WORKER_TIMEOUT = 60.0
+"""Seconds a Dask sweep waits while the cluster has no worker before it stops with one line
+(default of ``DaskExecutor(worker_timeout=)``, else the environment variable
+``STATUE2MODEL_WORKER_TIMEOUT``)."""
+
+
+def _worker_timeout(value) -> float:
+    source = "worker_timeout"
+    if value is None:
+        value = os.environ.get("STATUE2MODEL_WORKER_TIMEOUT")
+        source = "STATUE2MODEL_WORKER_TIMEOUT"
+        if value is None or not str(value).strip():
+            return WORKER_TIMEOUT
+    try:
+        t = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{source} must be a number of seconds > 0, got {value!r}") from None
+    if not (math.isfinite(t) and t > 0):
+        raise InputError(f"{source} must be a number of seconds > 0, got {value!r}")
+    return t
 
 
 class DaskExecutor(Executor):
@@ -318,29 +548,88 @@ class DaskExecutor(Executor):
 
     Each task carries its item (inputs are not scattered: scattered data dies with
     the worker that holds it), so the tasks of a lost worker are run again on
-    another one (``retries``) with identical inputs, hence identical numbers. A lost
-    scheduler ends the map with one line (InputError). Each task runs on one numba
-    thread; workers must be able to import statue2model (the same version)."""
+    another one (``retries``) with identical inputs, hence identical numbers. One
+    line (InputError), never Dask's own tracebacks, when
+
+    * the cluster has no worker for ``worker_timeout`` s (default
+      :data:`WORKER_TIMEOUT`, or ``STATUE2MODEL_WORKER_TIMEOUT`` in the environment):
+      when connecting to a cluster without workers, or during a map whose workers all
+      left (a restarted worker that comes back in time changes nothing);
+    * the scheduler is lost during a map.
+
+    Each task runs on one numba thread; workers must be able to import statue2model (the
+    same version)."""
 
     name = "dask"
 
     retries = 3
     """Times a task is run again when the worker running it is lost."""
+    poll = 1.0
+    """Seconds between the looks at the cluster while a map waits."""
 
-    def __init__(self, address: str, timeout: float = 10.0):
+    def __init__(self, address: str, timeout: float = 10.0, worker_timeout: float | None = None):
         try:
             from distributed import Client
         except ImportError as exc:
             raise missing_extra("cluster", "running on a Dask scheduler", exc) from None
         self.address = str(address)
+        self.worker_timeout = _worker_timeout(worker_timeout)
+        self._client = None
+        self._quiet = _DropConnectionLogs()
+        self._quiet_on = []
+        self._hush()
         try:
             self._client = Client(self.address, timeout=timeout, set_as_default=False)
         except (OSError, ValueError, AssertionError, RuntimeError) as exc:  # timeout/refused, bad address
+            self._unhush()
             raise InputError(f"cannot reach the Dask scheduler at {self.address}: {_one_line(exc)}") from None
-        self.workers = int(sum(self._client.nthreads().values()))
+        try:
+            self.workers = self._n_workers()
+            if self.workers == 0:
+                self.workers = self._wait_for_workers()
+        except BaseException:
+            self.close()
+            raise
+
+    def _hush(self) -> None:
+        """Drop distributed's lost-connection records from now until :meth:`close`."""
+        import logging
+
+        targets = [logging.getLogger("distributed.client"), logging.getLogger("distributed.core")]
+        targets += list(logging.getLogger("distributed").handlers)
+        for t in targets:
+            t.addFilter(self._quiet)
+        self._quiet_on = targets
+
+    def _unhush(self) -> None:
+        for t in self._quiet_on:
+            t.removeFilter(self._quiet)
+        self._quiet_on = []
+
+    def _n_workers(self) -> int:
+        """Worker threads the scheduler has now (asks it)."""
+        return int(sum(self._client.nthreads().values()))
+
+    def _no_workers(self, waited: float) -> InputError:
+        return InputError(f"no Dask worker at {self.address} for {waited:.0f} s (STATUE2MODEL_WORKER_TIMEOUT="
+                          f"{self.worker_timeout:g}: set it to wait longer): the sweep did not run; start workers "
+                          f"(dask worker {self.address} --host 127.0.0.1 --dashboard-address 127.0.0.1:0, on "
+                          "this machine), or run without --scheduler on local workers")
+
+    def _wait_for_workers(self) -> int:
+        import time
+
+        t0 = time.monotonic()
+        while True:
+            n = self._n_workers()
+            if n:
+                return n
+            if time.monotonic() - t0 >= self.worker_timeout:
+                raise self._no_workers(time.monotonic() - t0)
+            time.sleep(min(self.poll, self.worker_timeout / 4))
 
     def map(self, fn: Callable, items: Iterable, *, desc: str | None = None) -> list:
-        from distributed import as_completed
+        import time
 
         items = list(items)
         if not items:
@@ -350,38 +639,64 @@ class DaskExecutor(Executor):
             raise RuntimeError("this DaskExecutor is closed")
         import warnings
 
-        with warnings.catch_warnings():      # the items travel inside the graph, on purpose (see the class)
-            warnings.filterwarnings("ignore", message=".*[Ll]arge object.*")
-            warnings.filterwarnings("ignore", message=".*[Ss]ending large graph.*")
-            futures = client.map(_dask_call, items, fn=fn, pure=False, retries=self.retries)
-        bar = _bar(desc, len(futures))
-        import logging
-
-        quiet = _DropReconnectLog()     # our one line says it: not also distributed's log
-        logging.getLogger("distributed.client").addFilter(quiet)
+        futures = []
+        bar = None
         try:
-            for f in as_completed(futures, loop=client.loop):  # not the default client: give its loop
-                if f.status == "error":
-                    f.result()  # raise the worker's exception here
-                elif f.status != "finished":      # cancelled: the scheduler went away
-                    raise self._lost(None)
-                if bar is not None:
-                    bar.update(1)
+            with warnings.catch_warnings():      # the items travel inside the graph, on purpose (see the class)
+                warnings.filterwarnings("ignore", message=".*[Ll]arge object.*")
+                warnings.filterwarnings("ignore", message=".*[Ss]ending large graph.*")
+                futures = client.map(_dask_call, items, fn=fn, pure=False, retries=self.retries)
+            bar = _bar(desc, len(futures))
+            pending = list(futures)
+            alone_since = None                  # when the cluster was first seen without a worker
+            poll = min(self.poll, self.worker_timeout / 4)
+            last_look = time.monotonic()
+            while pending:
+                done = [f for f in pending if f.done()]     # the client's own state: no message
+                for f in done:
+                    if f.status == "error":
+                        f.result()  # raise the worker's exception here
+                    elif f.status != "finished":      # cancelled: the scheduler went away
+                        futures = []                    # nothing to cancel there
+                        raise self._lost(None)
+                    if bar is not None:
+                        bar.update(1)
+                if done:
+                    pending = [f for f in pending if not f.done()]
+                    continue
+                time.sleep(0.05)
+                if time.monotonic() - last_look >= poll:    # ask the scheduler for its workers
+                    last_look = time.monotonic()
+                    if self._n_workers() == 0:
+                        alone_since = last_look if alone_since is None else alone_since
+                        if last_look - alone_since >= self.worker_timeout:
+                            raise self._no_workers(last_look - alone_since)
+                    else:
+                        alone_since = None
             return client.gather(futures)
         except InputError:
+            self._cancel(futures)
             raise
         except Exception as exc:
             if self._scheduler_lost(exc):
                 raise self._lost(exc) from None
-            client.cancel(futures)
+            self._cancel(futures)
             raise
         except BaseException:
-            client.cancel(futures)
+            self._cancel(futures)
             raise
         finally:
-            logging.getLogger("distributed.client").removeFilter(quiet)
             if bar is not None:
                 bar.close()
+
+    def _cancel(self, futures) -> None:
+        """Cancel the map's tasks (when the scheduler still answers)."""
+        if not futures or self._client is None:
+            return
+        try:
+            self._client.cancel(futures)
+        except Exception:  # the scheduler went away meanwhile: nothing to cancel there
+            pass
 
     def _scheduler_lost(self, exc: BaseException) -> bool:
         """Whether ``exc`` says the client lost its scheduler (not a failure of a task)."""
@@ -391,7 +706,7 @@ class DaskExecutor(Executor):
         from distributed.comm.core import CommClosedError
 
         if isinstance(exc, (CommClosedError, asyncio.CancelledError, concurrent.futures.CancelledError,
-                            ConnectionError, TimeoutError)):
+                            ConnectionError, TimeoutError, OSError)):
             return True
         return getattr(self._client, "status", "running") not in ("running", "connecting")
 
@@ -404,9 +719,15 @@ class DaskExecutor(Executor):
         return f"dask at {self.address}, {self.workers} worker{'s' if self.workers != 1 else ''}"
 
     def close(self) -> None:
-        if self._client is not None:
-            self._client.close()
-            self._client = None
+        client, self._client = self._client, None
+        try:
+            if client is not None:
+                try:
+                    client.close(timeout=5)
+                except Exception:  # a lost scheduler: the client is closing anyway
+                    pass
+        finally:
+            self._unhush()
 
 
 def _check_workers(workers) -> int:
@@ -420,16 +741,18 @@ def _check_workers(workers) -> int:
 
 
 def make_executor(scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0,
-                  cap: bool = False) -> Executor:
+                  cap: bool = False, worker_timeout: float | None = None) -> Executor:
     """``scheduler`` given: a :class:`DaskExecutor` on it (``workers`` must then be
-    None: the cluster decides); else a :class:`ProcessExecutor` of ``workers``
-    local processes (None: one per CPU). ``workers=1`` is one worker process.
-    ``cap``: at most one local worker per core (see :class:`ProcessExecutor`)."""
+    None: the cluster decides; ``timeout``: s to reach the scheduler; ``worker_timeout``:
+    s without any worker before giving up, see :class:`DaskExecutor`); else a
+    :class:`ProcessExecutor` of ``workers`` local processes (None: one per CPU).
+    ``workers=1`` is one worker process. ``cap``: at most one local worker per core
+    (see :class:`ProcessExecutor`)."""
     if scheduler is not None:
         if workers is not None:
             raise InputError("give either a Dask scheduler or a number of local workers, not both")
         check_scheduler_address(scheduler)
-        return DaskExecutor(str(scheduler).strip(), timeout=timeout)
+        return DaskExecutor(str(scheduler).strip(), timeout=timeout, worker_timeout=worker_timeout)
     return ProcessExecutor(None if workers is None else _check_workers(workers), cap=cap)
 
 
