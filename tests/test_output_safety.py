@@ -220,20 +220,21 @@ def _leftovers(folder: Path) -> list[str]:
             or ".old-" in p.name or p.name == LOCK_NAME]
 
 
-@pytest.mark.parametrize("n", [1, 2, 3])
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_disk_full_in_props_is_one_line_and_leaves_nothing_that_looks_complete(tmp_path, box, capsys,
                                                                                 monkeypatch, n):
     out = tmp_path / "p" / "props.json"
-    seen = _fail_at(monkeypatch, n + 1)          # the 1st write is the folder's manifest
+    seen = _fail_at(monkeypatch, n)      # props.json, props_rose.csv, props.png (staged), then the manifest
     assert main(["props", str(box), "--json", str(out)]) == 3
     line = only_line(capsys)
     assert line.startswith("statue2model: error: no space left on device while writing ")
-    failed = Path(str(seen[-1]).split(".part")[0].rsplit(".", 1)[0].replace("/.", "/"))
-    assert str(failed) in line
+    tmp = Path(seen[-1])
+    folder = tmp.parent.parent if tmp.parent.name.startswith(files.STAGING_PREFIX) else tmp.parent
+    failed = folder / tmp.name.split(".part")[0].rsplit(".", 1)[0][1:]     # .NAME.XXXX.part -> NAME
+    assert f"while writing {failed}" in line                                 # the final name, not the staged one
     assert not failed.exists()
-    if n <= 1:
-        assert not out.exists()
-    assert not _leftovers(out.parent)
+    assert not out.parent.exists()       # all or nothing: no JSON without its CSV and PNG, nothing listed
+    assert not _leftovers(tmp_path)
 
 
 @pytest.fixture(scope="module")

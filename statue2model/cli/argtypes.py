@@ -28,6 +28,38 @@ def finite_float(text: str) -> float:
     return value
 
 
+def plausible(quantity: str, parse=positive_float, option: str = ""):
+    """An argparse type: ``parse`` the text, then check the value against its range in
+    :data:`statue2model.geometry.units.PLAUSIBLE` (``quantity`` a key of it): a value that
+    cannot be physical is an argparse error naming the unit it was probably typed in, an
+    unusual one is taken with a warning on stderr (naming ``option``, e.g. '--R').
+
+    >>> plausible("groove_radius")("0.3")
+    0.3
+    >>> plausible("groove_radius")("300")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: 300 m is implausible for a groove radius of curvature; did you mean 300 mm (0.3 m) or 300 cm (3 m)?
+    """
+    import sys
+
+    from ..errors import InputError
+    from ..geometry.units import check_plausible
+
+    def convert(text: str) -> float:
+        value = parse(text)
+        try:
+            note = check_plausible(quantity, value, "")
+        except InputError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+        if note:
+            print(f"statue2model: warning: {option + ' ' if option else ''}{note}", file=sys.stderr)
+        return value
+
+    convert.__name__ = quantity.replace("_", " ")       # argparse's "invalid <name> value"
+    return convert
+
+
 _PER_METRE = {"mm": 1000.0, "cm": 100.0, "m": 1.0, "in": 1 / 0.0254}
 
 

@@ -64,13 +64,11 @@ def load_scene(source: str, direction: float | None = None):
 
 
 def _cmd_crosscheck(args) -> int:
-    from ..crosscheck.contact import ContactSettings
     from ..crosscheck.isolator_scene import IsolatorScene
-    from ..crosscheck.report import summary, table, write_report
-    from ..crosscheck.extended import compare_extended
     from ..crosscheck.world import SimSettings, check_user_dt
     from ..dynamics.motions import parse_spec
-    from ..io.files import prepare_dir, read_json
+    from ..io.files import open_output
+    from .isolator import read_design
 
     if not 16 <= args.segments <= 1024:
         raise InputError(f"--segments must be in 16..1024, got {args.segments}")
@@ -84,13 +82,23 @@ def _cmd_crosscheck(args) -> int:
     scene = load_scene(args.source, args.direction)
     iso = None
     if args.isolator:
-        d = read_json(args.isolator)
-        if not isinstance(d, dict):
-            raise InputError(f"{args.isolator}: not an isolator design")
+        d = read_design(args.isolator)            # a design `isolator design` rejected is refused
         iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
                                         grid=args.grid / 1000 if args.grid > 0 else None,
                                         groove="tiles" if args.groove == "tiles" else None)
-    out = prepare_dir(args.out)           # only once the inputs are read: a bad input leaves no folder
+    if args.records and not 2 <= args.records <= 1000:
+        raise InputError(f"--records must be 0 or in 2..1000, got {args.records}")
+    # only once the inputs are read (a bad input leaves no folder), before any work: a folder with
+    # the user's files (or another command's) is refused, and the outputs appear together
+    with open_output(args.out, "crosscheck", command="crosscheck", can_reuse=False) as od:
+        return _crosscheck(args, od, scene, motion, iso, settings, statue_settings)
+
+
+def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
+    from ..crosscheck.contact import ContactSettings
+    from ..crosscheck.extended import compare_extended
+    from ..crosscheck.report import summary, table, write_report
+
     contact = ContactSettings()
     from ..dynamics.model import RockingModel
 
@@ -98,8 +106,8 @@ def _cmd_crosscheck(args) -> int:
     notes = RockingModel.housner(scene.params, mu_static=contact.friction**2).notes
     for note in notes:
         print(f"note (3D floor friction {contact.friction**2:g}): {note}")
-    if args.records and not 2 <= args.records <= 1000:
-        raise InputError(f"--records must be 0 or in 2..1000, got {args.records}")
+    # its plots of an earlier cross-check in this folder go when this one has other cases
+    group = od.group(["crosscheck.json", *(n for n in od.entries if n.endswith(".png"))])
     comp = compare_extended(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
                             contact=contact,
                             pulse_freq=args.pulse_freq, quick=args.quick, imperfect=args.imperfect,
@@ -107,10 +115,11 @@ def _cmd_crosscheck(args) -> int:
     extra = {"scene": {"name": scene.name, "params": scene.params.to_dict(), "hull_vertices": len(scene.hull)},
              "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(), "contact": contact.to_dict(), "motion": motion.to_dict(),
              "notes": notes}
-    paths = write_report(comp, out, extra)
+    with group as g:
+        paths = write_report(comp, g.tmp, extra)
     print(table(comp.cases))
     s = summary(comp.cases)
     print(f"\n{s['n_met']} of {s['n_cases']} applicable checks meet their target ({s['n_not_applicable']} not "
-          f"applicable, {s['n_diagnostic']} diagnostics not counted); wrote {paths['json']} and "
+          f"applicable, {s['n_diagnostic']} diagnostics not counted); wrote {od.path / paths['json'].name} and "
           f"{len(paths) - 1} plots")
     return 0

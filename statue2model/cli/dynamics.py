@@ -128,14 +128,19 @@ def _print_notes(model) -> None:
         print(note if note.startswith("warning") else f"note: {note}")
 
 
-def _out(args, default_name: str) -> Path:
-    from ..io.files import prepare_dir
+def _out(args, default_name: str, *beside: str):
+    """The output JSON (``--json``, default ``default_name`` beside PARAMS.json) and the
+    :class:`~statue2model.io.files.OutputGroup` of it and the files ``beside`` it (suffixes:
+    ".csv" replaces .json, "_history.csv" is appended to the stem), checked now, before any
+    work: a file of those names statue2model did not write is refused, never overwritten;
+    the files appear together or not at all."""
+    from ..io.files import OutputGroup
 
     out = Path(args.json) if args.json else Path(args.params).resolve().parent / default_name
     if out.exists() and out.is_dir():
         raise InputError(f"--json {out} is a folder; give a file name")
-    prepare_dir(out.parent)
-    return out
+    paths = [out] + [out.with_suffix(b) if b.startswith(".") else out.with_name(out.stem + b) for b in beside]
+    return out, OutputGroup.files(paths, args.command)
 
 
 def _motion(spec: str):
@@ -164,7 +169,7 @@ def cmd_rock(args) -> int:
     # the history, its CSV text and its plot, before anything is allocated
     check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out, ROCK_BYTES_PER_SAMPLE,
                   t_name="--t-end", dt_name="--dt-out")
-    out = _out(args, "rock.json")
+    out, group = _out(args, "rock.json", "_history.csv", ".png")
     r = simulate(model, motion, theta0=theta0, t_end=args.t_end, rtol=args.rtol or 1e-8, dt_out=args.dt_out)
     p = model.params
     rows = [("model", f"{model.kind}{' (linearised)' if model.linearised else ''}"),
@@ -187,12 +192,13 @@ def cmd_rock(args) -> int:
               f"above are those of a base that cannot slide")
     if model.energy_gain_possible:
         print("warning: e_side^2 I_new / I_old > 1 at some impact: impacts add energy with these e values")
-    write_json(out, r.to_dict())
-    written = [out.name]
-    if r.history is not None:
-        csv = atomic_write(out.with_name(out.stem + "_history.csv"), lambda f: f.write_text(r.history_csv()))
-        png = plot_time_history(r, out.with_suffix(".png"))
-        written += [csv.name, png.name]
+    with group as g:
+        write_json(g / out, r.to_dict())
+        written = [out.name]
+        if r.history is not None:
+            csv = atomic_write(g / out.with_name(out.stem + "_history.csv"), lambda f: f.write_text(r.history_csv()))
+            png = plot_time_history(r, g / out.with_suffix(".png"))
+            written += [csv.name, png.name]
     print(f"\nwrote {', '.join(written)} in {out.parent}")
     return 0
 
@@ -214,7 +220,7 @@ def cmd_spectrum(args) -> int:
     model = build_model(args)
     freqs = _grid(args.freq, "--freq")
     amps = _grid(args.amp, "--amp", accel=True)
-    out = _out(args, f"spectrum_{args.pulse}.json")
+    out, group = _out(args, f"spectrum_{args.pulse}.json", ".csv", ".png")
     with _executor(args) as ex:
         t0 = time.perf_counter()
         sp = stability_spectrum(model, freqs, amps, pulse=args.pulse, rtol=args.rtol or 1e-7, progress=True,
@@ -230,28 +236,29 @@ def cmd_spectrum(args) -> int:
               f"above {model.mu_static:.3f} g); grey in the plot")
     d = sp.to_dict()
     d["wall_s"] = wall
-    write_json(out, d)
-    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sp.to_csv()))
-    if na.any():
-        import dataclasses
+    with group as g:
+        write_json(g / out, d)
+        csv = atomic_write(g / out.with_suffix(".csv"), lambda f: f.write_text(sp.to_csv()))
+        if na.any():
+            import dataclasses
 
-        import matplotlib
-        import numpy as np
+            import matplotlib
+            import numpy as np
 
-        # not-applicable cells are masked: they show the axes' (grey) background
-        shown = dataclasses.replace(sp, codes=np.ma.masked_array(sp.codes, mask=na))
-        with matplotlib.rc_context({"axes.facecolor": "0.55"}):
-            png = plot_spectrum(shown, out.with_suffix(".png"),
-                                f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs; grey: not "
-                                f"applicable, slides before it rocks)")
-    else:
-        png = plot_spectrum(sp, out.with_suffix(".png"))
+            # not-applicable cells are masked: they show the axes' (grey) background
+            shown = dataclasses.replace(sp, codes=np.ma.masked_array(sp.codes, mask=na))
+            with matplotlib.rc_context({"axes.facecolor": "0.55"}):
+                png = plot_spectrum(shown, g / out.with_suffix(".png"),
+                                    f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs; grey: not "
+                                    f"applicable, slides before it rocks)")
+        else:
+            png = plot_spectrum(sp, g / out.with_suffix(".png"))
     print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
     return 0
 
 
 # --- variability / sweep -----------------------------------------------------------------------
-def _write_sweep(sw, out: Path) -> None:
+def _write_sweep(sw, out: Path, group) -> None:
     from ..io.files import atomic_write, write_json
     from ..report.dynamics_plots import plot_sweep
 
@@ -263,13 +270,15 @@ def _write_sweep(sw, out: Path) -> None:
     if s["n"]:
         print(f"{s['n']} runs: |theta|max/delta mean {s['mean']:.4f}, std {s['std']:.4f}, p05 {s['p05']:.4f}, "
               f"p50 {s['p50']:.4f}, p95 {s['p95']:.4f}, max {s['max']:.4f}; {s['n_overturned']} overturned")
-    write_json(out, sw.to_dict())
-    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(sw.to_csv()))
-    names = [out.name, csv.name]
-    if s["n"]:
-        names.append(plot_sweep(sw.applicable_only() if s["n_not_applicable"] else sw, out.with_suffix(".png")).name)
-    else:
-        print("no run is applicable: no plot")
+    with group as g:
+        write_json(g / out, sw.to_dict())
+        csv = atomic_write(g / out.with_suffix(".csv"), lambda f: f.write_text(sw.to_csv()))
+        names = [out.name, csv.name]
+        if s["n"]:
+            names.append(plot_sweep(sw.applicable_only() if s["n_not_applicable"] else sw,
+                                    g / out.with_suffix(".png")).name)
+        else:
+            print("no run is applicable: no plot")
     print(f"wrote {', '.join(names)} in {out.parent}")
 
 
@@ -281,10 +290,10 @@ def cmd_variability(args) -> int:
     if theta0 != 0 or motion.kind == "none":
         raise InputError("variability needs a ground motion (a record or a pulse), not free rocking")
     pgas = _grid(args.pga, "--pga", accel=True)
-    out = _out(args, "variability.json")
+    out, group = _out(args, "variability.json", ".csv", ".png")
     with _executor(args) as ex:
         sw = variability(model, motion, pgas, rtol=args.rtol or 1e-7, progress=True, executor=ex)
-    _write_sweep(sw, out)
+    _write_sweep(sw, out, group)
     return 0
 
 
@@ -301,10 +310,10 @@ def cmd_sweep(args) -> int:
             raise InputError("--over-delta applies to theta_L, theta_R or theta")
         side = args.param[-1] if args.param != "theta" else "R"
         values = values * (model.params.delta_L if side == "L" else model.params.delta_R)
-    out = _out(args, f"sweep_{args.param}.json")
+    out, group = _out(args, f"sweep_{args.param}.json", ".csv", ".png")
     with _executor(args) as ex:
         sw = parameter_sweep(model, motion, args.param, values, rtol=args.rtol or 1e-7, progress=True, executor=ex)
-    _write_sweep(sw, out)
+    _write_sweep(sw, out, group)
     return 0
 
 
@@ -315,18 +324,19 @@ def cmd_identify(args) -> int:
     from ..report.dynamics_plots import plot_identification
 
     params = _load_params(args.params)
+    out, group = _out(args, "identify.json", ".csv", ".png")
     t, theta = read_rotation_record(args.record, units=args.units)
     ident = identify_restitution(t, theta, params)
-    out = _out(args, "identify.json")
     print(f"{'i':>3} {'t [s]':>8} {'|theta_dot| [rad/s]':>20} {'e':>8} side")
     for i, (ti, w, e, s) in enumerate(zip(ident.t_impact, ident.speed, ident.e, ident.side)):
         print(f"{i:>3} {ti:>8.3f} {w:>20.4f} {e:>8.4f} {s}")
     for side in ("L", "R"):
         f = ident.fit[side]
         print(f"e_{side} = {f['c0']:.4f} {f['c1']:+.4f} |theta_dot|  ({f['n']} impacts, rms {f['rms_residual']:.2g})")
-    write_json(out, ident.to_dict())
-    csv = atomic_write(out.with_suffix(".csv"), lambda f: f.write_text(ident.to_csv()))
-    png = plot_identification(ident, out.with_suffix(".png"))
+    with group as g:
+        write_json(g / out, ident.to_dict())
+        csv = atomic_write(g / out.with_suffix(".csv"), lambda f: f.write_text(ident.to_csv()))
+        png = plot_identification(ident, g / out.with_suffix(".png"))
     print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}  (use it as --e-L {out} --e-R {out})")
     return 0
 
@@ -334,19 +344,22 @@ def cmd_identify(args) -> int:
 # --- motion -----------------------------------------------------------------------------------
 def cmd_motion(args) -> int:
     from ..dynamics.motions import table_displacement
-    from ..io.files import atomic_write, prepare_dir
+    from ..io.files import OutputGroup, atomic_write
     from ..report.dynamics_plots import plot_table_motion
 
     motion, theta0 = _motion(args.motion)
     if motion.kind == "none":
         raise InputError("free rocking has no ground motion to write")
     out = Path(args.csv) if args.csv else Path("outputs") / "motion" / "table.csv"
-    prepare_dir(out.parent)
+    if out.exists() and out.is_dir():
+        raise InputError(f"--csv {out} is a folder; give a file name")
+    group = OutputGroup.files([out, out.with_suffix(".png")], "motion")
     t, a, v, u = table_displacement(motion, args.dt)
     text = "t_s,acc_m_s2,vel_m_s,disp_m\n" + "".join(f"{a_:.9g},{b:.9g},{c:.9g},{d:.9g}\n"
                                                        for a_, b, c, d in zip(t, a, v, u))
-    atomic_write(out, lambda f: f.write_text(text))
-    png = plot_table_motion(t, a, v, u, motion.label, out.with_suffix(".png"))
+    with group as g:
+        atomic_write(g / out, lambda f: f.write_text(text))
+        png = plot_table_motion(t, a, v, u, motion.label, g / out.with_suffix(".png"))
     print(f"{motion.label}: {t.size} samples, dt {t[1] - t[0]:.4g} s, PGA {motion.pga:.4g} m/s^2, "
           f"peak table displacement {abs(u).max() * 1000:.2f} mm, stroke {(u.max() - u.min()) * 1000:.2f} mm")
     print(f"wrote {out} and {png.name}")
@@ -373,19 +386,29 @@ def _tolerance(text: str) -> tuple[float, float]:
 
 
 def cmd_records(args) -> int:
-    import json
-    import time
-
     from ..dynamics.floor import parse_floor
-    from ..dynamics.matching import band_for_period, match_set, plot_spectra
-    from ..dynamics.motions import write_record_csv
-    from ..io.files import open_output, write_json
+    from ..dynamics.matching import band_for_period
+    from ..io.files import open_output
     from ..isolator.design_spectrum import parse_spectrum
 
     target = ground = parse_spectrum(args.spectrum)
     if args.floor:
         target = parse_floor(args.floor, ground)
     band = band_for_period(args.t1) if args.t1 is not None else args.band
+    # the folder is checked (and locked) before any work: a user's files in it refuse it at once
+    with open_output(args.out, "records", command="records", can_reuse=False) as od:
+        return _records(args, od, target, band)
+
+
+def _records(args, od, target, band) -> int:
+    import json
+    import re
+    import time
+
+    from ..dynamics.matching import match_set, plot_spectra, set_files
+    from ..dynamics.motions import write_record_csv
+    from ..io.files import write_json
+
     t0 = time.perf_counter()
     rs = match_set(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,
                    tolerance=args.tolerance)
@@ -399,19 +422,23 @@ def cmd_records(args) -> int:
         raise InputError(f"the set misses its tolerance ({line}); try more records, another --seed or a longer "
                          f"--duration, or pass --keep-unmet to write it anyway")
     lam = args.scale
-    names = [f"record_{i + 1:02d}.csv" for i in range(len(rs.records))] + ["set.json", "spectra.png"]
-    with open_output(args.out, "records", command="records") as od:
-        od.claim(names)
+    names = [f"record_{i + 1:02d}.csv" for i in range(len(rs.records))]
+    # the set replaces the folder's earlier one: its records this one does not have go too
+    stale = [n for n in od.entries if re.fullmatch(r"record_\d+\.csv", n) and n not in names]
+    # all or nothing: the records, set.json (naming them, with their lengths and hashes) and the
+    # plot appear together once every one is complete; an interruption leaves the earlier set as it was
+    with od.group([*names, "set.json", "spectra.png", *stale]) as g:
         for name, m in zip(names, rs.records):
-            write_record_csv(od.path / name, m.froude(lam) if lam != 1.0 else m)
+            write_record_csv(g / name, m.froude(lam) if lam != 1.0 else m)
         data = rs.to_dict()
         data.update(spectrum=args.spectrum, floor=args.floor, duration_s=args.duration, dt_s=args.dt,
                     froude_scale=(f"1:{lam:g}" if lam != 1.0 else None),
-                    files_dt_s=args.dt / lam ** 0.5, files=names[:-2],
+                    files_dt_s=args.dt / lam ** 0.5,
                     note=("spectra and check at full scale; the files are Froude-scaled (times / sqrt(lambda), "
                           "accelerations unchanged)" if lam != 1.0 else "full scale"))
-        write_json(od.path / "set.json", json.loads(json.dumps(data)))
-        plot_spectra(rs, od.path / "spectra.png", title=args.floor and "floor spectrum" or "ground spectrum")
+        data.update(set_files(g.tmp, names, "m/s2"))
+        write_json(g / "set.json", json.loads(json.dumps(data)))
+        plot_spectra(rs, g / "spectra.png", title=args.floor and "floor spectrum" or "ground spectrum")
     print(line)
     if not c["met"]:
         print(f"WARNING: the set does NOT meet its tolerance (worst mean/target {c['worst_ratio']:.3f} at "

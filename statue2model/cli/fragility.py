@@ -7,9 +7,13 @@
 
 PARAMS_OR_MESH is the PARAMS.json of ``statue2model props`` or a scan (its rocking
 parameters in the weakest direction, or --direction). Records: N synthetic records
-(seeds K..K+N-1) or every .csv / .AT2 file of DIR. Levels: N values from LO to HI
-(PGA with a unit, 0.05g or 0.49m/s2; PGV in m/s). Writes DIR/fragility.json,
-fragility.csv and fragility.png (dynamics/fragility.py).
+(seeds K..K+N-1) or the set of a folder: the files its set.json names, each checked
+against the length and hash recorded there (dynamics/matching.read_record_set; a folder
+without set.json, or with a file missing or changed, is refused). Levels: N values from
+LO to HI (PGA with a unit, 0.05g or 0.49m/s2; PGV in m/s). --isolator: a design that
+`isolator design` passed. Writes DIR/fragility.json, fragility.csv and fragility.png
+(dynamics/fragility.py) together, into a folder that is new, empty or statue2model's
+(files.open_output: a folder with a user's files is refused before any work).
 """
 from __future__ import annotations
 
@@ -27,7 +31,8 @@ def add_parsers(sub) -> None:
                        "curves by maximum likelihood with bootstrap bands, and write DIR/fragility.json, .csv, .png.")
     p.add_argument("source", metavar="PARAMS_OR_MESH", help="the PARAMS.json of `statue2model props`, or a scan")
     p.add_argument("--records", required=True, metavar="SPEC", help="synthetic:N[,duration=S][,dt=S][,seed=K] "
-                   "(N synthetic 20 s records by default) or a folder of .csv / .AT2 accelerograms")
+                   "(N synthetic 20 s records by default) or a record set: a folder with the set.json of "
+                   "`statue2model records` (only the files it names are used)")
     p.add_argument("--units", choices=["g", "m/s2"], default=None, help="units of the CSV records (default m/s2)")
     p.add_argument("--levels", required=True, metavar="LO:HI:N", help="N intensity levels from LO to HI, e.g. "
                    "0.05g:1g:40 (PGA) or 0.05:1:20 (PGV, m/s)")
@@ -57,7 +62,8 @@ def add_parsers(sub) -> None:
     x = p.add_argument_group("parallel runs (default: the threads of this process)").add_mutually_exclusive_group()
     x.add_argument("--workers", type=int, metavar="N", help="run on N local worker processes, one core each")
     x.add_argument("--scheduler", metavar="ADDRESS", help="run on the workers of a Dask cluster (tcp://host:8786)")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder: new, empty or statue2model's "
+                   "(a folder holding other files is refused)")
     p.set_defaults(func=_cmd_fragility)
 
 
@@ -110,8 +116,11 @@ def parse_levels(text: str, im: str):
     return np.linspace(lo, hi, n)
 
 
-def parse_records(text: str, units: str | None):
-    """The records of --records: synthetic:N[,duration=S][,dt=S][,seed=K] or a folder."""
+def parse_records(text: str, units: str | None, say=print, check=None):
+    """The records of --records: synthetic:N[,duration=S][,dt=S][,seed=K] or a record set's
+    folder (the files its set.json names, checked; ``say``: the note on files it leaves out).
+    ``check(n_records, samples_per_record)``: the study's budget, called before synthetic
+    records are made."""
     from ..dynamics import motions
 
     if text.startswith("synthetic:"):
@@ -129,14 +138,20 @@ def parse_records(text: str, units: str | None):
             raise InputError(f"--records {text!r}: expected synthetic:N[,duration=S][,dt=S][,seed=K]") from None
         if not 1 <= n <= 100_000:
             raise InputError(f"--records {text!r}: N must be in 1..100000")
+        if check is not None and kw["dt"] > 0 and kw["duration"] > 0:
+            check(n, kw["duration"] / kw["dt"] + 1)
         return [motions.synthetic_record(kw["duration"], kw["dt"], 1.0, seed=kw["seed"] + i) for i in range(n)]
+    from ..dynamics.matching import read_record_set
+
     path = Path(text)
     if not path.is_dir():
         raise InputError(f"--records {text!r}: neither synthetic:N nor a folder of records")
-    files = sorted(f for f in path.iterdir() if f.suffix.lower() in (".csv", ".at2"))
-    if not files:
-        raise InputError(f"--records {text}: the folder holds no .csv or .AT2 record")
-    return [motions.read_record(f, units=None if f.suffix.lower() == ".at2" else units) for f in files]
+    records, info = read_record_set(path, units)
+    if info["ignored"]:
+        n = len(info["ignored"])
+        say(f"note: {n} record file{'s' if n > 1 else ''} in {path} not named by its set.json "
+            f"({', '.join(info['ignored'][:4])}{', ...' if n > 4 else ''}): not used")
+    return records
 
 
 def build_samples(args, model):
@@ -172,15 +187,16 @@ def build_samples(args, model):
     return sampling.latin_hypercube(ranges, n, seed=args.seed)
 
 
-def _cmd_fragility(args) -> int:
-    import contextlib
+FRAGILITY_FILES = ("fragility.json", "fragility.csv", "fragility.png")
 
-    from ..dynamics.fragility import FragilityStudy, run_fragility
-    from ..io.files import prepare_dir, read_json
+
+def _cmd_fragility(args) -> int:
+    from ..dynamics.fragility import FragilityStudy
+    from ..io.files import open_output
+    from .isolator import read_design
 
     params = _params(args.source, args.direction)
     model = _model(args, params)
-    records = parse_records(args.records, args.units)
     levels = parse_levels(args.levels, args.im)
     samples = build_samples(args, model)
     samples.models(model)                       # a bad sample fails here, before any run
@@ -189,8 +205,25 @@ def _cmd_fragility(args) -> int:
     if args.isolator:
         from ..isolator.device import isolator_from_design
 
-        iso = isolator_from_design(read_json(args.isolator))
-    out = prepare_dir(args.out)
+        iso = isolator_from_design(read_design(args.isolator))   # a rejected design is refused
+    from ..dynamics.fragility import check_study
+
+    # the study's runs and memory are checked before its records are made (compute/budget.py)
+    records = parse_records(args.records, args.units, check=lambda n, npts: check_study(
+        n, levels.size, samples.n, npts, iso is not None, args.workers is not None or args.scheduler is not None))
+    # the folder is checked (a user's files refuse it) and locked before any work; the three
+    # files appear together once all are written
+    with open_output(args.out, "fragility", command="fragility", can_reuse=False) as od:
+        return _study(args, od, model, records, levels, samples, study, iso)
+
+
+def _study(args, od, model, records, levels, samples, study, iso) -> int:
+    import contextlib
+
+    from ..dynamics.fragility import run_fragility
+
+    group = od.group(FRAGILITY_FILES)
+    out = od.path
     if args.workers is None and args.scheduler is None:
         ctx = contextlib.nullcontext(None)
     else:
@@ -203,9 +236,10 @@ def _cmd_fragility(args) -> int:
           f"{' (x 2: fixed and isolated)' if iso is not None else ''}")
     with ctx as ex:
         res = run_fragility(model, records, levels, samples, study, isolator=iso, executor=ex)
-    res.write_json(out / "fragility.json")
-    res.write_csv(out / "fragility.csv")
-    res.plot(out / "fragility.png")
+    with group as g:
+        res.write_json(g / "fragility.json")
+        res.write_csv(g / "fragility.csv")
+        res.plot(g / "fragility.png")
     for line in res.summary_lines():
         print(line)
     s = res.stats

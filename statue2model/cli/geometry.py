@@ -48,7 +48,7 @@ def add_parsers(sub) -> None:
 def _cmd_props(args) -> int:
     from ..geometry.body import load_body
     from ..geometry.props import write_props
-    from ..io.files import claim_files
+    from ..io.files import OutputGroup
     from ..io.paths import default_scan
     from ..report.tables import props_table
 
@@ -57,20 +57,18 @@ def _cmd_props(args) -> int:
     if out.exists() and out.is_dir():
         raise InputError(f"--json {out} is a folder; give a file name")
     written = (out, out.with_name(out.stem + "_rose.csv"), out.with_suffix(".png"))
-    # refuse a name statue2model did not write before any work; a folder that is not there yet
-    # (nothing in it can clash) is made only once the scan loaded: a bad scan leaves no empty folder
-    early = out.parent.is_dir()
-    if early:
-        claim_files(written, "props")
+    # a name statue2model did not write is refused before any work (nothing is written or listed);
+    # the folder is made only when the files are written: a bad scan leaves no empty folder, and the
+    # three files appear (and are listed in the folder's manifest) together or not at all
+    group = OutputGroup.files(written, "props")
     body = load_body(
         mesh, units=args.units, up=args.up, height=args.height, density=args.density,
         mass=args.mass, base_tol=args.base_tol,
     )
-    if not early:
-        claim_files(written, "props")
     params = body.rocking(args.direction)
     rose = body.rose()
     print(props_table(body, params, rose))
-    _, csv, png = write_props(out, body, params, rose)
+    with group as g:
+        _, csv, png = write_props(g / out, body, params, rose)
     print(f"\nwrote {out}, {csv.name} and {png.name}")
     return 0

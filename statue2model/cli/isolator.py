@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, length, positive_float
+from .argtypes import finite_float, length, plausible, positive_float
 
 
 def add_parsers(sub) -> None:
@@ -65,12 +65,12 @@ def add_parsers(sub) -> None:
     s.add_argument("--design", metavar="DESIGN.json",
                    help="take R, r, mass, mu and the capacity from a design (`isolator design`); the options "
                         "below override it")
-    s.add_argument("--R", type=positive_float, metavar="M", help="groove radius of curvature, m")
-    s.add_argument("--r", type=positive_float, metavar="M", help="ball radius, m")
-    s.add_argument("--mass", type=positive_float, metavar="KG",
+    s.add_argument("--R", type=plausible("groove_radius", option="--R"), metavar="M", help="groove radius of curvature, m")
+    s.add_argument("--r", type=plausible("ball_radius", option="--r"), metavar="M", help="ball radius, m")
+    s.add_argument("--mass", type=plausible("supported_mass", option="--mass"), metavar="KG",
                    help="supported mass M = top plate + statue, kg")
     s.add_argument("--mu", type=finite_float)
-    s.add_argument("--capacity", type=length, metavar="M",
+    s.add_argument("--capacity", type=plausible("capacity", length, "--capacity"), metavar="M",
                    help="largest plate displacement before a ball leaves its groove (150mm, 0.15m; a bare "
                         "number is mm; default: the design's with --design, else not checked)")
     s.add_argument("--end-stop", choices=["stop", "impact"], default="stop",
@@ -104,6 +104,26 @@ def add_parsers(sub) -> None:
     i.set_defaults(func=_cmd_identify)
 
 
+def read_design(path, option: str = "--isolator") -> dict:
+    """The isolator design at ``path`` (the JSON of ``statue2model isolator design``, or one
+    written by hand with R, r, M, mu, ...), refused with one line when ``isolator design``
+    rejected it: its ``passed`` is not true, or one of its required ``checks`` failed.
+    A design without ``passed`` (written by hand) is taken as it is."""
+    from ..io.files import read_json
+
+    d = read_json(path)
+    if not isinstance(d, dict):
+        raise InputError(f"{option} {path}: not an isolator design (the JSON of `statue2model isolator design`)")
+    checks = d.get("checks") if isinstance(d.get("checks"), list) else []
+    failed = [str(c.get("name")) for c in checks
+              if isinstance(c, dict) and c.get("required") and c.get("passed") is not True]
+    if ("passed" in d and d["passed"] is not True) or failed:
+        why = d.get("failure") or ("failed checks: " + ", ".join(failed) if failed else "passed: false")
+        raise InputError(f"{option} {path}: `statue2model isolator design` rejected this design ({why}); give a "
+                         "design that passes every check")
+    return d
+
+
 def _statue(path):
     from ..io.files import read_json
     from ..geometry.rocking_params import RockingParams
@@ -132,7 +152,7 @@ def _accel(text: str) -> float:
 
 def _cmd_design(args) -> int:
     from ..dynamics.motions import parse_spec
-    from ..io.files import atomic_write, write_json
+    from ..io.files import OutputGroup, atomic_write, write_json
     from ..isolator.design import design
     from ..isolator.design_spectrum import parse_spectrum
 
@@ -141,12 +161,14 @@ def _cmd_design(args) -> int:
     aR = args.alpha_R if args.alpha_R is not None else (args.alpha if args.alpha is not None else 1.0)
     spectrum = parse_spectrum(args.spectrum) if args.spectrum else None
     motion = parse_spec(args.motion)[0] if args.motion else None
+    out = Path(args.json)
+    group = OutputGroup.files([out, out.with_suffix(".txt")], "isolator design")   # checked before any work
     res = design(statue, mu=args.mu, spectrum=spectrum, motion=motion, target=args.target, alpha=(aL, aR),
                  n_grooves=args.grooves, thickness=args.thickness, fuse_release=args.fuse_release)
-    out = Path(args.json)
-    write_json(out, res.to_dict())
     report = res.report()
-    atomic_write(out.with_suffix(".txt"), lambda p: p.write_text(report + "\n"))
+    with group as g:
+        write_json(g / out, res.to_dict())
+        atomic_write(g / out.with_suffix(".txt"), lambda p: p.write_text(report + "\n"))
     print(report)
     print(f"\nwrote {out} and {out.with_suffix('.txt').name}")
     if not res.passed:
@@ -155,22 +177,29 @@ def _cmd_design(args) -> int:
     return 0
 
 
+PLATE_FILES = tuple(f"{w}_plate.{ext}" for w in ("bottom", "top") for ext in ("stl", "3mf", "dxf")) + \
+    ("plates_section.png", "plates_section.svg")
+"""The files `isolator plates` writes into --out (the 3MF ones only when trimesh can write 3MF)."""
+
+
 def _cmd_plates(args) -> int:
-    from ..io.files import read_json
+    from ..io.files import open_output
     from ..isolator.plates import PlateGeometry, write_plates
 
-    geom = PlateGeometry.from_design(read_json(args.design), str(args.design))
+    geom = PlateGeometry.from_design(read_design(args.design, "DESIGN.json"), str(args.design))
     if args.segments < 16 or args.segments > 4096:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
-    paths = write_plates(geom, Path(args.out), segments=args.segments)
-    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    with open_output(args.out, "plates", command="isolator plates", can_reuse=False) as od, \
+            od.group(PLATE_FILES) as g:
+        paths = write_plates(geom, g.tmp, segments=args.segments)
+    print("wrote " + ", ".join(str(od.path / p.name) for p in paths.values()))
     return 0
 
 
 def _cmd_simulate(args) -> int:
     from ..dynamics.model import RockingModel
     from ..dynamics.motions import parse_spec
-    from ..io.files import write_json
+    from ..io.files import OutputGroup, write_json
     from ..isolator.dynamics import simulate, statue_on_plate
 
     spec = args.motion.strip()
@@ -196,6 +225,8 @@ def _cmd_simulate(args) -> int:
     check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out,
                   HISTORY_BYTES_PER_SAMPLE + 200, t_name="--t-end", dt_name="--dt-out")
     iso = _isolator(args)
+    json_out = Path(args.json)
+    group = OutputGroup.files([json_out, json_out.with_suffix(".csv")], "isolator simulate")
     res = simulate(iso, motion, u0=u0, v0=v0, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol,
                    end_stop=args.end_stop, e_stop=args.e_stop)
     out = res.to_dict()
@@ -207,8 +238,9 @@ def _cmd_simulate(args) -> int:
         out["statue"] = sp.to_dict()
         out["uplift"] = sp.uplift
         out["efficiency"] = sp.efficiency
-    write_json(Path(args.json), out)
-    csv = _write_history(Path(args.json).with_suffix(".csv"), res)
+    with group as g:
+        write_json(g / json_out, out)
+        csv = _write_history(g / json_out.with_suffix(".csv"), res)
     print(f"T = {iso.T:.3f} s, k = {iso.k:.2f} N/m; u_max = {res.u_max * 1000:.2f} mm, "
           f"|a_abs| max = {res.acc_abs_max:.4f} m/s^2 (pga {res.pga:.4f}), {len(res.peaks_u)} peaks")
     print("plate: " + _capacity_line(res))
@@ -228,7 +260,6 @@ def _isolator(args):
     """The Isolator of `isolator simulate`: --design, overridden by the explicit options."""
     from dataclasses import replace
 
-    from ..io.files import read_json
     from ..isolator.device import Isolator, isolator_from_design
 
     given = {k: getattr(args, a) for k, a in (("R", "R"), ("r", "r"), ("M", "mass"), ("mu", "mu"))
@@ -237,7 +268,7 @@ def _isolator(args):
     if args.capacity is not None:
         opts["capacity"] = args.capacity
     if args.design:
-        return replace(isolator_from_design(read_json(args.design)), **given, **opts)
+        return replace(isolator_from_design(read_design(args.design, "--design")), **given, **opts)
     missing = [f"--{a}" for k, a in (("R", "R"), ("r", "r"), ("M", "mass"), ("mu", "mu")) if k not in given]
     if missing:
         raise InputError(f"isolator simulate needs {', '.join(missing)} (or --design DESIGN.json)")
@@ -278,11 +309,12 @@ _TABLES = {"19-steel": "steel_r0.0095", "19-resin": "resin_r0.0183", "19-resin-r
 
 def _cmd_identify(args) -> int:
     from ..dynamics.identify import read_time_series
-    from ..io.files import write_json
+    from ..io.files import OutputGroup, write_json
     from ..isolator.friction import TABLE_19, TABLE_25, friction_from_record, mu_for_load
 
     if (args.mass is None) != (args.table is None):
         raise InputError("--mass and --table go together (the table value at that load)")
+    group = OutputGroup.files([Path(args.json)], "isolator identify")
     t, u = read_time_series(args.record, "displacement")
     if args.units == "mm":
         u = u / 1000.0
@@ -301,6 +333,7 @@ def _cmd_identify(args) -> int:
         mu_t = mu_for_load(args.mass, masses, tab)
         out["table"] = {"name": f"Table {args.table}", "mass": args.mass, "mu": mu_t}
         print(f"Table {args.table} at {args.mass:g} kg: mu {mu_t:.5f} (identified / table = {fr.mu_fitted / mu_t:.3f})")
-    write_json(Path(args.json), out)
+    with group as g:
+        write_json(g / Path(args.json), out)
     print(f"wrote {args.json}")
     return 0

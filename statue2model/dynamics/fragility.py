@@ -20,8 +20,11 @@ scipy.optimize TNC, bounded Newton with the analytic gradient, on ln theta, ln b
 is bounded to [BETA_MIN, BETA_MAX]).
 Runs where the rocking model does not apply (the body slides first,
 :meth:`RockingModel.applicability`) or the solver did not finish are left out of n_j.
-Status of a fit: "ok"; "no failures" (median above the levels: nan); "all failed"
-(below them: nan); "step" (the failures are separated by one level: beta at BETA_MIN).
+Status of a fit: "ok"; "step" (the failures are separated by one level: beta at BETA_MIN);
+undefined (median and beta nan, written null with the reason of REASONS): "no failures"
+(median above the levels), "all failed" (below them), "one level" (runs at one level
+only: any spread fits one point, so neither median nor beta is identified), "no runs".
+A fit needs runs at two levels or more, at least one failure and one survival.
 
 Confidence bands: bootstrap (``n_boot`` replicates, ``seed``) over the records (the
 dominant, independent input) when there are at least MIN_BOOT_RECORDS of them, else over
@@ -29,6 +32,11 @@ the parameter samples; each replicate re-fits the curves; the bands are the
 (1 - confidence)/2 and (1 + confidence)/2 percentiles of the fitted P at each level, of
 the median, of beta and of the ratio of medians isolated / fixed (paired: the same
 resample for both). They are sampling bands of the study, not model uncertainty.
+A replicate without failures has its median above the levels run (P = 0 at every level),
+one that failed everywhere below them (P = 1): they keep their place in the order of the
+medians, and a band end that falls on one is not identified (null, with a note counting
+them, ``median_ci_note``); replicates with one level of runs are left out (counted).
+Only a curve whose own fit is defined has bands (else they are null, with its reason).
 
 Early exit (fixed base; the outcome only): a run stops when it overturns; a run whose
 motion never exceeds the uplift limits is not integrated (``quiet``); after the ground
@@ -64,7 +72,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..compute.budget import check_runs
+from ..compute.budget import check_bytes, check_runs
 from ..errors import InputError
 from . import kernel as K
 from .batch import run_batch
@@ -80,9 +88,18 @@ LABELS = {"overturn": "overturning, fixed base", "overturn_isolated": "overturni
           "capacity_exceeded": "isolator capacity exceeded",
           "failure_isolated": "failure on the isolator (overturning or capacity)"}
 BETA_MIN, BETA_MAX = 1e-3, 5.0
+REASONS = {"no runs": "no run counted at any level", "no failures": "no failure at any level",
+           "all failed": "failure at every level", "one level": "one level: spread not identified"}
+"""Why a fit's median and beta are undefined, by status (the text written beside a null)."""
 MIN_BOOT_RECORDS = 5
 BYTES_PER_RUN = 800
 """Bytes one run of a study costs: its rows P, M, S in the batch (~360 B) and its outcomes."""
+ISO_BYTES_PER_RUN = 64
+"""Bytes one run on the isolator costs beyond the scaled record its task carries: its
+outcomes (three int64) and its flags."""
+TASK_BYTES_PER_RUN = 8 * (K.N_P + K.N_M + K.N_S)
+"""Bytes a fixed-base run adds on an executor: the copies of its rows P, M sent to the
+workers and its statistics S sent back."""
 ROWS_PER_TASK = 1000
 """Rows of one executor task (fixed base): large enough to amortise the task, small enough
 to balance the workers of a 200 000-run study."""
@@ -185,7 +202,15 @@ def _nll_grad(q, lnx, z, n):
 
 def fit_lognormal(levels, n_fail, n_trials) -> tuple[float, float, str]:
     """(median, beta, status) of the maximum-likelihood lognormal curve through the binomial
-    counts (see the module docstring); median and beta are nan unless status is "ok" or "step"."""
+    counts (see the module docstring); median and beta are nan unless status is "ok" or "step"
+    (the others' reasons: REASONS). Identified only with runs at two levels or more, at least
+    one failure and one survival.
+
+    >>> fit_lognormal([5.0], [3], [7])           # one point: any beta passes through it
+    (nan, nan, 'one level')
+    >>> fit_lognormal([1.0, 2.0, 4.0], [0, 0, 0], [7, 7, 7])[2], REASONS["no failures"]
+    ('no failures', 'no failure at any level')
+    """
     from scipy.optimize import minimize
 
     x = np.asarray(levels, dtype=float)
@@ -200,6 +225,8 @@ def fit_lognormal(levels, n_fail, n_trials) -> tuple[float, float, str]:
         return nan, nan, "no failures"
     if z.sum() == n.sum():
         return nan, nan, "all failed"
+    if np.unique(x).size < 2:
+        return nan, nan, "one level"
     lnx = np.log(x)
     lo, hi = lnx.min() - 3.0, lnx.max() + 3.0
     bl, bh = math.log(BETA_MIN), math.log(BETA_MAX)
@@ -228,8 +255,11 @@ def lognormal_cdf(x, median: float, beta: float) -> np.ndarray:
 @dataclass(frozen=True, eq=False)
 class FragilityCurve:
     """One outcome: counts per level, the fit, its bootstrap bands (``confidence`` level).
-    levels (L,) in the IM's unit; n_fail, n_trials (L,) int; median (IM unit), beta; status;
-    median_ci, beta_ci: (lo, hi); band_lo, band_hi (L,): P at each level."""
+    levels (L,) in the IM's unit; n_fail, n_trials (L,) int; median (IM unit), beta; status
+    (``reason``: why median and beta are nan, None when fitted); median_ci, beta_ci: (lo, hi),
+    an end nan when not identified, ``median_ci_note`` / ``beta_ci_note`` saying why (or
+    what the band was computed on); band_lo, band_hi (L,): P at each level (nan when the
+    curve is undefined); ``boot_undefined``: replicates per undefined status."""
 
     outcome: str
     levels: np.ndarray
@@ -242,6 +272,19 @@ class FragilityCurve:
     beta_ci: tuple = (float("nan"), float("nan"))
     band_lo: np.ndarray = None
     band_hi: np.ndarray = None
+    median_ci_note: str | None = None
+    beta_ci_note: str | None = None
+    boot_undefined: dict = field(default_factory=dict)
+
+    @property
+    def fitted(self) -> bool:
+        """Whether median and beta are defined (status "ok" or "step")."""
+        return self.status in ("ok", "step")
+
+    @property
+    def reason(self) -> str | None:
+        """Why the fit is undefined (REASONS), None when it is defined."""
+        return None if self.fitted else REASONS.get(self.status, self.status)
 
     @property
     def fraction(self) -> np.ndarray:
@@ -253,9 +296,13 @@ class FragilityCurve:
         return lognormal_cdf(x, self.median, self.beta)
 
     def to_dict(self) -> dict:
-        return {"outcome": self.outcome, "label": LABELS[self.outcome], "median": self.median, "beta": self.beta,
-                "status": self.status, "median_ci": [_finite(x) for x in self.median_ci],
-                "beta_ci": [_finite(x) for x in self.beta_ci],
+        """JSON-ready; an undefined number is None with its reason beside it (``reason`` for the
+        fit, its fitted P and bands; ``median_ci_note``, ``beta_ci_note`` for a band end)."""
+        return {"outcome": self.outcome, "label": LABELS[self.outcome], "median": _finite(self.median),
+                "beta": _finite(self.beta), "status": self.status, "reason": self.reason,
+                "median_ci": [_finite(x) for x in self.median_ci], "median_ci_note": self.median_ci_note,
+                "beta_ci": [_finite(x) for x in self.beta_ci], "beta_ci_note": self.beta_ci_note,
+                "bootstrap_undefined": dict(self.boot_undefined),
                 "levels": self.levels, "n_fail": self.n_fail, "n_trials": self.n_trials,
                 "fraction": self.fraction, "fitted": self.probability(self.levels),
                 "band_lo": self.band_lo, "band_hi": self.band_hi}
@@ -300,15 +347,19 @@ class FragilityResult:
                 "per_record": per_record, "stats": self.stats}
 
     def csv_rows(self) -> tuple[list, list]:
-        """(header, rows): one row per outcome and level."""
+        """(header, rows): one row per outcome and level; an undefined number is an empty cell
+        (never nan or inf), the curve's ``reason`` says why."""
         header = ["outcome", f"{self.im}_{self.unit.replace('/', '_')}", "n_fail", "n_trials", "fraction",
-                  "fitted_p", "band_lo", "band_hi", "median", "beta", "status"]
+                  "fitted_p", "band_lo", "band_hi", "median", "beta", "status", "reason"]
         rows = []
         for c in self.curves.values():
             fit = c.probability(c.levels)
+            blo = np.full(c.levels.shape, np.nan) if c.band_lo is None else c.band_lo
+            bhi = np.full(c.levels.shape, np.nan) if c.band_hi is None else c.band_hi
             for j, x in enumerate(c.levels):
                 rows.append([c.outcome, f"{x:.9g}", int(c.n_fail[j]), int(c.n_trials[j]), _g(c.fraction[j]),
-                             _g(fit[j]), _g(c.band_lo[j]), _g(c.band_hi[j]), _g(c.median), _g(c.beta), c.status])
+                             _g(fit[j]), _g(blo[j]), _g(bhi[j]), _g(c.median), _g(c.beta), c.status,
+                             c.reason or ""])
         return header, rows
 
     def write_csv(self, path):
@@ -327,24 +378,31 @@ class FragilityResult:
         return plot_fragility(self, path)
 
     def summary_lines(self) -> list[str]:
+        """One line per curve and ratio; an undefined number is '-' or its reason, never nan or inf."""
         u = self.unit
         out = []
         for c in self.curves.values():
-            if c.status in ("ok", "step"):
-                banded = self.study.n_boot and all(math.isfinite(x) for x in c.median_ci)
-                mci = f" [{c.median_ci[0]:.4g}, {c.median_ci[1]:.4g}]" if banded else ""
-                bci = f" [{c.beta_ci[0]:.3f}, {c.beta_ci[1]:.3f}]" if banded else ""
-                if self.study.n_boot and not banded:
-                    mci = (f" (no band: the bootstrap over the {self.bootstrap_unit} has one unit to resample; "
-                           f"use at least {MIN_BOOT_RECORDS} records or 2 parameter samples)")
+            if c.fitted:
+                if not self.study.n_boot:
+                    mci = bci = ""
+                elif not any(math.isfinite(x) for x in c.median_ci):
+                    mci, bci = f" ({c.median_ci_note or 'no band'})", ""
+                else:
+                    mci = f" [{_band(c.median_ci, '.4g')}]" + (f" ({c.median_ci_note})" if c.median_ci_note else "")
+                    bci = f" [{_band(c.beta_ci, '.3f')}]" if any(math.isfinite(x) for x in c.beta_ci) else ""
                 out.append(f"{LABELS[c.outcome]}: median {c.median:.4g} {u}{mci}, beta {c.beta:.3f}{bci}"
                            f"{' (a step: failures separated by one level)' if c.status == 'step' else ''}")
             else:
-                out.append(f"{LABELS[c.outcome]}: {c.status} in {c.levels[0]:.4g}..{c.levels[-1]:.4g} {u}")
+                out.append(f"{LABELS[c.outcome]}: not fitted ({c.reason}) in {c.levels[0]:.4g}..{c.levels[-1]:.4g} "
+                           f"{u}")
         for k, r in self.ratio.items():
             if r["value"] is not None:
-                out.append(f"isolator benefit ({k}): median isolated / fixed = {r['value']:.3g} "
-                           f"[{_g(r['ci'][0])}, {_g(r['ci'][1])}]")
+                ci = r["ci"]
+                band = f" [{_band(ci, '.3g')}]" if any(x is not None for x in ci) else ""
+                note = f" ({r['ci_note']})" if r.get("ci_note") else ""
+                out.append(f"isolator benefit ({k}): median isolated / fixed = {r['value']:.3g}{band}{note}")
+            else:
+                out.append(f"isolator benefit ({k}): median isolated / fixed undefined ({r['note']})")
         return out
 
 
@@ -357,8 +415,43 @@ def _g(v) -> str:
     return "" if v is None or not np.isfinite(v) else f"{v:.6g}"
 
 
+def _band(ci, spec: str) -> str:
+    """'lo, hi' of a band whose ends may be None / non-finite (not identified): such an end is '-'."""
+    return ", ".join("-" if v is None or not np.isfinite(v) else format(float(v), spec) for v in ci)
+
+
 def _side(name: str) -> str:
     return "fixed" if name in FIXED else "isolated"
+
+
+# --- the study's budget ----------------------------------------------------------------------
+def study_bytes(n_records: int, n_levels: int, n_samples: int, record_samples: int, isolated: bool,
+                executor: bool = False) -> float:
+    """Peak bytes of a study, estimated from its sizes alone (before any record is made):
+    the records (8 B a sample, twice: one more while a record is made or filtered for its
+    PGV), BYTES_PER_RUN each fixed-base run (+ TASK_BYTES_PER_RUN on an executor), and on
+    the isolator the records scaled to every level (the R x L tasks carry them) plus
+    ISO_BYTES_PER_RUN each run."""
+    R, L, S, N = (float(x) for x in (n_records, n_levels, n_samples, max(float(record_samples), 1.0)))
+    runs = R * L * S
+    b = 16.0 * R * N + runs * (BYTES_PER_RUN + (TASK_BYTES_PER_RUN if executor else 0))
+    if isolated:
+        b += 8.0 * R * L * N + runs * ISO_BYTES_PER_RUN
+    return b
+
+
+def check_study(n_records: int, n_levels: int, n_samples: int, record_samples: int, isolated: bool,
+                executor: bool = False) -> None:
+    """Refuse (one-line InputError with the estimate and the limit) a study beyond the run
+    cap or the memory budget (:mod:`statue2model.compute.budget`), from its sizes alone: call
+    it before the records are made (the CLI does, from --records, --levels and --samples)."""
+    R, L, S = int(n_records), int(n_levels), int(n_samples)
+    n_runs = R * L * S * (2 if isolated else 1)
+    what = f"{R} records x {L} levels x {S} samples = {n_runs} runs" + (" (fixed and isolated)" if isolated else "")
+    fix = "use fewer records, levels or samples"
+    check_runs(n_runs, BYTES_PER_RUN, what, fix)
+    check_bytes(study_bytes(R, L, S, record_samples, isolated, executor),
+                what + f" on records of {float(record_samples):.6g} samples", fix + ", or shorter records")
 
 
 # --- running the study ----------------------------------------------------------------------
@@ -382,6 +475,10 @@ def _check_inputs(model, records, levels, samples, study):
         if not v > 0:
             raise InputError(f"record {r.label!r} has zero {study.im.upper()}: it cannot be scaled")
     return records, lv, ims
+
+
+def _n_samples(motion: GroundMotion) -> int:
+    return 0 if getattr(motion, "samples", None) is None else int(np.size(motion.samples))
 
 
 def _rows_task(task: tuple) -> np.ndarray:
@@ -425,10 +522,17 @@ def _fixed(model, records, gains, samples, study, executor, max_steps):
                          np.full(n, rec.end + study.free_time), quiet | na, eL, eR, smp))
     n_int = int(sum(int((~j[7]).sum()) for j in jobs))
     if executor is None:
-        for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
-            gm = models[ss[0]]
-            S = run_batch(gm, P, kinds, M, smp, t_end, rtol=study.rtol, quiet=quiet, max_steps=max_steps)
-            fails[r, ss, ll] = S[:, K.S_OVERTURNED] > 0
+        from ..compute.executors import progress_bar
+
+        bar = progress_bar("fragility, fixed base", len(jobs), unit="batch")
+        try:
+            for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
+                gm = models[ss[0]]
+                S = run_batch(gm, P, kinds, M, smp, t_end, rtol=study.rtol, quiet=quiet, max_steps=max_steps)
+                fails[r, ss, ll] = S[:, K.S_OVERTURNED] > 0
+                bar.update(1)
+        finally:
+            bar.close()
     else:
         from ..compute.compile import ensure_compiled
 
@@ -443,7 +547,7 @@ def _fixed(model, records, gains, samples, study, executor, max_steps):
                 tasks.append((np.ascontiguousarray(P[k]), eLw, eLe, eRw, eRe, kinds[k], np.ascontiguousarray(M[k]),
                               K.as_samples(smp), t_end[k], float(study.rtol), int(max_steps)))
                 where.append((r, ss[k], ll[k]))
-        for (r, sk, lk), S in zip(where, executor.map(_rows_task, tasks, desc=None)):
+        for (r, sk, lk), S in zip(where, executor.map(_rows_task, tasks, desc="fragility, fixed base")):
             bad = S[:, K.S_STATUS] != K.STATUS_OK
             if np.any(bad):
                 raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {S.shape[0]} runs")
@@ -498,7 +602,18 @@ def _isolated(iso, model, records, gains, samples, study, executor):
     fac = samples.im_factors()
     tasks = [(iso, models, rec.scaled(float(gains[r, j])), fac, rec.end + study.free_time, study.rtol)
              for r, rec in enumerate(records) for j in range(L)]
-    res = [_iso_task(t) for t in tasks] if executor is None else executor.map(_iso_task, tasks)
+    if executor is None:
+        from ..compute.executors import progress_bar
+
+        bar, res = progress_bar("fragility, isolated", len(tasks), unit="run"), []
+        try:
+            for t in tasks:
+                res.append(_iso_task(t))
+                bar.update(1)
+        finally:
+            bar.close()
+    else:
+        res = executor.map(_iso_task, tasks, desc="fragility, isolated")
     arr = np.array(res).reshape(R, L, samples.n, 3).transpose(0, 2, 1, 3)
     return arr[..., 0] > 0, arr[..., 1] > 0, arr[..., 2] > 0
 
@@ -521,9 +636,7 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
         if not isinstance(isolator, Isolator):
             raise InputError("isolator must be an Isolator (statue2model.isolator.device)")
     R, L, S_n = len(records), lv.size, samples.n
-    n_runs = R * L * S_n * (2 if isolator is not None else 1)
-    check_runs(n_runs, BYTES_PER_RUN, f"{R} records x {L} levels x {S_n} samples = {n_runs} runs",
-               "use fewer records, levels or samples")
+    check_study(R, L, S_n, max(_n_samples(r) for r in records), isolator is not None, executor is not None)
     gains = lv[None, :] / ims[:, None]          # (R, L): scale of each record at each level
     t0 = time.perf_counter()
     fails, valid = {}, {}
@@ -557,8 +670,18 @@ def _fit_all(lv, fails, valid, study, unit):
     rng = np.random.default_rng(study.seed)
     n_units = next(iter(z.values())).shape[0]
     n_boot = study.n_boot if n_units >= 2 else 0     # one unit: every replicate the same, no band
+    no_band = None
+    if study.n_boot and not n_boot:
+        no_band = (f"no band: the bootstrap over the {unit} has one unit to resample; use at least "
+                   f"{MIN_BOOT_RECORDS} records or 2 parameter samples")
+    # each replicate's (median, beta): a replicate with no failure keeps its median's place above
+    # the levels (inf), one that failed everywhere below them (0); "one level" / "no runs": nan
     boot = {k: np.full((n_boot, 2), np.nan) for k in fails}
+    from ..compute.executors import progress_bar
+
+    bar = progress_bar("fragility, bootstrap", n_boot, unit="replicate")
     for b in range(n_boot):
+        bar.update(1)
         pick = rng.integers(0, n_units, n_units)
         for k in fails:
             med, beta, st = fit_lognormal(lv, z[k][pick].sum(0), n[k][pick].sum(0))
@@ -567,46 +690,88 @@ def _fit_all(lv, fails, valid, study, unit):
             elif st == "all failed":
                 med = 0.0
             boot[k][b] = (med, beta)
+    bar.close()
     lo_q, hi_q = 50 * (1 - study.confidence), 50 * (1 + study.confidence)
     curves = {}
     for k in fails:
         med, beta, st = fits[k]
         bands = np.full((2, lv.size), np.nan)
         mci = bci = (float("nan"), float("nan"))
-        if n_boot:
+        mnote = bnote = no_band
+        undefined = {}
+        if st not in ("ok", "step"):
+            mnote = bnote = None if not study.n_boot else f"no band: the median is undefined ({REASONS[st]})"
+        elif n_boot:
             bm, bb = boot[k][:, 0], boot[k][:, 1]
-            P = np.empty((n_boot, lv.size))
-            for b in range(n_boot):
-                if np.isfinite(bm[b]) and bm[b] > 0 and np.isfinite(bb[b]):
-                    P[b] = lognormal_cdf(lv, bm[b], bb[b])
-                else:
-                    P[b] = 0.0 if bm[b] == np.inf else 1.0
-            bands = np.percentile(P, [lo_q, hi_q], axis=0)
-            with np.errstate(invalid="ignore"):      # inf medians (no failures in a replicate)
-                mci = tuple(float(x) for x in np.percentile(bm, [lo_q, hi_q], method="inverted_cdf"))
+            undefined = {"replicates": n_boot, "no failures": int(np.sum(bm == np.inf)),
+                         "all failed": int(np.sum(bm == 0.0)), "not identified": int(np.sum(np.isnan(bm)))}
+            ordered = ~np.isnan(bm)              # fitted, or above / below the levels
+            if ordered.any():
+                P = np.empty((int(ordered.sum()), lv.size))
+                for i, (m_b, b_b) in enumerate(zip(bm[ordered], bb[ordered])):
+                    P[i] = lognormal_cdf(lv, m_b, b_b) if 0.0 < m_b < np.inf else (0.0 if m_b == np.inf else 1.0)
+                bands = np.percentile(P, [lo_q, hi_q], axis=0)
+            mci, mnote = _ordered_ci(bm, lo_q, hi_q, n_boot,
+                                     hi_why="{k} of {n} replicates had no failure (median above the levels run)",
+                                     lo_why="{k} of {n} replicates failed at every level (median below the levels)",
+                                     out_why="runs at one level only")
             fb = bb[np.isfinite(bb)]
             if fb.size:
                 bci = tuple(float(x) for x in np.percentile(fb, [lo_q, hi_q]))
+            bnote = None if fb.size == n_boot else (
+                f"on the {fb.size} of {n_boot} replicates with a fitted curve" if fb.size else
+                "no band: no replicate has a fitted curve")
         curves[k] = FragilityCurve(k, lv, z[k].sum(0).astype(int), n[k].sum(0).astype(int), med, beta, st,
-                                   mci, bci, bands[0], bands[1])
+                                   mci, bci, bands[0], bands[1], mnote, bnote, undefined)
     ratio = {}
     for name, iso_k, fix_k in pairs:
         if iso_k not in fails:
             continue
-        a, b = curves[iso_k].median, curves[fix_k].median
-        value = a / b if np.isfinite(a) and np.isfinite(b) else None
-        ci = (None, None)
-        if n_boot:
+        ci_, cf_ = curves[iso_k], curves[fix_k]
+        value = ci_.median / cf_.median if ci_.fitted and cf_.fitted else None
+        ci, ci_note = (float("nan"), float("nan")), no_band
+        if value is None:
+            ci_note = None if not study.n_boot else "no band: the ratio is undefined"
+        elif n_boot:
             with np.errstate(invalid="ignore", divide="ignore"):
-                rr = boot[iso_k][:, 0] / boot[fix_k][:, 0]
-            rr = rr[~np.isnan(rr)]
-            if rr.size:
-                with np.errstate(invalid="ignore"):
-                    ci = tuple(float(x) for x in np.percentile(rr, [lo_q, hi_q], method="inverted_cdf"))
+                rr = boot[iso_k][:, 0] / boot[fix_k][:, 0]     # inf / 0 order like the medians; nan: unknown
+            ci, ci_note = _ordered_ci(rr, lo_q, hi_q, n_boot,
+                                      hi_why="in {k} of {n} replicates the isolated median lies above the levels "
+                                             "run or the fixed one below them",
+                                      lo_why="in {k} of {n} replicates the fixed median lies above the levels run "
+                                             "or the isolated one below them",
+                                      out_why="both medians above, or both below, the levels run")
+        why = [f"isolated {ci_.reason}" if ci_.reason else "", f"fixed base {cf_.reason}" if cf_.reason else ""]
         ratio[name] = {"value": value, "ci": [_finite(x) for x in ci], "isolated": iso_k, "fixed": fix_k,
                        "note": None if value is not None else
-                       f"undefined: isolated {curves[iso_k].status}, fixed {curves[fix_k].status} in the levels run"}
+                       "undefined: " + ", ".join(w for w in why if w) + " in the levels run",
+                       "ci_note": ci_note}
     return curves, ratio
+
+
+def _ordered_ci(values, lo_q, hi_q, n_boot, hi_why: str, lo_why: str,
+                out_why: str = "fit not identified") -> tuple[tuple, str | None]:
+    """((lo, hi), note): the percentile band of bootstrap ``values`` that may hold +inf (above the
+    levels run) and 0 (below them), ordered as such; nan values (not identified) are left out. An
+    end that falls on inf or 0 is not identified: nan, and the note counts the replicates there
+    (``hi_why`` / ``lo_why`` formatted with k, n); the note also counts those left out (``out_why``)."""
+    v = np.asarray(values, dtype=float)
+    keep = v[~np.isnan(v)]
+    notes = []
+    if keep.size < v.size:
+        notes.append(f"{v.size - keep.size} of {n_boot} replicates left out ({out_why})")
+    if not keep.size:
+        return (float("nan"), float("nan")), "no band: no replicate identified"
+    ends = [float(x) for x in np.percentile(keep, [lo_q, hi_q], method="inverted_cdf")]
+    for i, which in enumerate(("lower", "upper")):
+        if ends[i] == np.inf:
+            notes.append(f"{which} end not identified: " + hi_why.format(k=int(np.sum(keep == np.inf)), n=n_boot))
+        elif not ends[i] > 0:
+            notes.append(f"{which} end not identified: " + lo_why.format(k=int(np.sum(keep == 0.0)), n=n_boot))
+        if not 0 < ends[i] < np.inf:
+            ends[i] = float("nan")
+    lo, hi = ends
+    return (lo, hi), ("; ".join(notes) or None)
 
 
 # --- plot -------------------------------------------------------------------------------
@@ -631,7 +796,7 @@ def plot_fragility(res: FragilityResult, path):
                     label=f"{LABELS[k]} (median {c.median / scale:.3g}{' g' if res.im == 'pga' else ' m/s'}, "
                           f"beta {c.beta:.2f})")
         else:
-            ax.plot([], [], "o", color=col, label=f"{LABELS[k]} ({c.status})")
+            ax.plot([], [], "o", color=col, label=f"{LABELS[k]} (not fitted: {c.reason})")
         if c.band_lo is not None and np.all(np.isfinite(c.band_lo)):
             ax.fill_between(c.levels / scale, c.band_lo, c.band_hi, color=col, alpha=0.15, lw=0)
     ax.set_xlabel("PGA (g)" if res.im == "pga" else "PGV (m/s)")

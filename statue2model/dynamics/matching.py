@@ -31,6 +31,13 @@ periods of the statue's rocking and of the isolator; EC8's 0.2 T1-2 T1 is
 may reach a fifth of the duration (4 s for 20 s records): longer periods lose too
 much to the baseline correction to be matched.
 
+A set on disk is a folder with its ``set.json`` (:func:`set_files` writes its
+``files``, ``file_checks`` and ``units``; ``statue2model records`` writes it last, after
+its records) and is read by :func:`read_record_set`: exactly the files set.json names,
+in its order, each checked against the length and SHA-256 recorded when it was written;
+a folder without set.json, a file missing or changed since, is refused with one line,
+never filled in from whatever else lies in the folder.
+
 Example
 -------
 >>> from statue2model.isolator.design_spectrum import parse_spectrum
@@ -50,7 +57,7 @@ import numpy as np
 
 from ..errors import InputError
 from .motions import GroundMotion, record
-from .response import psa
+from .response import POINTS_PER_PERIOD, psa
 
 TOLERANCE = (-0.10, 0.30)
 """Allowed deviation of the set's mean spectrum from the target (EC8 -10 %, NTC 2018 +30 %)."""
@@ -198,36 +205,52 @@ def match_set(target, n: int = 7, seed: int = 1, duration: float = 20.0, dt: flo
     tol = tuple(float(x) for x in tolerance)
     if not (len(tol) == 2 and -1 < tol[0] < 0 < tol[1]):
         raise InputError(f"record set: tolerance must be (minus, plus) fractions like (-0.1, 0.3), got {tolerance!r}")
-    from ..compute.budget import check_history
+    from ..compute import budget
 
-    check_history(duration, dt, 64 * n, what="its samples", head=f"a set of {n} records of {duration:g} s at dt {dt:g} s",
-                  fix="use fewer records, a shorter duration or a coarser dt")
+    head = f"a set of {n} records of {duration:g} s at dt {dt:g} s"
+    fix = "use fewer records, a shorter duration or a coarser dt"
+    budget.check_history(duration, dt, 0, what="each record", head=head, fix=fix)
     xi = float(getattr(target, "xi", 5.0)) / 100.0
     T_match = np.geomspace(max(0.5 * lo, 4 * dt), min(1.5 * hi, duration / 2), N_MATCH)
     T_check = np.geomspace(lo, hi, 2 * N_MATCH)
+    npts = int(round(duration / dt)) + 1
+    nfft = 1 << int(math.ceil(math.log2(2 * npts)))
+    # the peak memory and the time, before anything is allocated (compute/budget.py)
+    ks, ks_check = (np.maximum(1, np.ceil(POINTS_PER_PERIOD * dt / T).astype(int)) for T in (T_match, T_check))
+    tail = int(math.ceil(0.5 * T_match.max() / dt)) + 2
+    budget.check_bytes(budget.record_set_bytes(n, npts, nfft, tail, int(ks.max())), head + " (FFT work arrays and "
+                       f"response spectra at {N_MATCH} periods)", fix)
+    budget.check_seconds(budget.record_set_seconds(n, npts, nfft, tail, ks, iterations, ks_check),
+                         head + f" with up to {iterations} iterations", fix + ", or fewer iterations")
     S_match, S_check = _target_values(target, T_match), _target_values(target, T_check)
 
-    npts = int(round(duration / dt)) + 1
     t = np.arange(npts) * dt
     env = envelope(t, duration)
     seeds = tuple(int(seed) + i for i in range(n))
     acc = np.stack([np.random.default_rng(s).standard_normal(npts) for s in seeds]) * env
-    nfft = 1 << int(math.ceil(math.log2(2 * npts)))
     f = np.fft.rfftfreq(nfft, dt)
     logf = np.log(np.maximum(f, f[1] * 0.5))
     logf_match = np.log(1.0 / T_match[::-1])                 # ascending frequencies
-    # first pass: scale every record so its spectrum matches on average
-    acc *= np.median(S_match / psa(acc, dt, T_match, xi), axis=-1, keepdims=True)
-    done = 0
-    for done in range(1, iterations + 1):
+    from ..compute.executors import progress_bar
+
+    bar = progress_bar(f"matching {n} records", iterations + 2, unit="spectra")   # shown for long work
+    try:
+        # first pass: scale every record so its spectrum matches on average
+        acc *= np.median(S_match / psa(acc, dt, T_match, xi), axis=-1, keepdims=True)
+        bar.update(1)
+        done = 0
+        for done in range(1, iterations + 1):
+            acc = baseline_correct(acc, dt, env)
+            ratio = S_match / psa(acc, dt, T_match, xi)        # (n, n_T)
+            bar.update(1)
+            if np.all(np.abs(ratio - 1) <= record_tol):
+                break
+            R = np.stack([np.interp(logf, logf_match, r[::-1]) for r in ratio])
+            acc = np.fft.irfft(np.fft.rfft(acc, nfft, axis=-1) * R, nfft, axis=-1)[:, :npts]
         acc = baseline_correct(acc, dt, env)
-        ratio = S_match / psa(acc, dt, T_match, xi)        # (n, n_T)
-        if np.all(np.abs(ratio - 1) <= record_tol):
-            break
-        R = np.stack([np.interp(logf, logf_match, r[::-1]) for r in ratio])
-        acc = np.fft.irfft(np.fft.rfft(acc, nfft, axis=-1) * R, nfft, axis=-1)[:, :npts]
-    acc = baseline_correct(acc, dt, env)
-    spectra = psa(acc, dt, T_check, xi)
+        spectra = psa(acc, dt, T_check, xi)
+    finally:
+        bar.close()
     info = target.to_dict() if callable(getattr(target, "to_dict", None)) else {"kind": type(target).__name__}
     records = tuple(record(a, dt, label=f"matched seed {s}") for a, s in zip(acc, seeds))
     return RecordSet(records, seeds, T_check, spectra, S_check, (lo, hi), tol, xi, done, info,
@@ -266,3 +289,93 @@ def plot_spectra(rs: RecordSet, path, title: str = "spectrum-compatible set"):
         return atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=110))
     finally:
         plt.close(fig)
+
+
+# --- a set on disk: set.json names its records ------------------------------------------------
+SET_FILE = "set.json"
+RECORD_SUFFIXES = (".csv", ".at2")
+"""Record files a set may name: CSV (time s, acceleration) and PEER .AT2 (in g)."""
+
+
+def set_files(folder, names, units: str = "m/s2") -> dict:
+    """The keys of set.json that name a set's records ``names`` (files in ``folder``, in
+    the set's order): ``files`` (the names), ``file_checks`` ({name: {"bytes", "sha256"}}
+    of each file as written now) and ``units`` of the CSV records (m/s2 or g)."""
+    from pathlib import Path
+
+    from ..io.files import file_sha256
+
+    folder = Path(folder)
+    names = [str(n) for n in names]
+    return {"files": names, "units": units,
+            "file_checks": {n: {"bytes": (folder / n).stat().st_size, "sha256": file_sha256(folder / n)}
+                            for n in names}}
+
+
+def read_record_set(folder, units: str | None = None, option: str = "--records") -> tuple[list[GroundMotion], dict]:
+    """The records of the set in ``folder``: the files its set.json names (``files``, in
+    that order), each checked: a plain name in the folder (.csv or .AT2), present, and of
+    the length and SHA-256 that ``file_checks`` records (every named file must have one
+    when set.json has ``file_checks``; a set.json written by hand may list only ``files``,
+    then each is checked to be there). CSV units: ``units``, else set.json's ``units``,
+    else m/s2 (a conflict is refused). Returns (records, info): info holds the set.json
+    data and ``ignored``, the record files of the folder set.json does not name (not used).
+    Refusals are one-line InputErrors naming ``option`` and the folder."""
+    from pathlib import Path
+
+    from ..io.files import file_sha256, read_json
+    from .motions import read_record
+
+    folder = Path(folder)
+    where = f"{option} {folder}"
+    if not folder.is_dir():
+        raise InputError(f"{where}: not a folder of records")
+    sj = folder / SET_FILE
+    if not sj.is_file():
+        raise InputError(f"{where}: the folder has no {SET_FILE}: a record set is read from the {SET_FILE} that "
+                         "`statue2model records` writes after its records (the files it names, with their hashes), "
+                         "never from whatever files lie in the folder; for records of your own, list them in "
+                         f"{sj} as {{\"files\": [\"a.AT2\", \"b.csv\"]}}")
+    data = read_json(sj)
+    files = data.get("files") if isinstance(data, dict) else None
+    if not isinstance(files, list) or not files or not all(isinstance(n, str) for n in files):
+        raise InputError(f"{where}: {SET_FILE} names no record files (a list \"files\" of file names)")
+    for n in files:
+        if Path(n).name != n or n in (".", "..") or Path(n).suffix.lower() not in RECORD_SUFFIXES:
+            raise InputError(f"{where}: {SET_FILE} names {n!r}: a record is a .csv or .AT2 file in the set's folder")
+    if len(set(files)) != len(files):
+        raise InputError(f"{where}: {SET_FILE} names a file twice")
+    n_said = data.get("n_records")
+    if n_said is not None and n_said != len(files):
+        raise InputError(f"{where}: {SET_FILE} is inconsistent: n_records {n_said!r} but {len(files)} files")
+    checks = data.get("file_checks")
+    if checks is not None and not isinstance(checks, dict):
+        raise InputError(f"{where}: {SET_FILE}: file_checks is not a table of file checks")
+    missing = [n for n in files if not (folder / n).is_file()]
+    if missing:
+        raise InputError(f"{where}: the set is incomplete: {SET_FILE} names {len(files)} records, "
+                         f"{len(missing)} missing ({', '.join(missing[:4])}{', ...' if len(missing) > 4 else ''}); "
+                         "write the set again (`statue2model records`)")
+    if checks is not None:
+        changed = []
+        for n in files:
+            c = checks.get(n)
+            if not isinstance(c, dict) or "sha256" not in c or "bytes" not in c:
+                raise InputError(f"{where}: {SET_FILE} records no length and hash of {n}: the set is incomplete; "
+                                 "write the set again (`statue2model records`)")
+            if (folder / n).stat().st_size != c["bytes"] or file_sha256(folder / n) != c["sha256"]:
+                changed.append(n)
+        if changed:
+            raise InputError(f"{where}: {', '.join(changed[:4])}{', ...' if len(changed) > 4 else ''} changed after "
+                             f"{SET_FILE} was written (length or SHA-256 differs): not the set it describes; write "
+                             "the set again (`statue2model records`)")
+    said = data.get("units")
+    if said is not None and said not in ("m/s2", "g"):
+        raise InputError(f"{where}: {SET_FILE}: units must be m/s2 or g, got {said!r}")
+    if units is not None and said is not None and units != said:
+        raise InputError(f"{where}: --units {units} but {SET_FILE} says the records are in {said}")
+    csv_units = units or said
+    records = [read_record(folder / n, units=None if n.lower().endswith(".at2") else csv_units) for n in files]
+    ignored = sorted(p.name for p in folder.iterdir()
+                     if p.suffix.lower() in RECORD_SUFFIXES and p.name not in set(files))
+    return records, {**data, "ignored": ignored}

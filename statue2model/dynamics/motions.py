@@ -14,6 +14,12 @@ body onto its left pivot, theta < 0). Times in s.
 * :func:`parse_spec` - the command-line SPEC strings (``bundled:name=elcentro_1940_ns``:
   a record shipped with the package, :func:`statue2model.io.paths.bundled_record`).
 
+Every acceleration read (a sample of a record file, a pulse amplitude, a PGA) must be finite
+and at most :data:`A_MAX` (100 g) in magnitude, and a record's time step within the
+possible range of :data:`statue2model.geometry.units.PLAUSIBLE` (1e-6 to 1 s): otherwise
+an :class:`InputError` naming the file, the line and the value (no ground moves at 100 g;
+such a number is a unit or a parsing mistake, and would stall the solvers).
+
 Example
 -------
 >>> m = parse_spec("cosine:amp=0.3g,freq=2")[0]
@@ -35,6 +41,46 @@ from ..errors import InputError
 from . import kernel as K
 
 G_STD = 9.80665  # the g of accelerogram files (PEER NGA)
+
+
+def _limits():
+    from ..geometry.units import PLAUSIBLE
+
+    return PLAUSIBLE["acceleration"], PLAUSIBLE["time_step"]
+
+
+A_MAX = _limits()[0].hard_high
+"""Largest |u_g''| (m/s^2) accepted anywhere: 100 g (981 m/s^2)."""
+
+
+def check_acc(value: float, where: str) -> None:
+    """Refuse one acceleration (m/s^2) that is not finite or exceeds :data:`A_MAX`;
+    ``where`` names it ('rec.csv: line 12: acceleration')."""
+    from ..geometry.units import check_plausible
+
+    check_plausible("acceleration", value, where)
+
+
+def check_dt(dt: float, where: str) -> None:
+    """Refuse a record time step (s) that is not positive and finite, or outside the possible range."""
+    from ..geometry.units import check_plausible
+
+    if not (math.isfinite(dt) and dt > 0):
+        raise InputError(f"{where} = {dt!r}: the time step must be a positive number of seconds")
+    check_plausible("time_step", dt, where)
+
+
+def _check_samples(acc: np.ndarray, where: str, lines=None) -> None:
+    """Refuse the first sample of ``acc`` (m/s^2) that is not finite or above :data:`A_MAX`,
+    naming its line (``lines[i]``: the file line of sample i) or its index."""
+    bad = ~np.isfinite(acc)
+    bad[~bad] = np.abs(acc[~bad]) > A_MAX
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        at = f"line {lines[i]}" if lines is not None else f"sample {i}"
+        if not np.isfinite(acc[i]):
+            raise InputError(f"{where}: {at}: the acceleration is not a finite number ({float(acc[i])})")
+        check_acc(float(acc[i]), f"{where}: {at}: acceleration")
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,6 +170,7 @@ class GroundMotion:
         """Scale so that max |u_g''| = pga (m/s^2)."""
         if not (math.isfinite(pga) and pga > 0):
             raise InputError(f"target PGA must be a positive finite acceleration, got {pga}")
+        check_acc(pga, "target PGA")
         if self.pga == 0:
             raise InputError(f"motion {self.label!r} is zero everywhere: it cannot be scaled to a PGA")
         return self.scaled(pga / self.pga)
@@ -185,6 +232,7 @@ class GroundMotion:
 def _check_amp_freq(amp, freq):
     if not math.isfinite(amp):
         raise InputError(f"pulse amplitude must be finite, got {amp}")
+    check_acc(amp, "pulse amplitude")
     if not (math.isfinite(freq) and freq > 0):
         raise InputError(f"pulse frequency must be a positive number of Hz, got {freq}")
 
@@ -218,6 +266,7 @@ def rect_pulse(amp: float, dur: float, start: float = 0.0) -> GroundMotion:
     """u_g'' = amp for ``dur`` seconds."""
     if not math.isfinite(amp):
         raise InputError(f"pulse amplitude must be finite, got {amp}")
+    check_acc(amp, "pulse amplitude")
     if not (math.isfinite(dur) and dur > 0):
         raise InputError(f"pulse duration must be positive, got {dur}")
     return GroundMotion("rect", amp, 0.0, 0.0, start, dur, label=f"rectangular {dur:g} s")
@@ -228,11 +277,10 @@ def record(acc, dt: float, start: float = 0.0, label: str = "record") -> GroundM
     acc = np.array(acc, dtype=float).ravel()  # a copy: the caller's array may change later
     if acc.size < 2:
         raise InputError(f"{label}: a record needs at least 2 samples, got {acc.size}")
-    if not np.all(np.isfinite(acc)):
-        i = int(np.flatnonzero(~np.isfinite(acc))[0])
-        raise InputError(f"{label}: sample {i} is not a finite number")
+    _check_samples(acc, label)
     if not (math.isfinite(dt) and dt > 0):
         raise InputError(f"{label}: time step dt must be positive, got {dt}")
+    check_dt(dt, f"{label}: time step dt")
     if not math.isfinite(start) or start < 0:
         raise InputError(f"{label}: start time must be >= 0, got {start}")
     acc.setflags(write=False)
@@ -249,6 +297,8 @@ def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 
     for name, value in (("duration", duration), ("dt", dt), ("pga", pga), ("f_g", f_g), ("zeta_g", zeta_g)):
         if not (math.isfinite(value) and value > 0):
             raise InputError(f"synthetic record: {name} must be positive, got {value}")
+    check_acc(pga, "synthetic record: pga")
+    check_dt(dt, "synthetic record: dt")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"synthetic record: seed must be a non-negative integer, got {seed!r}")
     from ..compute.budget import check_history, num
@@ -297,16 +347,20 @@ def _read_at2(path: Path) -> GroundMotion:
     else:
         raise InputError(f"{path}: cannot read NPTS and DT from header line {head + 1}: {lines[head].strip()!r}")
     npts, dt = int(npts_s), float(dt_s.replace("D", "E").replace("d", "e"))
-    values = []
+    check_dt(dt, f"{path}: line {head + 1}: DT")
+    values, where = [], []
     for j, line in enumerate(lines[head + 1:], start=head + 2):
         for tok in line.split():
             try:
                 values.append(float(tok.replace("D", "E").replace("d", "e")))
             except ValueError:
                 raise InputError(f"{path}: line {j}: {tok!r} is not a number") from None
+            where.append(j)
     if len(values) != npts:
         raise InputError(f"{path}: header says NPTS={npts} but the file holds {len(values)} values")
-    return record(np.asarray(values) * G_STD, dt, label=path.name)
+    acc = np.asarray(values) * G_STD
+    _check_samples(acc, str(path), where)
+    return record(acc, dt, label=path.name)
 
 
 _CELL_SEP = re.compile(r"[,;\s]+")
@@ -341,10 +395,13 @@ def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
     if data.shape[1] == 1:
         if dt is None:
             raise InputError(f"{path}: one column of accelerations needs the time step: add dt=S to the spec")
+        check_dt(dt, f"{path}: dt")
+        _check_samples(data[:, 0] * factor, str(path), line_no)
         return record(data[:, 0] * factor, dt, label=path.name)
     if data.shape[1] != 2:
         raise InputError(f"{path}: expected 1 column (acc) or 2 columns (time, acc), found {data.shape[1]}")
     t, a = data[:, 0], data[:, 1]
+    _check_samples(a * factor, str(path), line_no)
     if not np.all(np.isfinite(t)):
         raise InputError(f"{path}: the time column holds a non-finite value")
     steps = np.diff(t)
@@ -363,6 +420,7 @@ def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
     if t[0] < 0:
         raise InputError(f"{path}: the record starts at a negative time ({t[0]:g} s)")
     step = (t[-1] - t[0]) / (len(t) - 1)
+    check_dt(step, f"{path}: time step (the time column)")
     return record(a * factor, step, start=float(t[0]), label=path.name)
 
 
@@ -468,6 +526,9 @@ def parse_accel(text: str, what: str = "acceleration", key: str | None = None, g
         name = f"{key}=" if key else ""
         head = f"{name}{raw}" if key else f"{what}: {raw}"
         raise InputError(f"{head} has no unit: write {name}{raw}g or {name}{value * g:.3g}m/s2")
+    if abs(value) > A_MAX:
+        raise InputError(f"{f'{key}={raw}' if key else f'{what} {raw}'} is {abs(value) / g:.4g} g: no ground "
+                         f"motion reaches {A_MAX / G_SPEC:g} g (check the unit)")
     return value
 
 

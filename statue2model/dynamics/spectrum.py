@@ -114,8 +114,9 @@ class StabilitySpectrum:
         for i, f in enumerate(self.freqs):
             for j, a in enumerate(self.amps):
                 c = int(self.codes[i, j])
+                tmd = self.theta_max_over_delta[i, j]          # nan (not integrated): an empty cell
                 lines.append(f"{f:.6g},{a:.6g},{a / g:.6g},{c},{label(c)},"
-                             f"{self.theta_max_over_delta[i, j]:.6g},{int(self.n_impacts[i, j])}")
+                             f"{f'{tmd:.6g}' if np.isfinite(tmd) else ''},{int(self.n_impacts[i, j])}")
         return "\n".join(lines) + "\n"
 
 

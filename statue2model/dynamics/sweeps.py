@@ -102,10 +102,14 @@ class SweepResult:
                 "model": self.model.to_dict(), "motion": self.motion.to_dict()}
 
     def to_csv(self) -> str:
+        """One row per value; a response not computed (nan: not applicable) is an empty cell."""
+        def c(x):
+            return f"{x:.9g}" if np.isfinite(x) else ""
+
         lines = [f"{self.name},theta_max_over_delta,theta_max_L_rad,theta_max_R_rad,overturned,outcome,n_impacts"]
         for i in range(self.values.size):
-            lines.append(f"{self.values[i]:.9g},{self.theta_max_over_delta[i]:.9g},{self.theta_max_L[i]:.9g},"
-                         f"{self.theta_max_R[i]:.9g},{int(self.overturned[i])},{label(self.codes[i])},"
+            lines.append(f"{c(self.values[i])},{c(self.theta_max_over_delta[i])},{c(self.theta_max_L[i])},"
+                         f"{c(self.theta_max_R[i])},{int(self.overturned[i])},{label(self.codes[i])},"
                          f"{int(self.n_impacts[i])}")
         return "\n".join(lines) + "\n"
 

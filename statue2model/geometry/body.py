@@ -38,7 +38,7 @@ from .orient import UP_ROTATIONS, choose_up, face_area_vectors, rest_plane
 from .repair import repair_mesh
 from .rocking_params import G, RockingParams, Rose, rocking_params, vulnerability_rose, weakest_direction
 from .scan import read_scan
-from .units import resolve_units
+from .units import check_plausible, resolve_units
 
 __all__ = ["BASE_TOL", "Body", "body_from_mesh", "load_body"]
 
@@ -106,11 +106,12 @@ def body_from_mesh(
     """Run the pipeline of the module docstring on raw arrays (file units and axes)."""
     if height is not None and not (np.isfinite(height) and height > 0):
         raise InputError(f"height must be a positive number of metres, got {height}")
+    height_note = None if height is None else check_plausible("height", height)   # refuses a 1.8 km statue
     if base_tol is not None and not (np.isfinite(base_tol) and base_tol >= 0):
         raise InputError(f"base tolerance must be a non-negative number of metres, got {base_tol}")
     check_density_mass(density, mass)  # before the expensive steps
     steps = list(log)
-    warnings: list[str] = []
+    warnings: list[str] = [height_note] if height_note else []
 
     rep = repair_mesh(vertices, faces)
     steps.extend(rep.log)

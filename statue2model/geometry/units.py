@@ -24,6 +24,27 @@ Example
 False
 >>> detect_units(130.0).note  # doctest: +ELLIPSIS
 'units unsure: assumed mm (0.13 m across); cm would give 1.3 m, in would give 3.3 m; could be inches or cm: ...'
+
+Plausible ranges of inputs
+--------------------------
+:data:`PLAUSIBLE` is the one table of the ranges a number the user gives (a height, a
+groove radius, a mass, an acceleration, a time step, ...) is checked against, and
+:func:`check_plausible` the one check: outside the *possible* range the number cannot be
+physical and is refused (InputError); between it and the *plausible* range it is
+accepted with a warning; either message names the unit the number was probably typed in.
+
+>>> check_plausible("height", 1800.0)
+Traceback (most recent call last):
+...
+statue2model.errors.InputError: height = 1800 m is implausible for a statue height; did you mean 1800 mm (1.8 m)?
+>>> check_plausible("height", 1.8) is None
+True
+>>> check_plausible("groove_radius", 300.0, "--R")
+Traceback (most recent call last):
+...
+statue2model.errors.InputError: --R = 300 m is implausible for a groove radius of curvature; did you mean 300 mm (0.3 m) or 300 cm (3 m)?
+>>> check_plausible("groove_radius", 5.0, "--R")
+'--R = 5 m is unusual for a groove radius of curvature (0.1 to 3 m); did you mean 5 in (0.127 m)?'
 """
 from __future__ import annotations
 
@@ -32,14 +53,62 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .massprops import PLAUSIBLE_DENSITY, POSSIBLE_DENSITY
 
 UNIT_SCALE = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 """Metres per file unit, in order of preference."""
 
-PLAUSIBLE_SIZE = (0.1, 4.0)
+
+@dataclass(frozen=True)
+class Plausible:
+    """The range of one input quantity, in SI units (``unit``).
+
+    low, high           : plausible; outside it the value is accepted with a warning
+    hard_low, hard_high : possible; outside it the value cannot be physical: refused
+    typed               : other units the number is often typed in, (name, SI value of 1 of them):
+                          the messages name those that would make it plausible
+    """
+
+    what: str
+    unit: str
+    low: float
+    high: float
+    hard_low: float
+    hard_high: float
+    typed: tuple[tuple[str, float], ...] = ()
+
+
+_LENGTH_TYPOS = (("mm", 1e-3), ("cm", 1e-2), ("in", 0.0254))
+_MASS_TYPOS = (("g", 1e-3), ("t", 1e3), ("lb", 0.45359237))
+_ACC_TYPOS = (("cm/s^2 (gal)", 1e-2), ("mm/s^2", 1e-3))
+G_ACC = 9.81      # m/s^2 per g of the limits below: the g of '0.3g' in a spec, so that '100g' is at the limit
+
+PLAUSIBLE: dict[str, Plausible] = {
+    # the statue: largest extent of a scan with explicit units, or the height it is rescaled to
+    "height": Plausible("statue height", "m", 0.1, 4.0, 0.01, 20.0, _LENGTH_TYPOS),
+    "mass": Plausible("statue mass", "kg", 0.1, 50e3, 1e-3, 1e6, _MASS_TYPOS),
+    "density": Plausible("solid object's density", "kg/m^3", *PLAUSIBLE_DENSITY, *POSSIBLE_DENSITY,
+                         (("g/cm^3", 1000.0), ("lb/ft^3", 16.0185))),
+    "base_tol": Plausible("contact tolerance of the base", "m", 0.0, 0.01, 0.0, 0.1, _LENGTH_TYPOS),
+    # the rolling-ball isolator (the thesis: R 0.30 m, r 9.5-18.3 mm, M 10-22 kg, 20-50 mm plates)
+    "groove_radius": Plausible("groove radius of curvature", "m", 0.1, 3.0, 0.005, 20.0, _LENGTH_TYPOS),
+    "ball_radius": Plausible("ball radius", "m", 0.002, 0.1, 0.0005, 0.5, _LENGTH_TYPOS),
+    "supported_mass": Plausible("supported mass (top plate + statue)", "kg", 0.5, 50e3, 1e-3, 1e6, _MASS_TYPOS),
+    "capacity": Plausible("isolator capacity (largest plate displacement)", "m", 0.005, 1.0, 1e-4, 10.0,
+                          _LENGTH_TYPOS),
+    "plate_thickness": Plausible("isolator plate thickness", "m", 0.01, 0.2, 0.01, 0.2, _LENGTH_TYPOS),
+    # ground motions: the largest recorded PGA is about 4 g; 100 g is no ground motion
+    "acceleration": Plausible("ground acceleration", "m/s^2", 0.0, 5 * G_ACC, 0.0, 100 * G_ACC, _ACC_TYPOS),
+    "time_step": Plausible("record's time step", "s", 1e-4, 0.05, 1e-6, 1.0, (("ms", 1e-3),)),
+}
+"""quantity -> its :class:`Plausible` range: the one table of :func:`check_plausible`.
+(Prototype boards, tools and sheets have their ranges in :class:`~statue2model.fabrication.spec.SliceSpec`;
+densities are checked by :func:`~statue2model.geometry.massprops.check_density_mass` with these numbers.)"""
+
+PLAUSIBLE_SIZE = (PLAUSIBLE["height"].low, PLAUSIBLE["height"].high)
 """Largest extent (m) of the objects this tool is for: with units 'auto', a unit must put the scan in it."""
 
-POSSIBLE_SIZE = (0.01, 20.0)
+POSSIBLE_SIZE = (PLAUSIBLE["height"].hard_low, PLAUSIBLE["height"].hard_high)
 """Largest extent (m) beyond which explicit units are taken to be a mistake."""
 
 SMALL_IN_MM = 0.15
@@ -115,3 +184,40 @@ def resolve_units(units: str, extent: float, *, strict: bool = True) -> UnitChoi
     if not plo <= size <= phi:
         return UnitChoice(units, UNIT_SCALE[units], False, note + "; unusual size for a museum object")
     return UnitChoice(units, UNIT_SCALE[units], True, note)
+
+
+
+def _num(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def _a(what: str) -> str:
+    return ("an " if what[0] in "aeiou" else "a ") + what
+
+
+def _meant(r: Plausible, value: float) -> str:
+    """'; did you mean 1800 mm (1.8 m)?' for the units that make ``value`` plausible, else ''."""
+    fits = [f"{_num(abs(value))} {name} ({_num(abs(value) * k)} {r.unit})" for name, k in r.typed
+            if r.low <= abs(value) * k <= r.high]
+    return f"; did you mean {' or '.join(fits)}?" if fits else ""
+
+
+def check_plausible(quantity: str, value: float, name: str | None = None) -> str | None:
+    """Check ``value`` (SI units) of ``quantity`` (a key of :data:`PLAUSIBLE`; the magnitude
+    for an acceleration) against its range: an :class:`InputError` outside the possible range,
+    a warning text outside the plausible one, else None. ``name`` is how the user wrote the
+    input ('--height', '[scan] height'; default: the quantity's key; '': the value alone)."""
+    r = PLAUSIBLE[quantity]
+    name = quantity if name is None else name
+    v = float(value)
+    shown = f"{name} = {_num(v)} {r.unit}" if name else f"{_num(v)} {r.unit}"
+    if not np.isfinite(v):
+        raise InputError(f"{shown}: not a finite number")
+    mag = abs(v) if quantity == "acceleration" else v
+    if not r.hard_low <= mag <= r.hard_high:
+        span = f"{_num(r.hard_low)} to " if r.hard_low > 0 else "at most "
+        hint = _meant(r, v) or f" (possible: {span}{_num(r.hard_high)} {r.unit})"
+        raise InputError(f"{shown} is implausible for {_a(r.what)}{hint}")
+    if not r.low <= mag <= r.high:
+        return f"{shown} is unusual for {_a(r.what)} ({_num(r.low)} to {_num(r.high)} {r.unit}){_meant(r, v)}"
+    return None

@@ -3,8 +3,9 @@ cells that a spreadsheet would run as a formula neutralised.
 
 A cell that starts with ``=``, ``+``, ``-``, ``@``, a tab, a carriage return or a
 line feed (also after leading spaces) is prefixed with a single quote ``'``, as
-OWASP advises against CSV injection; numbers (``-1.5``, ``2e-3``, ``nan``) stay
-numbers. Commas, quotes and newlines inside a cell are quoted by :mod:`csv`, so
+OWASP advises against CSV injection; numbers (``-1.5``, ``2e-3``) stay numbers, and
+a non-finite number (a float nan or inf) is an empty cell: no file holds one. Commas,
+quotes and newlines inside a cell are quoted by :mod:`csv`, so
 every row has the header's number of cells.
 
 Example
@@ -12,6 +13,8 @@ Example
 >>> import csv, io, tempfile, pathlib
 >>> safe_cell("=1+2"), safe_cell("@SUM(1+1)"), safe_cell(-1.5), safe_cell("-0.25"), safe_cell(None)
 ("'=1+2", "'@SUM(1+1)", -1.5, '-0.25', '')
+>>> safe_cell(float("nan")), safe_cell(float("-inf"))
+('', '')
 >>> path = write_csv(pathlib.Path(tempfile.mkdtemp()) / "t.csv", ["scan", "h [m]"], [["a,b", 1.25]])
 >>> list(csv.reader(io.StringIO(path.read_text())))
 [['scan', 'h [m]'], ['a,b', '1.25']]
@@ -20,6 +23,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 import numbers
 import os
 import re
@@ -37,6 +41,8 @@ def safe_cell(value: Any) -> Any:
     """``value`` as a CSV cell that no spreadsheet evaluates: None -> "", numbers
     unchanged, text that could start a formula prefixed with ``'``."""
     if value is None:
+        return ""
+    if isinstance(value, numbers.Real) and not isinstance(value, numbers.Integral) and not math.isfinite(value):
         return ""
     if isinstance(value, (bool, numbers.Number)):
         return value

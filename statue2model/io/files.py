@@ -17,6 +17,15 @@ run never leaves files the next run would take for the user's); whether a stage
 or a slice is complete is told by its own manifest (``stage.json``,
 ``slice.json``), written last. ``--reuse`` lets a folder with other files be
 used: the program writes beside them and refuses a name that collides with one.
+A listed name that is no longer there is dropped from the manifest when the folder is
+opened again (a file the user puts there later is the user's, not ours).
+
+The files one command writes (``rock --json OUT``: OUT, OUT_history.csv, OUT.png;
+``fragility --out DIR``: fragility.json, .csv, .png) appear together or not at all
+(:class:`OutputGroup`): each is written into a hidden staging folder beside them
+(``.statue2model.staging-PID-*``), and only when every one is complete are they listed
+in the manifest and renamed into place; on any error (disk full, Ctrl-C) the staging
+folder is removed and nothing of the command appears, nor is listed.
 One writer per folder: ``DIR/.statue2model.lock`` (PID, host, start time; created
 with ``O_CREAT | O_EXCL``) refuses a second writer at once; a lock whose process
 is gone (same host) is reported and replaced. A symlinked folder is followed:
@@ -60,6 +69,8 @@ from ..errors import InputError, OutputError
 MANIFEST_NAME = ".statue2model.json"
 LOCK_NAME = ".statue2model.lock"
 MANIFEST_SCHEMA = "statue2model.output/1"
+STAGING_PREFIX = ".statue2model.staging-"
+"""Hidden folder (``.statue2model.staging-PID-XXXX``) where an :class:`OutputGroup` writes its files."""
 
 #: errno -> the words of the one-line message
 _REASONS = {
@@ -165,7 +176,9 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], None], size: i
 
 
 def _clean(obj: Any) -> Any:
-    """numpy -> Python, and NaN -> null (JSON has no NaN); infinities stay an error."""
+    """numpy -> Python, and every non-finite float (NaN, +-inf; Python or numpy, at any depth of
+    dicts, lists, tuples and arrays) -> None: JSON has no spelling for them, and a file must never
+    hold one (``null`` is "undefined"; the writer of the value states why beside it)."""
     if isinstance(obj, dict):
         return {k: _clean(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -173,15 +186,34 @@ def _clean(obj: Any) -> Any:
     if isinstance(obj, np.ndarray):
         return _clean(obj.tolist())
     if isinstance(obj, (float, np.floating)):
-        return None if obj != obj else float(obj)
+        return float(obj) if np.isfinite(obj) else None
     return obj
 
 
 def write_json(path: str | os.PathLike, data: Any) -> Path:
-    """Write ``data`` as indented JSON (numpy arrays become lists, NaN becomes null), atomically."""
+    """Write ``data`` as indented JSON, atomically: numpy arrays become lists, and every
+    non-finite number (NaN, inf; nested too) becomes null (:func:`_clean`), so the file
+    always parses as strict JSON.
+
+    >>> import tempfile
+    >>> p = write_json(Path(tempfile.mkdtemp()) / "a.json", {"m": [1.5, float("inf")], "b": np.float64("nan")})
+    >>> json.loads(p.read_text())
+    {'m': [1.5, None], 'b': None}
+    """
     text = json.dumps(_clean(data), indent=2, default=_default, allow_nan=False) + "\n"
     blob = text.encode("utf-8")
     return atomic_write(path, lambda p: p.write_bytes(blob), size=len(blob))
+
+
+def file_sha256(path: str | os.PathLike, chunk: int = 1 << 20) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        while block := f.read(chunk):
+            h.update(block)
+    return h.hexdigest()
 
 
 def read_json(path: str | os.PathLike) -> Any:
@@ -246,7 +278,7 @@ def read_manifest(folder: str | os.PathLike) -> dict | None:
 def _ours(name: str, entries: dict) -> bool:
     """Whether the name in a folder with manifest ``entries`` was written by statue2model:
     listed, or a leftover (partial, replaced, temporary) of a listed name."""
-    if name in (MANIFEST_NAME, LOCK_NAME) or name in entries:
+    if name in (MANIFEST_NAME, LOCK_NAME) or name in entries or name.startswith(STAGING_PREFIX):
         return True
     m = _LEFTOVER.match(name)
     return bool(m and m.group("name") in entries)
@@ -261,6 +293,34 @@ def foreign_entries(folder: str | os.PathLike, entries: dict | None = None) -> l
     if not folder.is_dir():
         return []
     return sorted(p.name for p in folder.iterdir() if not (_ours(p.name, entries) or _own_folder(p)))
+
+
+def run_stage_of(folder: str | os.PathLike) -> str | None:
+    """The stage name when ``folder`` is a stage folder of a ``statue2model run`` (its
+    ``stage.json`` names the stage and its cache key), else None. A stage folder is the
+    run's: a command writing there would change what the run's cache and report read."""
+    try:
+        data = json.loads((Path(folder) / "stage.json").read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if isinstance(data, dict) and isinstance(data.get("stage"), str) and isinstance(data.get("key"), str):
+        return data["stage"]
+    return None
+
+
+def _refuse_stage_folder(folder: Path, what: str) -> None:
+    """Refuse ``folder`` when it is, or lies inside, a stage folder of a run."""
+    try:
+        real = Path(os.path.realpath(folder))
+    except (OSError, ValueError):
+        real = Path(folder)
+    for f in (real, *real.parents):
+        stage = run_stage_of(f)
+        if stage is not None:
+            inside = "" if f == real else f" inside {f},"
+            raise InputError(f"{what} {folder} is{inside} the {stage} stage folder of a statue2model run: the run "
+                             "replaces it and reads only what it wrote there; choose another place (nothing was "
+                             "written)")
 
 
 def _own_folder(p: Path) -> bool:
@@ -350,6 +410,28 @@ def release_lock(lock: Path) -> None:
             pass
 
 
+def remove_path(p: Path) -> None:
+    """Remove a file or a folder (a link is removed, not followed); a missing one is fine."""
+    try:
+        if p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p)
+        else:
+            p.unlink(missing_ok=True)
+    except OSError as exc:
+        raise output_error(exc, p) from None
+
+
+def remove_if_empty(folder: Path) -> None:
+    """Remove a folder this command created when it holds nothing but (at most) its manifest."""
+    try:
+        left = {p.name for p in folder.iterdir()}
+        if left <= {MANIFEST_NAME}:
+            (folder / MANIFEST_NAME).unlink(missing_ok=True)
+            folder.rmdir()
+    except OSError:
+        pass
+
+
 class OutputDir:
     """An output folder opened by :func:`open_output` (a context manager: the lock is
     released on exit, also on Ctrl-C and errors). ``path``: the real folder (symlinks
@@ -373,22 +455,16 @@ class OutputDir:
             release_lock(self.lock)
             self.lock = None
         if self.created:
-            try:
-                left = {p.name for p in self.path.iterdir()}
-                if left <= {MANIFEST_NAME}:
-                    (self.path / MANIFEST_NAME).unlink(missing_ok=True)
-                    self.path.rmdir()
-            except OSError:
-                pass
+            remove_if_empty(self.path)
             self.created = False
 
     def owns(self, name: str) -> bool:
         """Whether ``name`` (in this folder) is listed as written by statue2model."""
         return name in self.entries
 
-    def claim(self, names: Iterable[str], kind: str | None = None) -> list[str]:
-        """List ``names`` in the manifest before writing them; refuse if one exists and
-        statue2model did not write it (it is never touched)."""
+    def check(self, names: Iterable[str]) -> list[str]:
+        """Refuse if one of ``names`` exists and statue2model did not write it (before any
+        work: nothing is listed or written)."""
         names = [str(n) for n in names]
         clash = [n for n in names if n not in self.entries and os.path.lexists(self.path / n)
                  and n not in self.adoptable]
@@ -396,6 +472,17 @@ class OutputDir:
             them = "them" if len(clash) > 1 else "it"
             raise InputError(f"--out {self.path} holds {', '.join(clash)}, which statue2model did not write and "
                              f"would have to replace: move {them} away or choose another --out (nothing was changed)")
+        return names
+
+    def group(self, names: Iterable[str] = ()) -> OutputGroup:
+        """An :class:`OutputGroup` writing into this folder; ``names``: the files it will
+        write, checked now (a clash with a user's file refuses before any work)."""
+        return OutputGroup(self.path, self.kind, od=self, names=self.check(names))
+
+    def claim(self, names: Iterable[str], kind: str | None = None) -> list[str]:
+        """List ``names`` in the manifest before writing them; refuse if one exists and
+        statue2model did not write it (it is never touched)."""
+        names = self.check(names)
         new = [n for n in names if n not in self.entries]
         if new:
             for n in new:
@@ -415,20 +502,17 @@ class OutputDir:
         """Remove the listed ``name`` (file or folder) if it exists; never an unlisted one."""
         if name not in self.entries:
             raise InputError(f"statue2model did not write {self.path / name}; not removing it")
-        p = self.path / name
-        try:
-            if p.is_dir() and not p.is_symlink():
-                shutil.rmtree(p)
-            else:
-                p.unlink(missing_ok=True)
-        except OSError as exc:
-            raise output_error(exc, p) from None
+        remove_path(self.path / name)
 
     def clean(self) -> list[Path]:
         """Remove the leftovers of interrupted writes of listed names (hidden partial,
         replaced and temporary files); anything else is kept."""
         removed = []
         for p in self.path.iterdir():
+            if p.name.startswith(STAGING_PREFIX) and p.is_dir() and not p.is_symlink() and _stale_staging(p.name):
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+                continue
             m = _LEFTOVER.match(p.name)
             if m and m.group("name") in self.entries:
                 if p.is_dir() and not p.is_symlink():
@@ -447,18 +531,23 @@ class OutputDir:
 
 
 def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, command: str | None = None,
-                adopt: Callable[[Path], list[str]] | None = None, lock: bool = True, say=None) -> OutputDir:
+                adopt: Callable[[Path], list[str]] | None = None, lock: bool = True, say=None,
+                can_reuse: bool = True) -> OutputDir:
     """Open output folder ``path`` for a ``kind`` of output (run, slice, props, ...):
     created when new; refused when it holds anything statue2model did not write
-    (unless ``reuse``: then the program writes beside it, never touching it); locked
-    against a second writer (``lock``). ``adopt(folder)``: names of an older
-    statue2model output without a manifest, taken over with ``reuse``."""
+    (unless ``reuse``: then the program writes beside it, never touching it), or when
+    it is a stage folder of a run; locked against a second writer (``lock``).
+    ``adopt(folder)``: names of an older statue2model output without a manifest, taken
+    over with ``reuse``. ``can_reuse``: whether the command has --reuse (its refusal
+    mentions it only then)."""
     path = Path(path)
     if path.is_symlink():
         path = Path(os.path.realpath(path))      # follow the link: write into its target
     if path.exists() and not path.is_dir():
         raise InputError(f"--out {path} is a file; give a folder")
     created = not path.exists()
+    if not created:
+        _refuse_stage_folder(path, "--out")
     prepare_dir(path)
     if not os.access(path, os.W_OK):
         raise InputError(f"output folder {path} is not writable")
@@ -466,12 +555,17 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
     try:
         data = read_manifest(path)
         entries = dict(data["entries"]) if data else {}
+        gone = [n for n in entries if not os.path.lexists(path / n)]
+        if gone:                                  # listed but not there: a name the user may take later
+            entries = {n: k for n, k in entries.items() if n not in gone}
+            OutputDir(path, data.get("kind", kind), entries, None, True)._save()
         foreign = foreign_entries(path, entries)
         older = adopt(path) if (adopt is not None and data is None and foreign) else []
         if foreign and not reuse:
             shown = ", ".join(foreign[:6]) + (", ..." if len(foreign) > 6 else "")
             hint = (f"; it looks like the output of an older statue2model {kind}: pass --reuse to go on with it"
-                    if older else ": choose another --out, or pass --reuse to write beside them")
+                    if older else ": choose another --out, or pass --reuse to write beside them" if can_reuse
+                    else ": choose another --out, or move them away (nothing was changed)")
             raise InputError(f"--out {path} holds files statue2model did not write ({shown}){hint}")
         od = OutputDir(path, kind, entries, held, reuse, adoptable=older if reuse else (), created=created)
         if older and reuse:
@@ -488,19 +582,211 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
         raise
 
 
-def claim_files(paths: Iterable[str | os.PathLike], kind: str) -> None:
-    """Before writing the files ``paths`` (e.g. ``props --json``): refuse any that exists
-    and statue2model did not write (not listed in its folder's manifest), then list
-    them there. The folder may hold anything else: only these names are touched."""
+def _by_folder(paths: Iterable[str | os.PathLike]) -> dict[Path, list[str]]:
     by_folder: dict[Path, list[str]] = {}
     for p in map(Path, paths):
         by_folder.setdefault(p.parent if str(p.parent) else Path("."), []).append(p.name)
-    for folder, names in by_folder.items():
-        prepare_dir(folder)
-        data = read_manifest(folder)
+    return by_folder
+
+
+def check_files(paths: Iterable[str | os.PathLike]) -> None:
+    """Refuse (before any work; nothing is written) if one of the files ``paths`` exists
+    and statue2model did not write it (not listed in its folder's manifest), or is a folder."""
+    for folder, names in _by_folder(paths).items():
+        _refuse_stage_folder(folder, f"{folder / names[0]}: the folder")
+        data = read_manifest(folder) if folder.is_dir() else None
         entries = dict(data["entries"]) if data else {}
+        for n in names:
+            if (folder / n).is_dir() and not (folder / n).is_symlink() and n not in entries:
+                raise InputError(f"{folder / n} is a folder; give a file name")
         clash = [n for n in names if n not in entries and os.path.lexists(folder / n)]
         if clash:
             raise InputError(f"{', '.join(str(folder / n) for n in clash)} exists and statue2model did not write "
                              "it: give another file name (nothing was overwritten)")
+
+
+def claim_files(paths: Iterable[str | os.PathLike], kind: str) -> None:
+    """Refuse as :func:`check_files`, then list the files ``paths`` in their folder's
+    manifest (just before they are renamed into place). The folder may hold anything
+    else: only these names are touched."""
+    check_files(paths)
+    for folder, names in _by_folder(paths).items():
+        prepare_dir(folder)
+        data = read_manifest(folder)
+        entries = dict(data["entries"]) if data else {}
         OutputDir(folder, kind, entries, None, True).claim(names)
+
+
+def _stale_staging(name: str) -> bool:
+    """Whether the staging folder ``name`` (STAGING_PREFIX + PID-...) belongs to a process that is gone."""
+    pid = name[len(STAGING_PREFIX):].split("-", 1)[0]
+    return not (pid.isdigit() and _pid_alive(int(pid)))
+
+
+class OutputGroup:
+    """The files one command writes into ``folder``: they appear together or not at all.
+
+    ``group.path(name)`` (or ``group / name``) is where a file is written: in a hidden
+    staging folder ``folder/.statue2model.staging-PID-XXXX`` (made on ``__enter__``).
+    Leaving the ``with`` block without an error lists every staged name in the folder's
+    manifest (refused if one now collides with a file statue2model did not write) and
+    renames them into place; names of ``names`` (the files announced) that were not
+    written this time and are statue2model's are removed (no stale plot beside a new
+    JSON). On any error (disk full, Ctrl-C, a bug) the staging folder is removed: nothing
+    of the group appears or is listed, an older complete output stays, and an
+    :class:`OutputError` names the final file, not the staging one. A folder the group
+    created and left empty is removed.
+
+    ``od``: the :class:`OutputDir` it writes into (``od.group(names)``); without one, the
+    folder's manifest is updated as by :func:`claim_files` (files named by ``--json OUT``).
+
+    >>> import tempfile
+    >>> d = Path(tempfile.mkdtemp())
+    >>> try:
+    ...     with OutputGroup(d, "demo", names=["a.json", "a.csv"]) as g:
+    ...         _ = write_json(g / "a.json", {"x": 1})
+    ...         raise OSError(errno.ENOSPC, "No space left on device")
+    ... except OSError:
+    ...     pass
+    >>> sorted(p.name for p in d.iterdir())
+    []
+    >>> with OutputGroup(d, "demo", names=["a.json", "a.csv"]) as g:
+    ...     _ = write_json(g / "a.json", {"x": 1})
+    ...     _ = atomic_write(g / "a.csv", lambda p: p.write_text("x\\n1\\n"))
+    >>> sorted(p.name for p in d.iterdir())
+    ['.statue2model.json', 'a.csv', 'a.json']
+    """
+
+    def __init__(self, folder: str | os.PathLike, kind: str, od: OutputDir | None = None,
+                 names: Iterable[str] = ()):
+        self.folder, self.kind, self.od = Path(folder), kind, od
+        self.names = [str(n) for n in names]
+        if od is None:
+            check_files([self.folder / n for n in self.names])
+        self.tmp: Path | None = None
+        self.created = False
+        self.written: list[Path] = []
+
+    @classmethod
+    def files(cls, paths: Iterable[str | os.PathLike], kind: str) -> OutputGroup:
+        """The group of the files ``paths`` (all in one folder: a command's ``--json OUT``
+        and the files beside it), checked now, before any work (see :func:`check_files`)."""
+        paths = [Path(p) for p in paths]
+        folders = {p.parent for p in paths}
+        if len(folders) != 1:
+            raise ValueError("an output group's files are in one folder")
+        return cls(folders.pop(), kind, names=[p.name for p in paths])
+
+    def path(self, name: str | os.PathLike) -> Path:
+        """Where to write the file ``name`` (a name, or its final path in the folder)."""
+        if self.tmp is None:
+            raise RuntimeError("OutputGroup.path outside its with block")
+        name = Path(name)
+        if name.parent != Path(".") and name.parent != self.folder:
+            raise ValueError(f"{name} is not in the group's folder {self.folder}")
+        return self.tmp / name.name
+
+    __truediv__ = path
+
+    def __enter__(self) -> OutputGroup:
+        self.created = not self.folder.exists()
+        prepare_dir(self.folder)
+        try:
+            self.tmp = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=self.folder))
+        except OSError as exc:
+            raise output_error(exc, self.folder) from None
+        return self
+
+    def __exit__(self, et, exc, tb) -> bool:
+        if et is None:
+            try:
+                self.commit()
+            except BaseException:
+                self._discard()
+                raise
+            return False
+        self._discard()
+        if isinstance(exc, OutputError) and self.tmp is not None and str(self.tmp) in str(exc):
+            raise OutputError(str(exc).replace(str(self.tmp), str(self.folder))) from None
+        return False
+
+    def _discard(self) -> None:
+        if self.tmp is not None:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+        if self.created:
+            remove_if_empty(self.folder)
+
+    def _entries(self) -> dict:
+        if self.od is not None:
+            return self.od.entries
+        return dict((read_manifest(self.folder) or {}).get("entries", {}))
+
+    def _forget(self, names: list[str]) -> None:
+        if not names:
+            return
+        if self.od is not None:
+            self.od.forget(names)
+        else:
+            OutputDir(self.folder, self.kind, self._entries(), None, True).forget(names)
+
+    def commit(self) -> list[Path]:
+        """List the staged files and rename them into place (see the class docstring)."""
+        staged = sorted(p.name for p in self.tmp.iterdir())
+        listed_before = set(self._entries())
+        if self.od is not None:
+            self.od.claim(staged)
+        elif staged:
+            claim_files([self.folder / n for n in staged], self.kind)
+        # the earlier files of these names step aside (.NAME.old-PID) until every new one is in
+        # place; if a rename fails, the new ones go and the earlier ones come back
+        moved: list[tuple[Path, Path | None]] = []           # (final path, its earlier file's backup)
+        try:
+            for n in staged:
+                src, dst = self.tmp / n, self.folder / n
+                backup = None
+                if os.path.lexists(dst):
+                    backup = self.folder / f".{n}.old-{os.getpid()}"
+                    if backup.is_dir() and not backup.is_symlink():
+                        shutil.rmtree(backup)
+                    os.replace(dst, backup)
+                moved.append((dst, backup))
+                os.replace(src, dst)
+                self.written.append(dst)
+        except BaseException as exc:
+            for dst, backup in reversed(moved):
+                try:
+                    if dst in self.written:
+                        if dst.is_dir() and not dst.is_symlink():
+                            shutil.rmtree(dst)
+                        else:
+                            dst.unlink(missing_ok=True)
+                    if backup is not None:
+                        os.replace(backup, dst)
+                except OSError:
+                    pass
+            self.written = []
+            try:                                    # only what is there stays listed
+                self._forget([n for n in staged if n not in listed_before and not os.path.lexists(self.folder / n)])
+            except (OSError, OutputError):
+                pass
+            if isinstance(exc, OSError):
+                raise output_error(exc, self.folder / n) from None
+            raise
+        for _, backup in moved:
+            if backup is not None:
+                try:
+                    if backup.is_dir() and not backup.is_symlink():
+                        shutil.rmtree(backup)
+                    else:
+                        backup.unlink()
+                except OSError:
+                    pass
+        entries = self._entries()
+        stale = [n for n in self.names if n not in staged and n in entries]
+        for n in stale:
+            remove_path(self.folder / n)
+        self._forget(stale)
+        self.tmp.rmdir()
+        self.tmp = None
+        self.created = False
+        return self.written

@@ -95,10 +95,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
+from ..geometry.units import PLAUSIBLE
 from .device import (
     G,
     Isolator,
     allowable_displacement,
+    check_lengths,
     fuse_release_acceleration,
     fuse_seat_depth,
     groove_capacity,
@@ -582,14 +584,19 @@ def _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_gri
         raise InputError(f"rolling friction mu must be in [0, 0.5), got {mu}")
     if not all(0 < a <= 1 for a in alpha):
         raise InputError(f"alpha must be in (0, 1], got {alpha}")
+    lo, hi = PLAUSIBLE["plate_thickness"].hard_low, PLAUSIBLE["plate_thickness"].hard_high
     for t in thicknesses:
-        if not (math.isfinite(t) and 0.01 <= t <= 0.2):
-            raise InputError(f"plate thickness {t * 1000:g} mm is out of range (10 to 200 mm)")
+        if not (math.isfinite(t) and lo <= t <= hi):
+            raise InputError(f"plate thickness {t * 1000:g} mm is out of range ({lo * 1000:g} to {hi * 1000:g} mm)")
     if target is not None and not (math.isfinite(target) and target > 0):
         raise InputError(f"target acceleration must be positive, got {target}")
     for name, values in (("ball radius", balls), ("groove radius R", R_grid)):
         if not values or not all(math.isfinite(v) and v > 0 for v in values):
             raise InputError(f"every {name} to try must be a positive length in m, got {values!r}")
+    for R in R_grid:
+        check_lengths(R, min(balls))
+    for r in balls:
+        check_lengths(max(R_grid), r)
     if not (math.isfinite(side_max) and side_max > 0):
         raise InputError(f"largest plate side must be positive, got {side_max}")
     if not (math.isfinite(margin) and margin >= 1):

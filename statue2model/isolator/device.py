@@ -63,6 +63,7 @@ class Isolator:
                 raise InputError(f"isolator {name} must be a positive number, got {value!r}")
         if self.r >= self.R:
             raise InputError(f"ball radius r = {self.r:g} m must be smaller than the groove radius R = {self.R:g} m")
+        check_lengths(self.R, self.r, self.capacity)
         if not (math.isfinite(self.mu) and 0 <= self.mu < 1):
             raise InputError(f"rolling friction mu must be in [0, 1), got {self.mu!r}")
         if self.model not in MODELS:
@@ -107,6 +108,25 @@ class Isolator:
         if self.model == "boucwen":
             out["u_y"] = self.u_y
         return out
+
+
+def check_lengths(R: float, r: float, capacity: float = math.inf) -> None:
+    """Refuse a groove radius R, ball radius r or capacity (m) that cannot be physical (a number in
+    mm taken as m: R = 300 m), by the ranges of :data:`statue2model.geometry.units.PLAUSIBLE`;
+    the value in range is let through (the unusual-but-possible ones are warned of where the
+    user types them: :func:`statue2model.cli.argtypes.plausible`).
+
+    >>> check_lengths(300.0, 0.0095)
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: groove radius R = 300 m is implausible for a groove radius of curvature; did you mean 300 mm (0.3 m) or 300 cm (3 m)?
+    """
+    from ..geometry.units import check_plausible
+
+    check_plausible("groove_radius", R, "groove radius R")
+    check_plausible("ball_radius", r, "ball radius r")
+    if math.isfinite(capacity):
+        check_plausible("capacity", capacity, "isolator capacity")
 
 
 def isolator_from_design(design: dict, model: str = "coulomb") -> Isolator:

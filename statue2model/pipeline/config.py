@@ -413,6 +413,27 @@ def grid(text: str, what: str, accel: bool = False) -> np.ndarray:
     return linspace_spec(text, what, accel)
 
 
+def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np.ndarray:
+    """The PGA levels (m/s^2) of a fragility_levels grid ('START:STOP:N' or 'a,b,c', with units),
+    refused in one line naming ``what`` unless there are at least 3, all > 0 and strictly
+    increasing (a reversed grid would otherwise fail only after the study's records are built).
+
+    >>> fragility_levels("0.1g:0.5g:3") / 9.81
+    array([0.1, 0.3, 0.5])
+    >>> fragility_levels("1g:0.1g:5")
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: [dynamics] fragility_levels must increase from START to STOP ...
+    """
+    lv = grid(text, what, accel=True)
+    if lv.size < 3 or np.any(lv <= 0):
+        raise InputError(f"{what} needs at least 3 PGAs > 0, got {text!r}")
+    if np.any(np.diff(lv) <= 0):
+        raise InputError(f"{what} must increase from START to STOP (each level above the one before), "
+                         f"got {text!r}")
+    return lv
+
+
 def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     """Check what can be checked before any work starts (grids, motions, spectra,
     ranges), so a typo fails in a second, not after minutes."""
@@ -426,6 +447,18 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     for name, v in (("[scan] density", s.density), ("[scan] mass", s.mass), ("[scan] height", s.height)):
         if v is not None and not v > 0:
             bad(f"{name} must be positive, got {v}")
+    from ..geometry.units import check_plausible
+
+    # numbers that cannot be physical (a unit slip: height = 1800 for 1.8 m): refused here, in a
+    # second; the unusual ones are warned of where they are used (the body, the density)
+    for name, quantity, v in (("[scan] height", "height", s.height), ("[scan] mass", "mass", s.mass),
+                              ("[scan] density", "density", s.density), ("[scan] base_tol", "base_tol", s.base_tol),
+                              ("[isolator] thickness", "plate_thickness", i.thickness)):
+        if v is not None:
+            try:
+                check_plausible(quantity, v, name)
+            except InputError as exc:
+                bad(str(exc))
     for name, v in (("[prototype] glue", p.glue), ("[prototype] clearance", p.clearance),
                     ("[prototype] wall", p.wall), ("[prototype] margin", p.margin), ("[prototype] edge", p.edge),
                     ("[prototype] glue_density", p.glue_density), ("[prototype] rod_density", p.rod_density)):
@@ -489,9 +522,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         if not 1 <= d.fragility_samples <= 1000:
             bad(f"[dynamics] fragility_samples must be in 1..1000, got {d.fragility_samples}")
         if str(d.fragility_levels).strip().lower() != "auto":
-            lv = grid(d.fragility_levels, f"{where}: [dynamics] fragility_levels", accel=True)
-            if lv.size < 3 or np.any(lv <= 0):
-                bad(f"[dynamics] fragility_levels needs at least 3 PGAs > 0, got {d.fragility_levels!r}")
+            fragility_levels(d.fragility_levels, f"{where}: [dynamics] fragility_levels")
     for name, spec, on in (("[dynamics] motion", d.motion, d.enabled), ("[crosscheck] motion", c.motion, c.enabled)):
         if not on:
             continue

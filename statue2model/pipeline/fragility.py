@@ -13,8 +13,14 @@ fragility.png; returns the report's table, figure, text and the verdict's number
 
     fragility_median_fixed        median PGA of overturning on a fixed base (m/s^2; None if not fitted)
     fragility_median_isolated     median PGA of failure on the isolator (overturning or capacity exceeded)
+    fragility_median_ci_fixed/isolated  its bootstrap band [lo, hi] (an end None: not identified)
     fragility_p_design_fixed/isolated   the fitted probability at the design PGA
-    fragility_ratio               median isolated / fixed, with its bootstrap interval
+    fragility_ratio               median isolated / fixed, with its bootstrap interval fragility_ratio_ci
+    fragility_status_fixed/isolated     the fit's status (dynamics.fragility: ok, step, no failures, ...)
+
+Every one of these that can be None has KEY_reason beside it: None when the value is defined
+(and complete), else why ("no failure at any level", "one level: spread not identified", "upper
+end not identified: 12 of 200 replicates had no failure ..."). No number here is ever nan or inf.
 """
 from __future__ import annotations
 
@@ -33,15 +39,15 @@ def levels_for(text: str, pga: float) -> np.ndarray:
     if str(text).strip().lower() == "auto":
         lo, hi, n = AUTO_LEVELS
         return pga * np.geomspace(lo, hi, n)
-    from .config import grid
+    from .config import fragility_levels
 
-    return grid(text, "[dynamics] fragility_levels", accel=True)
+    return fragility_levels(text)
 
 
 def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, executor=None) -> dict:
     """Run the study of the module docstring; returns {'figures', 'tables', 'text', 'warnings', 'data'}."""
     from ..dynamics.fragility import LABELS, FragilityStudy, run_fragility
-    from ..dynamics.matching import match_set, plot_spectra
+    from ..dynamics.matching import match_set, plot_spectra, set_files
     from ..dynamics.motions import write_record_csv
     from ..dynamics.sampling import nominal, thesis_theta_R
     from ..io.files import write_json
@@ -56,7 +62,8 @@ def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, execu
     rd.mkdir(parents=True, exist_ok=True)
     for i, m in enumerate(rs.records):
         write_record_csv(rd / f"record_{i + 1:02d}.csv", m)
-    write_json(rd / "set.json", rs.to_dict())
+    names = [f"record_{i + 1:02d}.csv" for i in range(len(rs.records))]
+    write_json(rd / "set.json", {**rs.to_dict(), **set_files(rd, names)})     # readable by fragility --records
     plot_spectra(rs, rd / "spectra.png", f"{len(rs.records)} records matched to {target.code}")
     warnings, text = [], []
     met = bool(rs.check()["met"])
@@ -80,7 +87,7 @@ def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, execu
 
     def fit(name):
         cv = res.curves.get(name)
-        if cv is None or cv.status not in ("ok", "step"):
+        if cv is None or not cv.fitted:
             return None, None, cv
         return float(cv.median), float(cv.probability(pga)), cv
 
@@ -91,11 +98,10 @@ def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, execu
     for name in res.curves:
         m, p_at, cv = fit(name)
         med = "-" if m is None else f"{m / G:.3f} g"
-        band = ("-" if m is None or not all(map(math.isfinite, cv.median_ci)) else
-                f"{cv.median_ci[0] / G:.3f}-{cv.median_ci[1] / G:.3f} g")
-        p_at = "-" if p_at is None else f"{p_at:.3f}"
-        rows.append([LABELS[name], cv.status, med, band, "-" if not math.isfinite(cv.beta) else f"{cv.beta:.3f}",
-                     p_at, f"{int(cv.n_fail.sum())} / {int(cv.n_trials.sum())}"])
+        rows.append([LABELS[name], cv.status if cv.fitted else f"not fitted: {cv.reason}", med,
+                     band_text(cv.median_ci if m is not None else None, lv),
+                     "-" if m is None else f"{cv.beta:.3f}", "-" if p_at is None else f"{p_at:.3f}",
+                     f"{int(cv.n_fail.sum())} / {int(cv.n_trials.sum())}"])
     n_runs = len(rs.records) * lv.size * samples.n
     title = (f"Fragility: {len(rs.records)} records matched to the design spectrum x {lv.size} PGA levels "
              f"({lv[0] / G:.3f}-{lv[-1] / G:.3f} g) x {samples.n} sample(s) = {n_runs} runs per base")
@@ -107,17 +113,74 @@ def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, execu
     if ratio is not None and ratio.get("value") is not None:
         lo, hi = ratio["ci"]
         text.append(f"The isolator multiplies the median failure PGA by {ratio['value']:.2f}"
-                    + (f" ({lo:.2f}-{hi:.2f})" if lo is not None and hi is not None else "") + ".")
+                    + (f" ({lo:.2f}-{hi:.2f})" if lo is not None and hi is not None else
+                       f" ({ratio['ci_note']})" if ratio.get("ci_note") else "") + ".")
+    elif ratio is not None:
+        text.append(f"The isolator's ratio of median failure PGAs is {ratio['note']}.")
     figs = [{"path": "fragility.png", "caption": title + "; markers: fraction failed at each level, lines: "
              "lognormal fits, shaded: bootstrap bands"},
             {"path": "records/spectra.png", "caption": "The fragility records' spectra against the design spectrum"}]
-    data = {"fragility_median_fixed": m_f, "fragility_median_isolated": m_i, "fragility_p_design_fixed": p_f,
-            "fragility_p_design_isolated": p_i, "fragility_design_pga": pga,
-            "fragility_ratio": None if ratio is None else ratio.get("value"),
-            "fragility_ratio_ci": None if ratio is None else ratio.get("ci"),
-            "fragility_median_ci_fixed": None if cf is None or m_f is None else [float(x) for x in cf.median_ci],
-            "fragility_median_ci_isolated": None if ci is None or m_i is None else [float(x) for x in ci.median_ci],
-            "fragility_status_fixed": None if cf is None else cf.status,
-            "fragility_status_isolated": None if ci is None else ci.status,
-            "fragility_runs": n_runs, "fragility_records_met": met, "fragility_varied": varied}
+    data = fragility_data(res, pga, iso is not None)
+    data.update(fragility_runs=n_runs, fragility_records_met=met, fragility_varied=varied)
     return {"figures": figs, "tables": tables, "text": text, "warnings": warnings, "data": data}
+
+
+def _num(v) -> float | None:
+    """A finite float, or None."""
+    return float(v) if v is not None and math.isfinite(v) else None
+
+
+def fragility_data(res, pga: float, isolated: bool) -> dict:
+    """The stage's fragility_* numbers of a FragilityResult ``res`` (module docstring): each value
+    that can be undefined is None with ``KEY_reason`` beside it (None when it is defined)."""
+    data = {"fragility_design_pga": float(pga)}
+    for side, name in (("fixed", "overturn"), ("isolated", "failure_isolated")):
+        cv = res.curves.get(name)
+        if cv is None:
+            why = "no isolator designed" if side == "isolated" else "not run"
+            med = p = None
+            mci, ci_why = None, why
+        else:
+            why = cv.reason
+            med = _num(cv.median) if cv.fitted else None
+            p = _num(float(cv.probability(pga))) if cv.fitted else None
+            mci = [_num(x) for x in cv.median_ci] if cv.fitted else None
+            if mci is not None and all(x is None for x in mci):
+                mci = None
+            ci_why = (cv.median_ci_note or (None if mci is not None and None not in mci else "no band"))
+            if not cv.fitted:
+                ci_why = f"median undefined ({why})"
+        data.update({f"fragility_median_{side}": med, f"fragility_median_{side}_reason": why,
+                     f"fragility_median_ci_{side}": mci, f"fragility_median_ci_{side}_reason": ci_why,
+                     f"fragility_p_design_{side}": p, f"fragility_p_design_{side}_reason": why,
+                     f"fragility_status_{side}": None if cv is None else cv.status})
+    r = res.ratio.get("failure") if isolated else None
+    if r is None:
+        data.update(fragility_ratio=None, fragility_ratio_reason="no isolator designed", fragility_ratio_ci=None,
+                    fragility_ratio_ci_reason="no isolator designed")
+    else:
+        value = _num(r.get("value"))
+        rci = [_num(x) for x in r.get("ci") or (None, None)]
+        rci = None if value is None or all(x is None for x in rci) else rci
+        data.update(fragility_ratio=value, fragility_ratio_reason=None if value is not None else r.get("note"),
+                    fragility_ratio_ci=rci,
+                    fragility_ratio_ci_reason=(r.get("ci_note") or (None if rci is not None else "no band")))
+    return data
+
+
+def band_text(ci, levels) -> str:
+    """A median's band as table text (g): 'lo-hi g'; an end not identified reads 'below X' /
+    'above Y' (the lowest / highest of ``levels``, m/s^2: a finite upper end means a missing lower
+    one fell on a replicate that failed everywhere, and vice versa); '-' when there is no band.
+
+    >>> band_text([None, 6.0], [1.0, 9.81]), band_text([4.905, float("inf")], [1.0, 9.81])
+    ('below 0.102 g - 0.612 g', '0.500 g - above 1.000 g')
+    """
+    if ci is None:
+        return "-"
+    lo, hi = (_num(x) for x in ci)
+    if lo is None and hi is None:
+        return "-"
+    a = f"{lo / G:.3f}" if lo is not None else f"below {levels[0] / G:.3f}"
+    b = f"{hi / G:.3f}" if hi is not None else f"above {levels[-1] / G:.3f}"
+    return f"{a}-{b} g" if lo is not None and hi is not None else f"{a} g - {b} g"

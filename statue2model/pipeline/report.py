@@ -20,6 +20,8 @@ refused"; a malformed table is left out with a note, never an exception.
 """
 from __future__ import annotations
 
+import math
+import numbers
 import time
 from pathlib import Path
 
@@ -47,7 +49,7 @@ def build_doc(res) -> dict:
                "tables": [], "figures": []}
         warnings += [(name, sec["title"], w) for w in sec["warnings"]]
         if status in ("done", "cached"):
-            rows = [[k, str(v)] for k, v in man.get("summary", {}).items()]
+            rows = [[k, _text(v)] for k, v in man.get("summary", {}).items()]
             t = man.get("seconds")
             note = f"computed in {t:.1f} s" + (" (taken from the cache)" if status == "cached" else "")
             sec["text"].insert(0, f"{note}; files in {name}/.")
@@ -59,7 +61,7 @@ def build_doc(res) -> dict:
             sec["figures"] = _figures(man, Path(res.out), name)
             for k in HEADLINE.get(name, ()):
                 if k in man.get("summary", {}):
-                    summary.append((k, str(man["summary"][k])))
+                    summary.append((k, _text(man["summary"][k])))
         else:
             sec["text"].insert(0, f"stage {status}")
         sections.append(sec)
@@ -72,6 +74,24 @@ def build_doc(res) -> dict:
             "summary": summary, "warnings": warnings, "sections": sections,
             "footer": "The resolved configuration is config.toml beside this report (statue2model run MESH "
                       "--config config.toml repeats the run); run.json holds every stage's numbers."}
+
+
+def _cell(v):
+    """A table cell of a manifest: a non-finite number reads '-' (never 'nan' or 'inf'); anything
+    else is kept as it is (None: an empty cell).
+
+    >>> import numpy as np
+    >>> _cell(float("inf")), _cell(np.float32("nan")), _cell(None), _cell(0.25), _cell("ok")
+    ('-', '-', None, 0.25, 'ok')
+    """
+    if isinstance(v, numbers.Real) and not isinstance(v, numbers.Integral) and not math.isfinite(float(v)):
+        return "-"
+    return v
+
+
+def _text(v) -> str:
+    """A summary value as text: None and a non-finite number read '-'."""
+    return "-" if v is None else str(_cell(v))
 
 
 def _texts(text) -> list[str]:
@@ -90,7 +110,8 @@ def _tables(tables) -> tuple[list[dict], int]:
               and all(isinstance(r, list) and len(r) == len(cols) for r in rows)
               and (sc is None or (type(sc) is int and 0 <= sc < len(cols))))
         if ok:
-            good.append({"title": str(t.get("title") or ""), "columns": cols, "rows": rows, "status_column": sc})
+            good.append({"title": str(t.get("title") or ""), "columns": cols,
+                         "rows": [[_cell(c) for c in r] for r in rows], "status_column": sc})
         else:
             bad += 1
     return good, bad

@@ -198,7 +198,7 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
             man = completed(out / name, key) if od.owns(name) else None
             if man is not None:
                 keys[name], dirs[name], manifests[name] = key, out / name, man
-                results[name] = {**man, "status": "cached"}
+                results[name] = {**_shown(man), "status": "cached"}
                 _say_warnings(say, man, f" ({name}, taken from an earlier run)")
             else:
                 results[name] = {"status": "not run", "summary": {}, "text": [NOT_ASKED.get(
@@ -217,7 +217,7 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
             say(f"        {k}: {v}")
         _say_warnings(say, man)
         keys[name], dirs[name], manifests[name] = key, out / name, man
-        results[name] = {**man, "status": status}
+        results[name] = {**_shown(man), "status": status}
     write_config(cfg, out / "config.toml", mesh, out)
     verdict = assess(results, dirs, cfg)
     res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=time.perf_counter() - t_run,
@@ -231,6 +231,12 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
         res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=res.seconds,
                         report=write_html(res), verdict=verdict)
     return res
+
+
+def _shown(man: dict) -> dict:
+    """A stage manifest for run.json and the report: without its list of file hashes
+    (``files``: the cache's check, kept in the stage's own stage.json)."""
+    return {k: v for k, v in man.items() if k != "files"}
 
 
 def write_config(cfg: ProjectConfig, path: Path, mesh: Path | None = None, out: Path | None = None) -> Path:

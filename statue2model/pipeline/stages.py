@@ -76,7 +76,8 @@ class Context:
         man = self.manifests.get("isolator")
         if not man or not man.get("data", {}).get("passed"):
             return None
-        return read_json(self.dirs["isolator"] / "design.json")
+        d = read_json(self.dirs["isolator"] / "design.json")
+        return d if isinstance(d, dict) and d.get("passed") is True else None
 
 
 def _fig(path: str, caption: str) -> dict:
@@ -411,11 +412,12 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
         summary[f"{motion.label} (isolated)"] = (f"{coupled.outcome}, efficiency {coupled.efficiency:.3f}, "
                                                  f"plate travel {travel}")
     if data.get("fragility_runs"):
-        med = data.get("fragility_median_fixed")
-        summary["fragility: median overturning PGA (fixed)"] = "not reached" if med is None else f"{med / G:.3f} g"
-        if iso is not None:
-            med = data.get("fragility_median_isolated")
-            summary["fragility: median failure PGA (isolated)"] = "not reached" if med is None else f"{med / G:.3f} g"
+        for side, key in (("fixed", "fragility: median overturning PGA (fixed)"),
+                          ("isolated", "fragility: median failure PGA (isolated)")):
+            med = data.get(f"fragility_median_{side}")
+            if side == "fixed" or iso is not None:
+                summary[key] = (f"not fitted ({data.get(f'fragility_median_{side}_reason') or 'undefined'})"
+                                if med is None else f"{med / G:.3f} g")
     return {"summary": summary, "text": text, "warnings": warnings, "tables": tables, "figures": figs, "data": data}
 
 

@@ -58,6 +58,16 @@ def _g(x: float | None) -> str:
     return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"
 
 
+def _n(x: float | None, spec: str = ".2f") -> str:
+    """A number for a sentence: '-' when it is None or not finite (never 'nan' or 'inf')."""
+    return "-" if x is None or not math.isfinite(x) else format(x, spec)
+
+
+def _mm(x: float | None, spec: str = ".0f") -> str:
+    """A length in m as millimetres for a sentence, '-' when undefined."""
+    return _n(None if x is None else x * 1000, spec)
+
+
 def _ratio(cap: float | None, demand: float | None) -> float | None:
     if cap is None or demand is None or demand <= 0 or not math.isfinite(demand):
         return None
@@ -113,13 +123,13 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
              .format(b_over_h, mu_s) if fixed["slides"] else
              ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
     line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
-            f"margin {fixed['uplift_margin']:.2f})")
+            f"margin {_n(fixed['uplift_margin'])})")
     if "overturn_margin" in fixed:
         if fixed["first_overturn_pga"] is None:
             line += "; it did not overturn at any PGA of the variability sweep"
         else:
             line += (f"; it overturned from {_g(fixed['first_overturn_pga'])} in the variability sweep "
-                     f"(margin {fixed['overturn_margin']:.2f} on the design PGA)")
+                     f"(margin {_n(fixed['overturn_margin'])} on the design PGA)")
     lines.append(line + ".")
 
     iso = _data(stages, "isolator")
@@ -151,16 +161,16 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             if cfg is not None and getattr(cfg, "dynamics", None) is not None:
                 isolated["record"] = cfg.dynamics.motion
         if isolated["passed"]:
-            line = (f"On the isolator (R {isolated['R']:.2f} m, r {isolated['r'] * 1000:.1f} mm, "
-                    f"{isolated['n_grooves']} grooves, T {isolated['T']:.2f} s): travel demand "
-                    f"{demand * 1000:.0f} mm vs capacity {cap * 1000:.0f} mm (margin {isolated['travel_margin']:.2f}); "
+            line = (f"On the isolator (R {_n(isolated['R'])} m, r {_mm(isolated['r'], '.1f')} mm, "
+                    f"{isolated['n_grooves']} grooves, T {_n(isolated['T'])} s): travel demand "
+                    f"{_mm(demand)} mm vs capacity {_mm(cap)} mm (margin {_n(isolated['travel_margin'])}); "
                     f"the statue feels {_g(isolated['felt'])} vs its uplift {_g(uplift)} "
-                    f"(margin {isolated['felt_margin']:.2f})")
+                    f"(margin {_n(isolated['felt_margin'])})")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
                          f"; it overturned or exceeded the capacity from {_g(f_)} in the sweep "
-                         f"(margin {isolated['failure_margin']:.2f} on the design PGA)")
+                         f"(margin {_n(isolated['failure_margin'])} on the design PGA)")
             lines.append(line + ".")
         else:
             isolated["reason"] = design.get("failure") or design_failure(design)
@@ -181,33 +191,49 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     failure PGAs, the probability at the design PGA, the isolator's ratio of medians, and one line."""
     if not dyn or not dyn.get("fragility_runs"):
         return {}
-    mf, mi = dyn.get("fragility_median_fixed"), dyn.get("fragility_median_isolated")
-    pf, pi = dyn.get("fragility_p_design_fixed"), dyn.get("fragility_p_design_isolated")
+    mf, mi = _finite(dyn.get("fragility_median_fixed")), _finite(dyn.get("fragility_median_isolated"))
+    pf, pi = _finite(dyn.get("fragility_p_design_fixed")), _finite(dyn.get("fragility_p_design_isolated"))
 
     def prob(x):
         return "< 0.01" if x < 0.005 else "> 0.99" if x > 0.995 else f"{x:.2f}"
 
-    def med(m, ci, status):
+    def med(m, side):
         if m is None:
-            return f"not fitted ({status})"
-        band = f" ({_g(ci[0])}-{_g(ci[1])})" if ci and None not in ci else ""
-        return f"{_g(m)}{band}"
+            why = dyn.get(f"fragility_median_{side}_reason") or dyn.get(f"fragility_status_{side}") or "undefined"
+            return f"not fitted ({why})"
+        ci = dyn.get(f"fragility_median_ci_{side}") or [None, None]
+        lo, hi = (_finite(x) for x in (list(ci) + [None, None])[:2])
+        if lo is not None and hi is not None:
+            return f"{_g(m)} ({_g(lo)}-{_g(hi)})"
+        why = dyn.get(f"fragility_median_ci_{side}_reason")
+        if lo is None and hi is None:
+            return _g(m) + (f" ({why})" if why else "")
+        end = f"band from {_g(lo)}" if lo is not None else f"band up to {_g(hi)}"
+        return f"{_g(m)} ({end}" + (f"; {why})" if why else ")")
 
     line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
-            f"median overturning PGA on a fixed base "
-            f"{med(mf, dyn.get('fragility_median_ci_fixed'), dyn.get('fragility_status_fixed'))}"
+            f"median overturning PGA on a fixed base {med(mf, 'fixed')}"
             + (f", P(overturning) at the design PGA {prob(pf)}" if pf is not None else ""))
+    r = _finite(dyn.get("fragility_ratio"))
     if isolated:
-        line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) "
-                 f"{med(mi, dyn.get('fragility_median_ci_isolated'), dyn.get('fragility_status_isolated'))}"
+        line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) {med(mi, 'isolated')}"
                  + (f", P(failure) at the design PGA {prob(pi)}" if pi is not None else ""))
-        r = dyn.get("fragility_ratio")
         if r is not None:
-            ci = dyn.get("fragility_ratio_ci") or [None, None]
+            ci = [_finite(x) for x in (list(dyn.get("fragility_ratio_ci") or []) + [None, None])[:2]]
+            why = dyn.get("fragility_ratio_ci_reason")
             line += f"; the isolator multiplies the median by {r:.2f}" + (
-                f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else "")
+                f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else f" ({why})" if why else "")
     return {"median_fixed": mf, "median_isolated": mi, "p_design_fixed": pf, "p_design_isolated": pi,
-            "ratio": dyn.get("fragility_ratio"), "ratio_ci": dyn.get("fragility_ratio_ci"), "line": line + "."}
+            "ratio": r, "ratio_ci": dyn.get("fragility_ratio_ci"), "line": line + "."}
+
+
+def _finite(x) -> float | None:
+    """x as a float when it is a finite number, else None (a manifest is input: it may hold anything)."""
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) else None
 
 
 def status(recommendation: str) -> str:
@@ -225,7 +251,7 @@ def design_failure(design: dict) -> str:
     bad = [c for c in design.get("checks", []) if c.get("required", True) and not c.get("passed")]
     if not bad:
         return "see design.json"
-    return "; ".join(f"{c['name']}: {c.get('value', float('nan')):.4g} vs {c.get('limit', float('nan')):.4g}"
+    return "; ".join(f"{c['name']}: {_n(_finite(c.get('value')), '.4g')} vs {_n(_finite(c.get('limit')), '.4g')}"
                      + (f" {c['unit']}" if c.get("unit") else "") for c in bad[:3])
 
 
@@ -237,7 +263,7 @@ def recommend(fixed: dict, isolated: dict, pga: float) -> str:
     ok_margin = lambda m: m is not None and m >= 1.0
     if not fixed["lifts"] and not fixed.get("overturns", False):
         return (f"no isolator needed at the design level: the statue stays in full contact (uplift margin "
-                f"{fixed['uplift_margin']:.2f})")
+                f"{_n(fixed['uplift_margin'])})")
     if not isolated:
         return (f"the statue lifts at the design level (uplift {_g(fixed['uplift'])} < design PGA {_g(pga)}) and no "
                 "isolator was designed: run the isolator stage")
@@ -247,12 +273,12 @@ def recommend(fixed: dict, isolated: dict, pga: float) -> str:
     fail_margin = isolated.get("failure_margin")
     swept_ok = "first_failure_pga" not in isolated or isolated["first_failure_pga"] is None or ok_margin(fail_margin)
     if ok_margin(travel) and ok_margin(felt) and swept_ok:
-        return (f"isolate with the designed device: travel margin {travel:.2f}, the statue stays in full contact "
-                f"(felt-acceleration margin {felt:.2f})")
+        return (f"isolate with the designed device: travel margin {_n(travel)}, the statue stays in full contact "
+                f"(felt-acceleration margin {_n(felt)})")
     why = []
     if not ok_margin(travel):
-        why.append(f"travel demand {isolated['travel_demand'] * 1000:.0f} mm > capacity "
-                   f"{isolated['capacity'] * 1000:.0f} mm")
+        why.append(f"travel demand {_mm(isolated['travel_demand'])} mm > capacity "
+                   f"{_mm(isolated['capacity'])} mm")
     if not ok_margin(felt):
         why.append(f"the statue feels {_g(isolated['felt'])} > its uplift {_g(fixed['uplift'])}")
     if not swept_ok:
