@@ -194,7 +194,8 @@ def parse_args(self, *a, **k):              # `statue2model config` parsed, then
     return args
 
 real, argparse.ArgumentParser.parse_args = argparse.ArgumentParser.parse_args, parse_args
-sys.exit(cli.main(["config", "--out", sys.argv[1]]))
+sys.argv = ["statue2model", "config", "--out", sys.argv[1]]
+sys.exit(cli.main())              # as statue2model/__main__.py and the console script call it
 """
 
 
@@ -290,7 +291,8 @@ def parse_args(self, *a, **k):
     return args
 
 real, argparse.ArgumentParser.parse_args = argparse.ArgumentParser.parse_args, parse_args
-sys.exit(cli.main(["config", "--out", sys.argv[1]]))
+sys.argv = ["statue2model", "config", "--out", sys.argv[1]]
+sys.exit(cli.main())              # as statue2model/__main__.py and the console script call it
 """
 
 
@@ -306,3 +308,33 @@ def test_ctrl_c_inside_exec_string_exits_130_under_python_m(tmp_path):
                        text=True, env={**ENV, "PYTHONPATH": str(tmp_path)}, cwd=tmp_path, timeout=60)
     assert r.returncode == 130, (r.returncode, r.stderr)
     assert r.stderr.strip() == "statue2model: interrupted", r.stderr
+
+
+def test_a_stop_that_hangs_after_ctrl_c_still_ends_with_130(tmp_path):
+    """After the first Ctrl-C the command has InterruptGuard.grace seconds to stop; a stop
+    that hangs (here: a loop that swallows every KeyboardInterrupt) is ended with 130."""
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "hang.py"
+    script.write_text(
+        "import os, signal, time\n"
+        "from statue2model.compute.executors import InterruptGuard\n"
+        "g = InterruptGuard(); g.grace = 0.5\n"
+        "with g:\n"
+        "    try:\n"
+        "        os.kill(os.getpid(), signal.SIGINT); time.sleep(1)\n"
+        "    except KeyboardInterrupt:\n"
+        "        pass\n"
+        "    while True:\n"
+        "        try:\n"
+        "            time.sleep(10)\n"
+        "        except KeyboardInterrupt:\n"
+        "            pass\n")
+    t0 = time.monotonic()
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=30)
+    took = time.monotonic() - t0
+    assert p.returncode == 130, (p.returncode, p.stderr)
+    assert "ended at once" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert took < 15, took

@@ -132,7 +132,9 @@ def test_a_stage_folder_of_a_run_is_refused_as_an_output(tmp_path, box, capsys):
                  ["rock", str(props), "--motion", "sine:amp=0.3g,freq=2"],            # default: beside props.json
                  ["records", "--spectrum", "ec8:ag=0.2g", "--n", "1", "--duration", "5", "--band", "0.1:1",
                   "--out", str(run / "params")],
-                 ["motion", "sine:amp=0.3g,freq=2", "--csv", str(run / "params" / "sub" / "t.csv")]):
+                 ["motion", "sine:amp=0.3g,freq=2", "--csv", str(run / "params" / "sub" / "t.csv")],
+                 ["records", "--spectrum", "ec8:ag=0.2g", "--n", "1", "--duration", "5", "--band", "0.1:1",
+                  "--out", str(run / "params" / "new" / "set")]):             # a new folder inside one too
         assert main(argv) == 2
         line = only_line(capsys)
         assert " the params stage folder of a statue2model run" in line, line
@@ -235,6 +237,23 @@ def test_a_listed_name_that_is_gone_is_dropped_when_the_folder_is_opened(tmp_pat
         files.open_output(d, "demo")
 
 
+def test_a_killed_stage_leaves_a_leftover_that_the_next_open_cleans(tmp_path):
+    """A run killed (SIGKILL, or ended at once after Ctrl-C) while a stage was first being
+    computed leaves the listed name missing and its hidden partial folder: the folder is
+    still ours on the next open, and the leftover is cleaned."""
+    d = tmp_path / "run"
+    with files.open_output(d, "run") as od, od.group(["run.json"]) as g:
+        files.write_json(g / "run.json", {})
+        od.claim(["dynamics"])
+    partial = d / ".dynamics.partial-999999"
+    partial.mkdir()
+    (partial / "half.json").write_text("{")
+    with files.open_output(d, "run") as od:
+        assert "dynamics" in od.entries
+        od.clean()
+    assert not partial.exists()
+
+
 def test_a_group_removes_its_own_stale_names_only(tmp_path):
     d = tmp_path / "o"
     with files.open_output(d, "demo") as od, od.group(["a.json", "a.png"]) as g:
@@ -331,3 +350,18 @@ def test_a_run_does_not_serve_a_hand_written_stage_file_as_cached(tmp_path, box,
     run = json.loads((out / "run.json").read_text())
     assert "files" not in run["stages"]["params"]                     # the hashes stay in stage.json
     assert cache.completed(out / "params", json.loads((out / "params" / "stage.json").read_text())["key"])
+
+
+def test_os_metadata_in_a_stage_folder_never_blocks_a_recompute(tmp_path):
+    """A file browser's .DS_Store / Thumbs.db / ._* is not the user's work: the stage is
+    still served from the cache, and recomputed (its folder replaced) when it must be."""
+    d, key, work, calls = _stage(tmp_path)
+    cache.run_stage(d, key, work)
+    for name in (".DS_Store", "Thumbs.db", "._result.json"):
+        (d / name).write_bytes(b"\0metadata")
+    assert cache.run_stage(d, key, work)["cached"]
+    m = cache.run_stage(d, key + "-changed", work)
+    assert not m["cached"] and len(calls) == 2
+    (d / "notes.txt").write_text("mine")                     # the user's own file still blocks it
+    with pytest.raises(InputError, match=r"notes.txt \(not written by the run\)"):
+        cache.run_stage(d, key + "-again", work)

@@ -85,26 +85,33 @@ def main(argv: list[str] | None = None) -> int:
             code = _dispatch(args)
         except KeyboardInterrupt:
             code = 130
-        guard.stop()
+        finally:
+            guard.stop()            # from here on a Ctrl-C is only counted
         if code == 130 or guard.interrupted:
             print("statue2model: interrupted", file=sys.stderr)
             code = 130
-            _forget_unhandled_interrupt()
+            if argv is None:
+                _end_now(code)
     return code
 
 
-def _forget_unhandled_interrupt() -> None:
-    """CPython 3.11 notes a KeyboardInterrupt that leaves an ``exec``/``eval`` of a string
-    (dataclasses and namedtuple make their methods so, e.g. while a module is imported) as
-    "unhandled", even once it is caught; ``python -m statue2model`` then ends by killing
-    itself with SIGINT instead of exiting with the status returned. The interrupt was
-    handled here: clear the note (a private flag; where it is not found, nothing is done)."""
+def _end_now(code: int) -> None:
+    """End the program at once after a Ctrl-C, past the interpreter's own shutdown: every
+    file is already written whole or not at all and the workers are stopped, but at exit
+    CPython would (1) join a broken process pool's threads, which can wait forever on a
+    pipe its terminated workers no longer read (seen on Debian's 3.11.2), and (2) under
+    ``python -m`` end by killing itself with SIGINT (status -2) when the KeyboardInterrupt
+    passed through code built by ``exec`` (dataclasses). Only when ``main`` is the program
+    (``argv`` None: the console script, ``python -m statue2model``), never from Python."""
     try:
-        import ctypes
+        if "multiprocessing" in sys.modules:   # the pool's semaphores: unlinked, as at a normal exit
+            from multiprocessing import util   # (exit priority >= 0: not the joins that can hang)
 
-        ctypes.c_int.in_dll(ctypes.pythonapi, "_Py_UnhandledKeyboardInterrupt").value = 0
-    except (ImportError, AttributeError, ValueError, OSError):  # pragma: no cover - other Pythons
-        pass
+            util._run_finalizers(0)
+        sys.stdout.flush()
+        sys.stderr.flush()
+    finally:
+        os._exit(code)
 
 
 def _dispatch(args) -> int:

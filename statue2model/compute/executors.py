@@ -126,6 +126,7 @@ class InterruptGuard:
         self._lost: list = []
         self._done = None
         self._watcher = None
+        self._deadline = None
 
     @property
     def interrupted(self) -> bool:
@@ -136,14 +137,39 @@ class InterruptGuard:
         """The command is ending: later SIGINTs are counted, never raised."""
         self.stopping = True
 
+    grace = 20.0
+    """Seconds a command may take to stop after its first Ctrl-C; past them the process
+    ends at once with status 130 (files are written whole or not at all, and a stage left
+    half-computed is a hidden partial folder the next run removes)."""
+
     def __call__(self, signum, frame) -> None:       # the SIGINT handler
         self.count += 1
+        if self.count == 1 and self._installed:
+            self._start_deadline()
         if self.stopping:
             return
         if self._defer:
             self._held = True
             return
         raise KeyboardInterrupt
+
+    def _start_deadline(self) -> None:
+        import threading
+
+        self._deadline = threading.Timer(self.grace, self._give_up)
+        self._deadline.daemon = True
+        self._deadline.start()
+
+    def _give_up(self) -> None:
+        """The stop took longer than :attr:`grace` (a wait Python cannot interrupt): end now."""
+        if not self._installed:
+            return
+        try:
+            sys.stderr.write(f"statue2model: interrupted (stopping took over {self.grace:.0f} s: ended at once)\n")
+            sys.stderr.flush()
+            sys.stdout.flush()
+        finally:
+            os._exit(130)
 
     def _take_lost(self) -> bool:
         """Pass the unraisable exceptions collected so far on; whether one was a KeyboardInterrupt."""
@@ -182,6 +208,8 @@ class InterruptGuard:
             return
         self._done.set()
         self._watcher.join()
+        if self._deadline is not None:
+            self._deadline.cancel()
         _check_signals()         # an interrupt delivered again but not yet handled is counted here, not raised
         if sys.unraisablehook == self._lost.append:
             sys.unraisablehook = self._previous_hook
@@ -230,7 +258,8 @@ class interrupts_deferred:
         guard = self._guard
         if guard is not None:
             guard._defer -= 1
-            held, guard._held = guard._held, guard._held and guard._defer > 0
+            held = guard._held and guard._defer == 0        # an outer block still defers it
+            guard._held = guard._held and guard._defer > 0
         else:
             held = False
         if self._blocked:
@@ -440,7 +469,7 @@ class ProcessExecutor(Executor):
             return []
         bar = None
         try:
-            if self._pool is None:
+            if self._pool is None and os.name == "posix":
                 from multiprocessing import resource_tracker
 
                 resource_tracker.ensure_running()   # started first: it unblocks SIGINT after starting
@@ -479,7 +508,7 @@ class ProcessExecutor(Executor):
             # (bounded): at exit, CPython 3.11 wakes it through a pipe it may be closing at that
             # moment ("Exception ignored ... OSError: Bad file descriptor" from threading._shutdown)
             if manager is not None and manager.is_alive():
-                manager.join(timeout=10.0)
+                manager.join(timeout=3.0)
 
     def close(self) -> None:
         if self._pool is not None:
@@ -641,6 +670,7 @@ class DaskExecutor(Executor):
 
         futures = []
         bar = None
+        task_error = None                       # a task's own exception: never a lost scheduler
         try:
             with warnings.catch_warnings():      # the items travel inside the graph, on purpose (see the class)
                 warnings.filterwarnings("ignore", message=".*[Ll]arge object.*")
@@ -655,7 +685,13 @@ class DaskExecutor(Executor):
                 done = [f for f in pending if f.done()]     # the client's own state: no message
                 for f in done:
                     if f.status == "error":
-                        f.result()  # raise the worker's exception here
+                        try:
+                            f.result()  # raise the worker's exception here
+                        except Exception as exc:
+                            if self._client_gone():     # no answer from the scheduler: not the task's
+                                raise
+                            task_error = exc            # e.g. the task's own FileNotFoundError
+                            raise
                     elif f.status != "finished":      # cancelled: the scheduler went away
                         futures = []                    # nothing to cancel there
                         raise self._lost(None)
@@ -678,7 +714,7 @@ class DaskExecutor(Executor):
             self._cancel(futures)
             raise
         except Exception as exc:
-            if self._scheduler_lost(exc):
+            if exc is not task_error and self._scheduler_lost(exc):
                 raise self._lost(exc) from None
             self._cancel(futures)
             raise
@@ -698,8 +734,13 @@ class DaskExecutor(Executor):
         except Exception:  # the scheduler went away meanwhile: nothing to cancel there
             pass
 
+    def _client_gone(self) -> bool:
+        """Whether the client no longer talks with its scheduler."""
+        return getattr(self._client, "status", "running") not in ("running", "connecting")
+
     def _scheduler_lost(self, exc: BaseException) -> bool:
-        """Whether ``exc`` says the client lost its scheduler (not a failure of a task)."""
+        """Whether ``exc``, raised by the client (never a task's own exception: :meth:`map`
+        passes those on as they are), says the client lost its scheduler."""
         import asyncio
         import concurrent.futures
 
@@ -708,7 +749,7 @@ class DaskExecutor(Executor):
         if isinstance(exc, (CommClosedError, asyncio.CancelledError, concurrent.futures.CancelledError,
                             ConnectionError, TimeoutError, OSError)):
             return True
-        return getattr(self._client, "status", "running") not in ("running", "connecting")
+        return self._client_gone()
 
     def _lost(self, exc: BaseException | None) -> InputError:
         why = f" ({_one_line(exc)})" if exc is not None else ""

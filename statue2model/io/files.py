@@ -546,8 +546,7 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
     if path.exists() and not path.is_dir():
         raise InputError(f"--out {path} is a file; give a folder")
     created = not path.exists()
-    if not created:
-        _refuse_stage_folder(path, "--out")
+    _refuse_stage_folder(path, "--out")           # a new folder inside a stage folder too
     prepare_dir(path)
     if not os.access(path, os.W_OK):
         raise InputError(f"output folder {path} is not writable")
@@ -555,7 +554,8 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
     try:
         data = read_manifest(path)
         entries = dict(data["entries"]) if data else {}
-        gone = [n for n in entries if not os.path.lexists(path / n)]
+        left_over = {m.group("name") for m in map(_LEFTOVER.match, os.listdir(path)) if m}
+        gone = [n for n in entries if not os.path.lexists(path / n) and n not in left_over]
         if gone:                                  # listed but not there: a name the user may take later
             entries = {n: k for n, k in entries.items() if n not in gone}
             OutputDir(path, data.get("kind", kind), entries, None, True)._save()

@@ -110,6 +110,15 @@ def _read_manifest(stage_dir: Path) -> dict | None:
     return data if isinstance(data, dict) else None
 
 
+OS_METADATA = (".DS_Store", "Thumbs.db", "desktop.ini")
+"""Files a file browser drops into any folder it shows (with macOS's ``._*``): never the
+user's work, so a stage folder holding them may be replaced."""
+
+
+def _os_metadata(name: str) -> bool:
+    return name in OS_METADATA or name.startswith("._")
+
+
 def differences(stage_dir: Path, manifest: dict | None = None) -> dict[str, list[str]]:
     """How the stage folder differs from what its stage wrote: {"changed": listed files
     whose bytes (or kind) differ, "missing": listed names not there, "foreign": names
@@ -124,7 +133,7 @@ def differences(stage_dir: Path, manifest: dict | None = None) -> dict[str, list
     if not stage_dir.is_dir():
         return found
     if manifest is None:
-        found["foreign"] = sorted(p.name for p in stage_dir.iterdir())
+        found["foreign"] = sorted(p.name for p in stage_dir.iterdir() if not _os_metadata(p.name))
         return found
     listed = manifest.get("files")
     if not isinstance(listed, dict):
@@ -132,7 +141,7 @@ def differences(stage_dir: Path, manifest: dict | None = None) -> dict[str, list
     seen = set()
     for p in sorted(stage_dir.rglob("*")):
         rel = p.relative_to(stage_dir).as_posix()
-        if rel == MANIFEST or any(rel.startswith(f + "/") for f in found["foreign"]):
+        if rel == MANIFEST or _os_metadata(p.name) or any(rel.startswith(f + "/") for f in found["foreign"]):
             continue
         seen.add(rel)
         if rel not in listed:
