@@ -225,3 +225,49 @@ def test_worker_timeout_is_checked(monkeypatch):
         monkeypatch.setenv("STATUE2MODEL_WORKER_TIMEOUT", bad)
         with pytest.raises(InputError, match="STATUE2MODEL_WORKER_TIMEOUT must be a number of seconds > 0"):
             _worker_timeout(None)
+
+
+def test_a_tasks_own_oserror_is_not_a_lost_scheduler(tmp_path):
+    """A task that raises FileNotFoundError (an OSError) on a healthy cluster: that very
+    exception reaches the caller, and the executor still works (before: "lost the Dask
+    scheduler ..." because OSError counted as a lost connection)."""
+    from distributed import LocalCluster
+
+    from statue2model.compute.executors import DaskExecutor
+
+    missing = str(tmp_path / "no such file")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1",
+                      dashboard_address=None) as cluster:
+        with DaskExecutor(cluster.scheduler_address) as ex:
+            with pytest.raises(FileNotFoundError) as info:
+                ex.map(os.stat, [str(tmp_path), missing])
+            assert "no such file" in str(info.value)
+            assert [st.st_ino for st in ex.map(os.stat, [str(tmp_path)])] == [os.stat(tmp_path).st_ino]
+
+
+def test_log_filter_goes_with_an_executor_never_closed():
+    """The executor's filter on distributed's loggers/handlers is removed when the executor
+    is garbage-collected, for a library user who never closes it (before: kept for the
+    whole process)."""
+    import gc
+    import logging
+
+    from distributed import LocalCluster
+
+    from statue2model.compute.executors import DaskExecutor, _DropConnectionLogs
+
+    def ours(target) -> list:
+        return [f for f in target.filters if isinstance(f, _DropConnectionLogs)]
+
+    targets = [logging.getLogger("distributed.client"), logging.getLogger("distributed.core")]
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1",
+                      dashboard_address=None) as cluster:
+        targets += list(logging.getLogger("distributed").handlers)
+        before = [len(ours(t)) for t in targets]
+        ex = DaskExecutor(cluster.scheduler_address)
+        client = ex._client
+        assert [len(ours(t)) for t in targets] == [b + 1 for b in before]
+        del ex
+        gc.collect()
+        assert [len(ours(t)) for t in targets] == before
+        client.close()

@@ -338,3 +338,46 @@ def test_a_stop_that_hangs_after_ctrl_c_still_ends_with_130(tmp_path):
     assert p.returncode == 130, (p.returncode, p.stderr)
     assert "ended at once" in p.stderr and "Traceback" not in p.stderr, p.stderr
     assert took < 15, took
+
+
+LOST_THEN_BLOCKED = LOST_IN_CALLBACK.replace(
+    """    t0 = time.monotonic()
+    while time.monotonic() - t0 < 3:         # 3 s of work after the Ctrl-C
+        pass
+""", """    import threading
+    threading.Event().wait(20)               # a blocking wait (as concurrent.futures.as_completed)
+""")
+
+
+def test_a_lost_ctrl_c_ends_a_blocking_wait(tmp_path):
+    """The interrupt delivered again must also wake the main thread from a blocking wait
+    (before: ``_thread.interrupt_main`` only set a flag; the wait went on for its 20 s)."""
+    assert LOST_THEN_BLOCKED != LOST_IN_CALLBACK
+    script = tmp_path / "blocked.py"
+    script.write_text(LOST_THEN_BLOCKED)
+    t0 = time.monotonic()
+    r = subprocess.run([sys.executable, str(script), str(tmp_path / "p.toml")], capture_output=True,
+                       text=True, env=ENV, timeout=60)
+    took = time.monotonic() - t0
+    assert r.returncode == 130, (r.returncode, r.stdout, r.stderr)
+    assert r.stderr.strip() == "statue2model: interrupted", r.stderr
+    assert "finished the work" not in r.stdout
+    assert took < 5, f"took {took:.1f} s: the blocking wait was not woken"
+
+
+def test_nested_deferred_blocks_raise_at_the_outer_end():
+    """A Ctrl-C inside an inner interrupts_deferred block is held until the outermost block ends."""
+    from statue2model.compute.executors import InterruptGuard, interrupts_deferred
+
+    with InterruptGuard() as guard:
+        steps = []
+        with pytest.raises(KeyboardInterrupt):
+            with interrupts_deferred():
+                with interrupts_deferred():
+                    os.kill(os.getpid(), signal.SIGINT)
+                    _python_steps()
+                steps.append("after inner")                 # not raised at the inner end
+                _python_steps()
+                steps.append("end of outer")
+        assert steps == ["after inner", "end of outer"] and guard.count == 1
+    assert SIGINT_UNBLOCKED()

@@ -80,13 +80,14 @@ def main(argv: list[str] | None = None) -> int:
 
     with InterruptGuard() as guard:
         try:
-            parser = build_parser()
-            args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
-            code = _dispatch(args)
-        except KeyboardInterrupt:
+            try:
+                parser = build_parser()
+                args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
+                code = _dispatch(args)
+            finally:
+                guard.stop()        # from here on a Ctrl-C is only counted
+        except KeyboardInterrupt:   # also one that lands in the finally, before stop()
             code = 130
-        finally:
-            guard.stop()            # from here on a Ctrl-C is only counted
         if code == 130 or guard.interrupted:
             print("statue2model: interrupted", file=sys.stderr)
             code = 130

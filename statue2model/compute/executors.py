@@ -101,9 +101,11 @@ class InterruptGuard:
       status is 130 whatever happened to the exception;
     * takes such a lost KeyboardInterrupt (``sys.unraisablehook``, a C-level append: no
       Python code runs where the interrupt was lost), prints nothing, and a watcher thread
-      delivers the interrupt again within 0.05 s (``_thread.interrupt_main``): it is then
-      raised in ordinary code (other unraisable exceptions go to the previous hook, as
-      before);
+      delivers the interrupt again within 0.05 s (a SIGINT sent to the main thread, which
+      also wakes a blocking wait; ``_thread.interrupt_main`` where threads cannot be
+      signalled): it is then raised in ordinary code (one re-delivery at a time: none is
+      sent again before the handler has run; other unraisable exceptions go to the previous
+      hook, as before);
     * holds a Ctrl-C back inside :class:`interrupts_deferred` blocks (starting or
       stopping a pool's processes), raised when the block ends;
     * after :meth:`stop` (the command is already ending) only counts.
@@ -127,6 +129,7 @@ class InterruptGuard:
         self._done = None
         self._watcher = None
         self._deadline = None
+        self._resent = False
 
     @property
     def interrupted(self) -> bool:
@@ -144,6 +147,7 @@ class InterruptGuard:
 
     def __call__(self, signum, frame) -> None:       # the SIGINT handler
         self.count += 1
+        self._resent = False
         if self.count == 1 and self._installed:
             self._start_deadline()
         if self.stopping:
@@ -184,11 +188,27 @@ class InterruptGuard:
         return interrupt
 
     def _watch(self) -> None:
+        while not self._done.wait(self.poll):
+            if self._take_lost() and not self.stopping and not self._resent:
+                self._resent = True            # cleared by the handler: never more than one in flight
+                self._interrupt_main()         # this guard's handler runs again, in the main thread
+
+    @staticmethod
+    def _interrupt_main() -> None:
+        """SIGINT to the main thread: unlike ``_thread.interrupt_main`` (a flag only, looked at
+        when the main thread next runs Python code), it also ends a blocking wait there
+        (``as_completed``, a lock, a sleep). Where there is no ``pthread_kill``, the flag."""
+        import threading
+
+        if hasattr(signal, "pthread_kill"):
+            try:
+                signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+                return
+            except (OSError, ValueError):   # pragma: no cover - the main thread is ending
+                pass
         import _thread
 
-        while not self._done.wait(self.poll):
-            if self._take_lost() and not self.stopping:
-                _thread.interrupt_main()       # this guard's handler runs again, in the main thread
+        _thread.interrupt_main()
 
     def __enter__(self) -> InterruptGuard:
         import threading
@@ -547,6 +567,11 @@ class _DropConnectionLogs:
                                     concurrent.futures.CancelledError, TimeoutError))
 
 
+def _remove_filter(targets: list, quiet: _DropConnectionLogs) -> None:
+    for t in targets:
+        t.removeFilter(quiet)
+
+
 WORKER_TIMEOUT = 60.0
 """Seconds a Dask sweep waits while the cluster has no worker before it stops with one line
 (default of ``DaskExecutor(worker_timeout=)``, else the environment variable
@@ -606,6 +631,7 @@ class DaskExecutor(Executor):
         self._client = None
         self._quiet = _DropConnectionLogs()
         self._quiet_on = []
+        self._unhush_at_gc = None
         self._hush()
         try:
             self._client = Client(self.address, timeout=timeout, set_as_default=False)
@@ -621,18 +647,21 @@ class DaskExecutor(Executor):
             raise
 
     def _hush(self) -> None:
-        """Drop distributed's lost-connection records from now until :meth:`close`."""
+        """Drop distributed's lost-connection records from now until :meth:`close` (or until
+        this executor is garbage-collected, for a caller that never closes it)."""
         import logging
+        import weakref
 
         targets = [logging.getLogger("distributed.client"), logging.getLogger("distributed.core")]
         targets += list(logging.getLogger("distributed").handlers)
         for t in targets:
             t.addFilter(self._quiet)
         self._quiet_on = targets
+        self._unhush_at_gc = weakref.finalize(self, _remove_filter, targets, self._quiet)
 
     def _unhush(self) -> None:
-        for t in self._quiet_on:
-            t.removeFilter(self._quiet)
+        if self._unhush_at_gc is not None:
+            self._unhush_at_gc()            # runs once: later calls (and the collection) do nothing
         self._quiet_on = []
 
     def _n_workers(self) -> int:
