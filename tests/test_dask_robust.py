@@ -159,19 +159,25 @@ def test_recipe_listens_on_loopback_only(params_json, tmp_path):
         assert "running on dask" in p.stdout
 
 
-def test_scheduler_lost_is_one_line(params_json, tmp_path):
+def _kill_during_run(params_json, out: Path, which: str, env=ENV):
+    """Start a sweep on a fresh cluster, kill its ``which`` ("scheduler" or "worker") once the
+    sweep runs; returns (the finished process, its stderr, seconds from the kill to the exit)."""
     with Cluster() as c:
-        p = _spectrum(params_json, c.address, tmp_path / "s.json")
+        p = _spectrum(params_json, c.address, out, env=env)
         try:
             assert "running on dask" in p.stdout.readline()
             time.sleep(0.5)
-            c.kill(c.scheduler)
+            c.kill(getattr(c, which))
             t0 = time.monotonic()
-            out, err = p.communicate(timeout=90)
+            _, err = p.communicate(timeout=90)
         finally:
             if p.poll() is None:
                 p.kill()
-        took = time.monotonic() - t0
+        return p, err, time.monotonic() - t0
+
+
+def test_scheduler_lost_is_one_line(params_json, tmp_path):
+    p, err, took = _kill_during_run(params_json, tmp_path / "s.json", "scheduler")
     assert p.returncode == 2, (p.returncode, err[-2000:])
     lines = _lines(err)
     assert len(lines) == 1 and re.match(r"statue2model: error: lost the Dask scheduler at tcp://127\.0\.0\.1:\d+ "
@@ -182,18 +188,8 @@ def test_scheduler_lost_is_one_line(params_json, tmp_path):
 
 
 def test_all_workers_gone_is_one_line_after_the_timeout(params_json, tmp_path):
-    with Cluster() as c:
-        p = _spectrum(params_json, c.address, tmp_path / "s.json", env={**ENV, "STATUE2MODEL_WORKER_TIMEOUT": "2"})
-        try:
-            assert "running on dask" in p.stdout.readline()
-            time.sleep(0.5)
-            c.kill(c.worker)
-            t0 = time.monotonic()
-            out, err = p.communicate(timeout=90)
-        finally:
-            if p.poll() is None:
-                p.kill()
-        took = time.monotonic() - t0
+    p, err, took = _kill_during_run(params_json, tmp_path / "s.json", "worker",
+                                    env={**ENV, "STATUE2MODEL_WORKER_TIMEOUT": "2"})
     assert p.returncode == 2, (p.returncode, err[-2000:])
     lines = _lines(err)
     assert len(lines) == 1 and "no Dask worker at tcp://127.0.0.1:" in lines[0], err[-3000:]

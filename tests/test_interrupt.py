@@ -169,6 +169,29 @@ def test_ctrl_c_around_the_dynamics_pool_start(template, tmp_path):
 
 # -- the mechanisms, deterministic (fast) -------------------------------------------------
 
+RUN_AS_COMMAND = r"""
+def parse_args(self, *a, **k):              # `statue2model config` parsed, then `command` runs
+    args = real(self, *a, **k)
+    args.func = command
+    return args
+
+real, argparse.ArgumentParser.parse_args = argparse.ArgumentParser.parse_args, parse_args
+sys.argv = ["statue2model", "config", "--out", sys.argv[1]]
+sys.exit(cli.main())              # as statue2model/__main__.py and the console script call it
+"""
+"""The end of a script that runs its own ``command(args)`` as a statue2model command."""
+
+
+def _run_command_script(tmp_path, text: str) -> tuple[subprocess.CompletedProcess, float]:
+    """Run a script ending in RUN_AS_COMMAND; returns its result and its wall time [s]."""
+    script = tmp_path / "command.py"
+    script.write_text(text)
+    t0 = time.monotonic()
+    r = subprocess.run([sys.executable, str(script), str(tmp_path / "p.toml")], capture_output=True,
+                       text=True, env=ENV, timeout=60)
+    return r, time.monotonic() - t0
+
+
 LOST_IN_CALLBACK = r"""
 import argparse, signal, sys, time, weakref
 import statue2model.cli as cli
@@ -188,26 +211,13 @@ def command(args):
     print("finished the work")
     return 0
 
-def parse_args(self, *a, **k):              # `statue2model config` parsed, then this command runs
-    args = real(self, *a, **k)
-    args.func = command
-    return args
-
-real, argparse.ArgumentParser.parse_args = argparse.ArgumentParser.parse_args, parse_args
-sys.argv = ["statue2model", "config", "--out", sys.argv[1]]
-sys.exit(cli.main())              # as statue2model/__main__.py and the console script call it
-"""
+""" + RUN_AS_COMMAND
 
 
 def test_ctrl_c_lost_in_a_weakref_callback_still_stops(tmp_path):
     """A KeyboardInterrupt raised inside a weakref callback is one Python cannot propagate
     (before: "Exception ignored ... KeyboardInterrupt", the work went on, exit 0)."""
-    t0 = time.monotonic()
-    script = tmp_path / "lost.py"
-    script.write_text(LOST_IN_CALLBACK)
-    r = subprocess.run([sys.executable, str(script), str(tmp_path / "p.toml")], capture_output=True,
-                       text=True, env=ENV, timeout=60)
-    took = time.monotonic() - t0
+    r, took = _run_command_script(tmp_path, LOST_IN_CALLBACK)
     assert r.returncode == 130, (r.returncode, r.stdout, r.stderr)
     assert r.stderr.strip() == "statue2model: interrupted", r.stderr
     assert "finished the work" not in r.stdout
@@ -285,15 +295,7 @@ def command(args):
     exec("import signal\nsignal.raise_signal(signal.SIGINT)\nwhile True: pass")
     return 0
 
-def parse_args(self, *a, **k):
-    args = real(self, *a, **k)
-    args.func = command
-    return args
-
-real, argparse.ArgumentParser.parse_args = argparse.ArgumentParser.parse_args, parse_args
-sys.argv = ["statue2model", "config", "--out", sys.argv[1]]
-sys.exit(cli.main())              # as statue2model/__main__.py and the console script call it
-"""
+""" + RUN_AS_COMMAND
 
 
 def test_ctrl_c_inside_exec_string_exits_130_under_python_m(tmp_path):
@@ -353,12 +355,7 @@ def test_a_lost_ctrl_c_ends_a_blocking_wait(tmp_path):
     """The interrupt delivered again must also wake the main thread from a blocking wait
     (before: ``_thread.interrupt_main`` only set a flag; the wait went on for its 20 s)."""
     assert LOST_THEN_BLOCKED != LOST_IN_CALLBACK
-    script = tmp_path / "blocked.py"
-    script.write_text(LOST_THEN_BLOCKED)
-    t0 = time.monotonic()
-    r = subprocess.run([sys.executable, str(script), str(tmp_path / "p.toml")], capture_output=True,
-                       text=True, env=ENV, timeout=60)
-    took = time.monotonic() - t0
+    r, took = _run_command_script(tmp_path, LOST_THEN_BLOCKED)
     assert r.returncode == 130, (r.returncode, r.stdout, r.stderr)
     assert r.stderr.strip() == "statue2model: interrupted", r.stderr
     assert "finished the work" not in r.stdout
