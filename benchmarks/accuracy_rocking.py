@@ -6,7 +6,8 @@
 import math, sys
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1] / "tests"))
 import test_rocking_accuracy as T
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 A1, ST, G = T.A1, T.STATUE, 9.81
 worst = 0
 for params in (A1, ST):

@@ -28,7 +28,7 @@ CODE = r"""
 import json, sys, time
 import numpy as np
 from statue2model.geometry.rocking_params import RockingParams
-from statue2model.dynamics import RockingModel
+from statue2model.rocking import RockingModel
 from statue2model.isolator.device import Isolator
 from statue2model.isolator.sweeps import isolated_spectrum
 n, repeat, cap = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])

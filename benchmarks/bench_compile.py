@@ -38,14 +38,14 @@ import json, sys, time
 t0 = time.perf_counter()
 import numpy as np
 from statue2model.compute import compile as C
-from statue2model.dynamics import motions
-from statue2model.dynamics.engine import simulate as rock
-from statue2model.dynamics.model import RockingModel
-from statue2model.dynamics.spectrum import stability_spectrum
+from statue2model.hazard import motions
+from statue2model.rocking.engine import simulate as rock
+from statue2model.rocking.model import RockingModel
+from statue2model.rocking.spectrum import stability_spectrum
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator
-from statue2model.isolator.dynamics import simulate as plate
+from statue2model.isolator.time_history import simulate as plate
 t = {"import": time.perf_counter() - t0}
 workers = int(sys.argv[1])
 t0 = time.perf_counter()

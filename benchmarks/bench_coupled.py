@@ -26,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from bench_isolator import timed
 from test_isolator_coupled import BLOCK, reference
 
-from statue2model.dynamics import motions
-from statue2model.dynamics.model import RockingModel
+from statue2model.hazard import motions
+from statue2model.rocking.model import RockingModel
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator
 

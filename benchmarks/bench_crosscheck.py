@@ -21,7 +21,7 @@ import numpy as np
 
 from statue2model.crosscheck.contact import ContactSettings
 from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
-from statue2model.crosscheck.runs import (
+from statue2model.crosscheck.compare import (
     calibrate_restitution,
     model_2d,
     overturn_amplitude_2d,
@@ -29,7 +29,8 @@ from statue2model.crosscheck.runs import (
 )
 from statue2model.crosscheck.statue_scene import StatueScene, simulate_statue
 from statue2model.crosscheck.world import SimSettings
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 from statue2model.geometry.body import load_body
 from statue2model.io.paths import default_scan
 

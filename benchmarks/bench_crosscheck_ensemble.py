@@ -24,8 +24,8 @@ def main() -> None:
     a = ap.parse_args()
 
     from statue2model.crosscheck import ensemble as ens
-    from statue2model.crosscheck.report import table
-    from statue2model.crosscheck.runs import model_2d
+    from statue2model.crosscheck.output import table
+    from statue2model.crosscheck.compare import model_2d
     from statue2model.crosscheck.statue_scene import StatueScene
 
     if a.block:

@@ -35,14 +35,15 @@ import numpy as np
 
 from statue2model.crosscheck.isolator_cases import lowpass
 from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
-from statue2model.crosscheck.runs import overturn_amplitude_2d
+from statue2model.crosscheck.compare import overturn_amplitude_2d
 from statue2model.crosscheck.statue_scene import (
     STATUE_SETTINGS,
     StatueScene,
     simulate_statue,
 )
 from statue2model.crosscheck.world import SimSettings
-from statue2model.dynamics import RockingModel, motions
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel
 from statue2model.geometry.body import load_body
 from statue2model.io.paths import default_scan
 
@@ -129,7 +130,7 @@ def isolator_table(design, sc, variants, t_rec=4.0):
 
     from statue2model.crosscheck.isolator_cases import _first_period
     from statue2model.isolator.device import Isolator
-    from statue2model.isolator.dynamics import simulate as plate_2d
+    from statue2model.isolator.time_history import simulate as plate_2d
 
     m = motions.synthetic_record(duration=t_rec, pga=0.2 * 9.81, seed=1)
     t_end = t_rec + 0.5

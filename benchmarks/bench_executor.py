@@ -33,8 +33,8 @@ import numba
 import numpy as np
 from speedup_table import print_speedup_table
 
-from statue2model.dynamics import RockingModel
-from statue2model.dynamics.spectrum import stability_spectrum
+from statue2model.rocking import RockingModel
+from statue2model.rocking.spectrum import stability_spectrum
 from statue2model.compute.executors import DaskExecutor, ProcessExecutor, SerialExecutor
 from statue2model.geometry.rocking_params import RockingParams
 

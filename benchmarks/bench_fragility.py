@@ -30,10 +30,10 @@ import time
 import numpy as np
 
 from statue2model.compute.executors import DaskExecutor, ProcessExecutor, SerialExecutor
-from statue2model.dynamics import motions
-from statue2model.dynamics.fragility import FragilityStudy, run_fragility
-from statue2model.dynamics.model import RockingModel
-from statue2model.dynamics.sampling import THESIS_THETA_R, latin_hypercube
+from statue2model.hazard import motions
+from statue2model.assessment.fragility import FragilityStudy, run_fragility
+from statue2model.rocking.model import RockingModel
+from statue2model.rocking.sampling import THESIS_THETA_R, latin_hypercube
 from statue2model.geometry.rocking_params import RockingParams
 
 FULL = (100, 40, 50)

@@ -22,9 +22,9 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from statue2model.dynamics import motions
+from statue2model.hazard import motions
 from statue2model.isolator.device import Isolator
-from statue2model.isolator.dynamics import simulate
+from statue2model.isolator.time_history import simulate
 
 DT = 0.005
 

@@ -6,7 +6,7 @@
 Part 1, work-precision: three cases (free rocking, one-cosine pulse on the
 imperfect model, a 20 s record on the statue prototype of Table 24), each run
 by the compiled engine at several tolerances and by the same model written
-with solve_ivp (statue2model.dynamics.reference: RK45, DOP853, Radau, with
+with solve_ivp (statue2model.rocking.reference: RK45, DOP853, Radau, with
 events). Errors are measured against the engine at rtol = 1e-13, itself
 checked against solve_ivp DOP853 at rtol = 1e-13 (printed). Error = the larger of
   peak: max over sides of |theta_max - ref| / ref,
@@ -26,9 +26,10 @@ import time
 
 import numpy as np
 
-from statue2model.dynamics import RockingModel, motions, simulate
-from statue2model.dynamics.reference import simulate_scipy
-from statue2model.dynamics.spectrum import stability_spectrum
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
+from statue2model.rocking.reference import simulate_scipy
+from statue2model.rocking.spectrum import stability_spectrum
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81
@@ -135,8 +136,8 @@ def ensemble(quick: bool):
           f"target < 10 s: {'met' if wall < 10 else 'NOT met'}")
     print("outcomes:", sp.counts())
     # without the early exit, for transparency: every run to rest or overturning
-    from statue2model.dynamics import kernel as K
-    from statue2model.dynamics.batch import run_batch
+    from statue2model.rocking import kernel as K
+    from statue2model.rocking.batch import run_batch
 
     F, A = np.meshgrid(freqs, amps, indexing="ij")
     M = np.zeros((F.size, K.N_M))

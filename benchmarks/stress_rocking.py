@@ -1,7 +1,7 @@
 """Stress test of the 2D rocking engine: many random cases over wide ranges.
 
 Draws ``--n`` cases (seeded) in four categories and runs each through
-``statue2model.dynamics.simulate``:
+``statue2model.rocking.simulate``:
 
 - pulse:  one-cosine / one-sine / sine trains / rectangular pulses, up to 5 g, some
           just above the uplift limit (a grazing uplift);
@@ -152,7 +152,8 @@ def draw_case(rng, cat: str, idx: int) -> dict:
 
 
 def build(case):
-    from statue2model.dynamics import RockingModel, motions
+    from statue2model.hazard import motions
+    from statue2model.rocking import RockingModel
     from statue2model.geometry.rocking_params import RockingParams
 
     p = RockingParams(**case["body"])
@@ -190,7 +191,7 @@ def build(case):
 def reproducer(case) -> str:
     """A stand-alone snippet that rebuilds and runs the case."""
     return (f"import sys; sys.path.insert(0, 'benchmarks'); from stress_rocking import build\n"
-            f"from statue2model.dynamics import simulate\n"
+            f"from statue2model.rocking import simulate\n"
             f"case = {case!r}\n"
             f"model, motion = build(case)\n"
             f"r = simulate(model, motion, theta0=case['theta0'], omega0=case['omega0'], t_end=case.get('t_end'))")
@@ -240,7 +241,7 @@ def energy(model, theta, theta_dot):
 # --- one case ------------------------------------------------------------------------------
 def run_case(args):
     case, max_steps = args
-    from statue2model.dynamics import simulate
+    from statue2model.rocking import simulate
 
     out = {"id": case["id"], "cat": case["cat"], "failures": [], "times": [], "steps": 0,
            "ratio": math.nan, "overturned": False, "energy_excess": math.nan, "kind": None, "slow": False}
@@ -320,7 +321,8 @@ def run_case(args):
 
 
 def _warm(_):
-    from statue2model.dynamics import RockingModel, motions, simulate
+    from statue2model.hazard import motions
+    from statue2model.rocking import RockingModel, simulate
     from statue2model.geometry.rocking_params import RockingParams
 
     m = RockingModel.imperfect(RockingParams.rectangular_block(0.05, 0.3, 2.0), 0.5, 0.5, 0.01, 0.01)

@@ -1,8 +1,18 @@
 """statue2model: from a 3D scan of a statue to its rocking model, scaled prototype and isolator.
 
-Pipeline (one sub-package per stage):
-    geometry/   scan -> Body (repaired, oriented, SI) -> RockingParams, rose
-    report/     tables and plots
+Sub-packages, bottom to top (each imports only those below it; tests/test_import_layers.py):
+    errors, quantities, version   input errors; values with units; the version
+    io/, compute/                 files and output folders; executors, budgets, compiled kernels
+    geometry/                     scan -> Body (repaired, oriented, SI) -> RockingParams, rose
+    fabrication/                  the stacked-board prototype and its CNC files
+    hazard/                       code and floor spectra, ground motions, record sets
+    rocking/                      the rocking model and its engine, sweeps, identification
+    isolator/                     the rolling-ball isolator: device, design, plates, dynamics
+    assessment/                   fragility, the run's fragility study, the verdict
+    crosscheck/                   the 3D contact simulations (PyBullet) against the 2D models
+    report/                       every figure, table and HTML page
+    pipeline/                     the stages of a run, their cache, the project file
+    cli/                          the command line (argument parsing only)
 
 Example
 -------
@@ -11,10 +21,9 @@ Example
 >>> round(load_body(default_scan()).rocking().h, 3)
 0.732
 """
-__version__ = "0.1.0"
-
-from .errors import InputError  # noqa: E402
-from .geometry.body import Body, body_from_mesh, load_body  # noqa: E402
-from .geometry.rocking_params import RockingParams  # noqa: E402
+from .errors import InputError
+from .geometry.body import Body, body_from_mesh, load_body
+from .geometry.rocking_params import RockingParams
+from .version import __version__
 
 __all__ = ["Body", "InputError", "RockingParams", "body_from_mesh", "load_body", "__version__"]

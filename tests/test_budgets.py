@@ -99,9 +99,9 @@ PEAK_RECORDS = r"""
 import json, math, sys, tracemalloc
 import numpy as np
 from statue2model.compute.budget import record_set_bytes
-from statue2model.dynamics.matching import N_MATCH, match_set
-from statue2model.dynamics.response import POINTS_PER_PERIOD
-from statue2model.isolator.design_spectrum import parse_spectrum
+from statue2model.hazard.matching import N_MATCH, match_set
+from statue2model.hazard.response_spectra import POINTS_PER_PERIOD
+from statue2model.hazard.code_spectra import parse_spectrum
 
 target = parse_spectrum("ec8:ag=0.25g,ground=C")
 match_set(target, n=1, seed=1, duration=10, dt=0.01, band=(0.1, 2), iterations=1)   # imports, caches
@@ -121,9 +121,10 @@ print(json.dumps({"peak": peak, "estimate": record_set_bytes(n, npts, nfft, tail
 PEAK_FRAGILITY = r"""
 import json, sys, tracemalloc
 import numpy as np
-from statue2model.dynamics import motions, sampling
-from statue2model.dynamics.fragility import FragilityStudy, run_fragility, study_bytes
-from statue2model.dynamics.model import RockingModel
+from statue2model.hazard import motions
+from statue2model.rocking import sampling
+from statue2model.assessment.fragility import FragilityStudy, run_fragility, study_bytes
+from statue2model.rocking.model import RockingModel
 from statue2model.geometry.rocking_params import RockingParams
 
 params = RockingParams.from_dict(json.load(open(sys.argv[1])))

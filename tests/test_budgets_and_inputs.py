@@ -17,8 +17,8 @@ import pytest
 
 from statue2model.compute import budget, executors
 from statue2model.cli import main
-from statue2model.dynamics import motions
-from statue2model.dynamics.identify import read_time_series
+from statue2model.hazard import motions
+from statue2model.rocking.identify import read_time_series
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.pipeline.config import load_config, load_config_text
@@ -45,7 +45,7 @@ def test_budget_numbers():
 
 
 def test_rock_t_end_1e9_refused_at_once_without_allocating(params, capsys):
-    import statue2model.dynamics.engine  # noqa: F401  (imports out of the timing)
+    import statue2model.rocking.engine  # noqa: F401  (imports out of the timing)
     import statue2model.report.dynamics_plots  # noqa: F401
 
     main(["rock", str(params), "--motion", "cosine:amp=0.5g,freq=2", "--t-end", "1", "--json",
@@ -68,10 +68,10 @@ def test_rock_t_end_1e9_refused_at_once_without_allocating(params, capsys):
 
 
 def test_library_entry_points_refuse_before_allocating():
-    from statue2model.dynamics import RockingModel
-    from statue2model.dynamics.engine import simulate
-    from statue2model.dynamics.spectrum import stability_spectrum
-    from statue2model.dynamics.sweeps import parameter_sweep, variability
+    from statue2model.rocking import RockingModel
+    from statue2model.rocking.engine import simulate
+    from statue2model.rocking.spectrum import stability_spectrum
+    from statue2model.rocking.sweeps import parameter_sweep, variability
 
     model = RockingModel.housner(RockingParams.from_dict(BLOCK))
     pulse = motions.cosine_pulse(0.5 * 9.81, 2.0)
@@ -90,10 +90,10 @@ def test_library_entry_points_refuse_before_allocating():
 
 
 def test_isolator_histories_refused_before_allocating():
-    from statue2model.dynamics import RockingModel
+    from statue2model.rocking import RockingModel
     from statue2model.isolator.coupled import simulate_coupled
     from statue2model.isolator.device import Isolator
-    from statue2model.isolator.dynamics import simulate
+    from statue2model.isolator.time_history import simulate
 
     iso = Isolator(R=1.0, r=0.01, M=800.0, mu=0.0073)
     pulse = motions.cosine_pulse(1.0, 1.0)

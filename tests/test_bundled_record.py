@@ -5,8 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from statue2model.dynamics.motions import G_STD, parse_spec, read_record
-from statue2model.dynamics.response import psa
+from statue2model.hazard.motions import parse_spec, read_record
+from statue2model.quantities import G_STANDARD as G_STD
+from statue2model.hazard.response_spectra import psa
 from statue2model.errors import InputError
 from statue2model.io.paths import RECORDS_DIR, bundled_record, bundled_records
 

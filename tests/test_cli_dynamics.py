@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from statue2model.cli import main
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
 

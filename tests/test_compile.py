@@ -14,11 +14,11 @@ import numpy as np
 
 from statue2model.compute import compile as C
 from statue2model.compute.executors import ProcessExecutor
-from statue2model.dynamics import kernel as K
-from statue2model.dynamics import motions
-from statue2model.dynamics.model import RockingModel
-from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.dynamics.sweeps import variability
+from statue2model.rocking import kernel as K
+from statue2model.hazard import motions
+from statue2model.rocking.model import RockingModel
+from statue2model.rocking.spectrum import stability_spectrum
+from statue2model.rocking.sweeps import variability
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.device import Isolator
 from statue2model.isolator.sweeps import isolated_spectrum
@@ -31,16 +31,16 @@ PATHS = r"""
 import json
 import numpy as np
 from statue2model.compute import compile as C
-from statue2model.dynamics import motions
-from statue2model.dynamics.batch import run_batch
-from statue2model.dynamics.engine import simulate as rock
-from statue2model.dynamics.model import RockingModel
-from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.dynamics.sweeps import variability
+from statue2model.hazard import motions
+from statue2model.rocking.batch import run_batch
+from statue2model.rocking.engine import simulate as rock
+from statue2model.rocking.model import RockingModel
+from statue2model.rocking.spectrum import stability_spectrum
+from statue2model.rocking.sweeps import variability
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator
-from statue2model.isolator.dynamics import simulate as plate
+from statue2model.isolator.time_history import simulate as plate
 from statue2model.isolator.sweeps import isolated_spectrum, isolated_variability
 G = 9.81
 C.warm_up(progress=None)
@@ -103,7 +103,7 @@ def test_spawned_worker_loads_the_kernels_from_the_cache():
         isolated_spectrum(iso, model, [1.5], np.array([0.4]) * G, executor=ex)
         (stats,) = ex.map(C.kernel_stats, [0])
     assert {k: s["cache_misses"] for k, s in stats.items()} == {k: 0 for k in stats}
-    for name in ("statue2model.dynamics.kernel.simulate_batch", "statue2model.isolator.coupled_kernel.simulate_kernel"):
+    for name in ("statue2model.rocking.kernel.simulate_batch", "statue2model.isolator.coupled_kernel.simulate_kernel"):
         assert stats[name]["cache_hits"] == 1 and len(stats[name]["signatures"]) == 1
 
 
@@ -163,7 +163,7 @@ assert C._cached(IK.z_map, sig) is True
 C._refresh_dependents()                                   # nothing changed: kept
 assert C._cached(IK.z_map, sig) is True
 stamp = Path(IK.z_map._cache.cache_path) / "kernel.depends.json"
-stamp.write_text(json.dumps({"depends": ["statue2model.dynamics.kernel"], "sha256": "0" * 64}))
+stamp.write_text(json.dumps({"depends": ["statue2model.rocking.kernel"], "sha256": "0" * 64}))
 C._refresh_dependents()                                   # as after an edit of dynamics/kernel.py
 assert C._cached(IK.z_map, sig) is False
 assert json.loads(stamp.read_text())["sha256"] != "0" * 64

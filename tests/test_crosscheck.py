@@ -11,7 +11,7 @@ import pytest
 
 from statue2model.cli import main
 from statue2model.crosscheck.contact import ContactSettings, effective_e, rolling_for_mu
-from statue2model.crosscheck.runs import (
+from statue2model.crosscheck.compare import (
     Case,
     calibrate_restitution,
     free_rocking_cases,
@@ -27,7 +27,8 @@ from statue2model.crosscheck.statue_scene import (
     simulate_statue,
 )
 from statue2model.crosscheck.world import SimSettings, World, step_mean_acc
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 
@@ -415,7 +416,7 @@ def test_free_standing_statue_checked_against_the_coupled_model(statue):
     from dataclasses import replace
 
     from statue2model.crosscheck.isolator_cases import isolated_statue_cases
-    from statue2model.crosscheck.runs import user_model
+    from statue2model.crosscheck.compare import user_model
 
     iso = replace(_design_isolator(statue, groove="tiles"), capacity=0.01)
     m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)

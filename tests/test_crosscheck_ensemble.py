@@ -43,7 +43,7 @@ def test_level_result_fails_and_says_why():
 @pytest.mark.slow
 def test_small_ensemble_agrees_and_a_wrong_e_fails():
     pytest.importorskip("pybullet")
-    from statue2model.crosscheck.runs import model_2d
+    from statue2model.crosscheck.compare import model_2d
     from statue2model.crosscheck.statue_scene import StatueScene
 
     sc = StatueScene.block(b=0.1, h=0.5, m=100.0)

@@ -12,7 +12,8 @@ pytest.importorskip("pybullet")
 from statue2model.crosscheck import imperfect as imp
 from statue2model.crosscheck.statue_scene import StatueScene
 from statue2model.crosscheck.world import SimSettings
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 from statue2model.errors import InputError
 
 BLOCK = StatueScene.block(b=0.1, h=0.5, m=100.0)

@@ -14,7 +14,7 @@ from statue2model.crosscheck.statue_scene import (
     simulate_statue,
 )
 from statue2model.crosscheck.world import SimSettings
-from statue2model.dynamics import motions
+from statue2model.hazard import motions
 
 
 def test_reused_client_gives_the_same_run(monkeypatch):

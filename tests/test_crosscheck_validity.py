@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from statue2model.crosscheck.contact import ContactSettings
-from statue2model.crosscheck.report import summary, table
-from statue2model.crosscheck.runs import (
+from statue2model.crosscheck.output import summary, table
+from statue2model.crosscheck.compare import (
     BOUNDARY_TARGET,
     LIFT_TARGET,
     Case,
@@ -27,7 +27,8 @@ from statue2model.crosscheck.statue_scene import (
     simulate_statue,
 )
 from statue2model.crosscheck.world import SimSettings
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 
 SET = SimSettings(dt=5e-4)
 SLENDER = StatueScene.block(b=0.1, h=0.5, m=100.0)          # b / h = 0.2, a = 0.2 g

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from statue2model.errors import InputError
-from statue2model.isolator import design_spectrum as D
+from statue2model.hazard import code_spectra as D
 
 G = 9.80665
 

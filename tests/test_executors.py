@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from statue2model.cli import main
-from statue2model.dynamics import RockingModel, motions
-from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.dynamics.sweeps import parameter_sweep, variability
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel
+from statue2model.rocking.spectrum import stability_spectrum
+from statue2model.rocking.sweeps import parameter_sweep, variability
 from statue2model.errors import InputError
 from statue2model.compute.executors import (
     DaskExecutor,

@@ -22,15 +22,16 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from statue2model.dynamics import RockingModel, motions
-from statue2model.dynamics.fragility import (
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel
+from statue2model.assessment.fragility import (
     REASONS,
     FragilityStudy,
     _fit_all,
     fit_lognormal,
     run_fragility,
 )
-from statue2model.dynamics.sampling import lognormal_factor
+from statue2model.rocking.sampling import lognormal_factor
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.io.csvsafe import csv_text
 from statue2model.io.files import write_json
@@ -166,8 +167,8 @@ def test_bootstrap_band_never_infinite_and_counts_replicates_without_failure(tmp
     # the capacity curve has no failure: its ratio-free curve is null with its reason, bands too
     assert curves["capacity_exceeded"].reason == "no failure at any level"
     res = SimpleNamespace(curves=curves, ratio=ratio)
-    from statue2model.pipeline.fragility import fragility_data
-    from statue2model.pipeline.verdict import fragility
+    from statue2model.assessment.study import fragility_data
+    from statue2model.assessment.verdict import fragility
 
     data = fragility_data(res, 2.0, True)
     data.update(fragility_runs=30)
@@ -192,7 +193,7 @@ def test_undefined_ratio_has_no_band():
     r = ratio["failure"]
     assert r["value"] is None and r["ci"] == [None, None]
     assert "isolated failure at every level" in r["note"]
-    from statue2model.pipeline.fragility import fragility_data
+    from statue2model.assessment.study import fragility_data
 
     data = fragility_data(SimpleNamespace(curves=curves, ratio=ratio), 2.0, True)
     assert data["fragility_ratio"] is None and "failure at every level" in data["fragility_ratio_reason"]
@@ -201,8 +202,8 @@ def test_undefined_ratio_has_no_band():
 
 
 def test_sentences_and_tables_print_dash_not_nan():
-    from statue2model.pipeline.report import _cell, _tables
-    from statue2model.pipeline.verdict import fragility
+    from statue2model.report.page import _cell, _tables
+    from statue2model.assessment.verdict import fragility
     from statue2model.report.tables import format_table
 
     assert "nan" not in format_table([("a", float("nan"), np.float64("inf"))])

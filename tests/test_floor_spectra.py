@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from statue2model.dynamics.floor import floor_spectrum, ntc_floor_coefficients, parse_floor
+from statue2model.hazard.floor import floor_spectrum, ntc_floor_coefficients, parse_floor
 from statue2model.errors import InputError
-from statue2model.isolator.design_spectrum import G, ec8, ntc2018
+from statue2model.hazard.code_spectra import G, ec8, ntc2018
 
 GROUND = ec8(0.2 * G, ground="B")          # a_g S = 0.24 g
 

@@ -15,15 +15,16 @@ import numpy as np
 import pytest
 
 from statue2model.compute.executors import ProcessExecutor, SerialExecutor
-from statue2model.dynamics import RockingModel, motions
-from statue2model.dynamics.fragility import (
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel
+from statue2model.assessment.fragility import (
     FragilityStudy,
     fit_lognormal,
     lognormal_cdf,
     pgv,
     run_fragility,
 )
-from statue2model.dynamics.sampling import (
+from statue2model.rocking.sampling import (
     grid,
     latin_hypercube,
     lognormal_factor,
@@ -192,9 +193,9 @@ def test_energy_early_exit_decides_without_changing_outcomes():
     in stays below the overturning barrier. Outcomes equal those of full runs (with and without the
     sweeps' early exit) over a grid of gains; on a record whose strong part is followed by a weak
     tail the exit fires (S_DECIDED) and the run ends before the record does."""
-    from statue2model.dynamics import kernel as K
-    from statue2model.dynamics.batch import run_batch
-    from statue2model.dynamics.model import RockingModel
+    from statue2model.rocking import kernel as K
+    from statue2model.rocking.batch import run_batch
+    from statue2model.rocking.model import RockingModel
     from statue2model.geometry.rocking_params import RockingParams
 
     p = RockingParams.rectangular_block(0.1, 0.5, 100.0)

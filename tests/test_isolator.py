@@ -10,19 +10,19 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from statue2model.cli import main
-from statue2model.dynamics import motions
-from statue2model.dynamics.model import RockingModel
+from statue2model.hazard import motions
+from statue2model.rocking.model import RockingModel
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.design import design
-from statue2model.isolator.design_spectrum import ec8
+from statue2model.hazard.code_spectra import ec8
 from statue2model.isolator.device import (
     Isolator,
     fuse_release_acceleration,
     fuse_seat_depth,
     lever_arm,
 )
-from statue2model.isolator.dynamics import simulate, statue_on_plate
+from statue2model.isolator.time_history import simulate, statue_on_plate
 from statue2model.isolator.friction import (
     TABLE_25,
     friction_from_record,

@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 
 from statue2model.cli import main
-from statue2model.dynamics import motions
-from statue2model.dynamics.batch import outcome_label
-from statue2model.dynamics.model import RockingModel
+from statue2model.hazard import motions
+from statue2model.rocking.batch import outcome_label
+from statue2model.rocking.model import RockingModel
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator import sweeps
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator, isolator_from_design
-from statue2model.isolator.dynamics import CAPACITY_EXCEEDED, simulate
+from statue2model.isolator.time_history import CAPACITY_EXCEEDED, simulate
 
 G = 9.81
 ISO = Isolator(R=0.30, r=0.0183, M=15.0, mu=0.01)

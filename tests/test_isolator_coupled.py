@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from statue2model.dynamics import motions
-from statue2model.dynamics.engine import simulate as rock
-from statue2model.dynamics.kernel import ground_acc
-from statue2model.dynamics.model import RockingModel
+from statue2model.hazard import motions
+from statue2model.rocking.engine import simulate as rock
+from statue2model.rocking.kernel import ground_acc
+from statue2model.rocking.model import RockingModel
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator
-from statue2model.isolator.dynamics import simulate
+from statue2model.isolator.time_history import simulate
 
 G = 9.81
 BLOCK = RockingParams.rectangular_block(b=0.05, h=0.25, m=10.0)

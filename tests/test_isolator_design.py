@@ -19,8 +19,8 @@ from statue2model.isolator.design import (
     design,
     tipping_capacity,
 )
-from statue2model.isolator.design_spectrum import G as G0
-from statue2model.isolator.design_spectrum import ec8, ntc2018
+from statue2model.hazard.code_spectra import G as G0
+from statue2model.hazard.code_spectra import ec8, ntc2018
 from statue2model.isolator.device import groove_capacity
 from statue2model.errors import InputError
 

@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from statue2model.dynamics import motions
-from statue2model.dynamics.model import RockingModel
-from statue2model.dynamics.motions import read_record
+from statue2model.hazard import motions
+from statue2model.rocking.model import RockingModel
+from statue2model.hazard.motions import read_record
 from statue2model.geometry.rocking_params import RockingParams
 from statue2model.io.paths import bundled_record
 from statue2model.isolator.coupled import simulate_coupled
 from statue2model.isolator.device import Isolator
-from statue2model.isolator.dynamics import simulate
+from statue2model.isolator.time_history import simulate
 
 G = 9.81
 PROTO = dict(R=0.30, r=0.0183, M=21.664, mu=0.0114)     # the three-groove prototype

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from statue2model.cli import main
-from statue2model.dynamics.floor import parse_floor
-from statue2model.dynamics.matching import band_for_period, baseline_correct, envelope, match_set
-from statue2model.dynamics.motions import read_record
-from statue2model.dynamics.response import displacement, psa
+from statue2model.hazard.floor import parse_floor
+from statue2model.hazard.matching import band_for_period, baseline_correct, envelope, match_set
+from statue2model.hazard.motions import read_record
+from statue2model.hazard.response_spectra import displacement, psa
 from statue2model.errors import InputError
-from statue2model.isolator.design_spectrum import parse_spectrum
+from statue2model.hazard.code_spectra import parse_spectrum
 
 NTC_C = "ntc2018:ag=0.1g,F0=2.5,Tc=0.3,soil=C"
 

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from statue2model.dynamics import motions as M
+from statue2model.hazard import motions as M
 from statue2model.errors import InputError
 
 G_FILE = 9.80665  # g of accelerogram files (PEER)

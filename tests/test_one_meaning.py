@@ -7,13 +7,14 @@ import sys
 
 import pytest
 
-from statue2model.cli.argtypes import scale_ratio, scale_text
+from statue2model.cli.argtypes import scale_ratio
+from statue2model.quantities import scale_text
 from statue2model.cli import main
-from statue2model.dynamics import motions as M
+from statue2model.hazard import motions as M
 from statue2model.errors import InputError
 from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams
-from statue2model.isolator.design_spectrum import parse_spectrum
+from statue2model.hazard.code_spectra import parse_spectrum
 from statue2model.pipeline.config import ProjectConfig, default_toml, load_config, load_config_text
 
 SCALE_LINE = "scale 2 is ambiguous: write 1:2 (prototype half the size) or 0.5"
@@ -102,7 +103,7 @@ def test_every_unit_spelling_is_read(unit, factor):
 
 def test_zero_needs_no_unit_and_a_grid_needs_one():
     assert M.parse_accel("0") == 0.0
-    from statue2model.dynamics.sweeps import linspace_spec
+    from statue2model.rocking.sweeps import linspace_spec
 
     assert linspace_spec("0.1g:1g:2", "--amp", accel=True) == pytest.approx([0.981, 9.81])
     with pytest.raises(InputError, match=r"^--amp: 0\.1 has no unit: write 0\.1g or 0\.981m/s2$"):

@@ -349,7 +349,7 @@ def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
 
 @pytest.mark.slow
 def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_path):
-    from statue2model.dynamics import motions
+    from statue2model.hazard import motions
 
     folder = tmp_path / "project"
     folder.mkdir()
@@ -395,7 +395,8 @@ def test_scheduler_on_the_command_line_wins_and_bad_addresses_are_one_line(tmp_p
 
 
 def test_a_point_the_coupled_solver_cannot_finish_is_counted_not_fatal(monkeypatch):
-    from statue2model.dynamics import RockingModel, motions
+    from statue2model.hazard import motions
+    from statue2model.rocking import RockingModel
     from statue2model.geometry.rocking_params import RockingParams
     from statue2model.isolator import sweeps
     from statue2model.isolator.device import Isolator

@@ -1,6 +1,6 @@
 """Record sets are read from their set.json (the files it names, each checked against the
 length and hash recorded there), never by globbing; a rejected isolator design is refused
-wherever a design is an input (statue2model.dynamics.matching.read_record_set,
+wherever a design is an input (statue2model.hazard.matching.read_record_set,
 statue2model.cli.isolator.read_design)."""
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from statue2model.cli import main
-from statue2model.dynamics import matching, motions
-from statue2model.dynamics.matching import read_record_set, set_files
+from statue2model.hazard import motions
+from statue2model.hazard import matching
+from statue2model.hazard.matching import read_record_set, set_files
 from statue2model.errors import InputError
 from statue2model.io import files
 from folder_snapshots import PARAMS, only_line, snapshot
@@ -152,7 +153,7 @@ def test_a_hand_written_set_names_its_files_and_their_units(tmp_path):
 
 def test_the_run_s_fragility_set_is_a_readable_set(tmp_path):
     """dynamics/records/ of a run: set.json written as pipeline/fragility.py does (set_files)."""
-    from statue2model.isolator.design_spectrum import parse_spectrum
+    from statue2model.hazard.code_spectra import parse_spectrum
 
     rs = matching.match_set(parse_spectrum("ec8:ag=0.2g"), n=2, duration=5, band=(0.1, 1.0))
     d = tmp_path / "records"

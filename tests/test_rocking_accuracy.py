@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from statue2model.dynamics import RockingModel, motions, simulate
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81

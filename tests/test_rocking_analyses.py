@@ -5,11 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from statue2model.dynamics import RockingModel, motions, simulate
-from statue2model.dynamics.identify import identify_restitution
-from statue2model.dynamics.reference import simulate_scipy
-from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.dynamics.sweeps import parameter_sweep, variability
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
+from statue2model.rocking.identify import identify_restitution
+from statue2model.rocking.reference import simulate_scipy
+from statue2model.rocking.spectrum import stability_spectrum
+from statue2model.rocking.sweeps import parameter_sweep, variability
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81
@@ -99,7 +100,7 @@ def test_e_sweep_and_variability():
 def test_identification_recovers_e(noise):
     """Free rocking of the asymmetric statue with speed-dependent e_L and constant e_R,
     sampled at 1 kHz (plus noise): eq. 43 gives them back."""
-    from statue2model.dynamics.model import Restitution
+    from statue2model.rocking.model import Restitution
 
     eL = Restitution.table([0.0, 2.0], [0.90, 0.98], "e_L")
     model = RockingModel.housner(STATUE, e_L=eL, e_R=0.85)

@@ -32,9 +32,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from statue2model.dynamics import RockingModel, motions, simulate
-from statue2model.dynamics import kernel as K
-from statue2model.dynamics.model import Restitution
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
+from statue2model.rocking import kernel as K
+from statue2model.rocking.model import Restitution
 from statue2model.geometry.rocking_params import RockingParams
 
 G = 9.81
@@ -306,7 +307,7 @@ def _run_three(model, motion, **kw):
 def _batch_moved(model, motion, t_end) -> bool:
     """Run through the parallel batch kernel (parameter sweeps call it without the
     'quiet' shortcut of simulate()); True if the body lifted."""
-    from statue2model.dynamics.batch import run_batch
+    from statue2model.rocking.batch import run_batch
 
     kind, M, samples = motion.kernel_args()
     S = run_batch(model, model.kernel_vector()[None, :], np.array([kind]), M[None, :], samples,
@@ -559,7 +560,7 @@ def test_regression_batch_lifts_at_the_exact_limit():
     then used unguarded by parameter_sweep, found an 'exceedance' by rounding and lifted
     it: the sweep reported 'rocking' where the single run reports 'no motion'. (The
     kernel still lifts: test_bug_uplift_at_a_limit_that_is_only_touched.)"""
-    from statue2model.dynamics.sweeps import parameter_sweep
+    from statue2model.rocking.sweeps import parameter_sweep
 
     model = RockingModel.housner(BLOCK, e_L=0.5, e_R=0.5)
     x = np.zeros(9)

@@ -8,12 +8,13 @@ import pytest
 from scipy.integrate import quad
 
 from statue2model.cli import main
-from statue2model.dynamics import RockingModel, motions, simulate
-from statue2model.dynamics.batch import NOT_APPLICABLE_CODE
-from statue2model.dynamics.engine import NOT_APPLICABLE
-from statue2model.dynamics.model import MU_STATIC, Restitution
-from statue2model.dynamics.spectrum import stability_spectrum
-from statue2model.dynamics.sweeps import variability
+from statue2model.hazard import motions
+from statue2model.rocking import RockingModel, simulate
+from statue2model.rocking.batch import NOT_APPLICABLE_CODE
+from statue2model.rocking.engine import NOT_APPLICABLE
+from statue2model.rocking.model import MU_STATIC, Restitution
+from statue2model.rocking.spectrum import stability_spectrum
+from statue2model.rocking.sweeps import variability
 from statue2model.errors import InputError
 from statue2model.io.files import write_json
 from statue2model.geometry.rocking_params import RockingParams

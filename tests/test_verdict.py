@@ -5,7 +5,7 @@ import json
 import pytest
 
 from statue2model.pipeline.config import ProjectConfig
-from statue2model.pipeline.verdict import assess, hazard, recommend
+from statue2model.assessment.verdict import assess, hazard, recommend
 from statue2model.report.browser import body_attributes, dump_dom
 from statue2model.report.html import render_report
 
@@ -105,7 +105,7 @@ def test_verdict_box_is_rendered_first_in_the_browser(chromium, tmp_path):
 def test_fragility_line_of_the_assessment():
     """The dynamics stage's fragility numbers become one assessment line: medians with their bands,
     the probabilities at the design PGA (tiny ones as '< 0.01'), the isolator's ratio of medians."""
-    from statue2model.pipeline.verdict import fragility
+    from statue2model.assessment.verdict import fragility
 
     dyn = {"fragility_runs": 70, "fragility_median_fixed": 0.632 * 9.81, "fragility_median_ci_fixed": [6.0, 6.45],
            "fragility_p_design_fixed": 4e-6, "fragility_median_isolated": 0.572 * 9.81,

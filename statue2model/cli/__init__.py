@@ -33,7 +33,7 @@ import errno
 import os
 import sys
 
-from .. import __version__
+from ..version import __version__
 from ..errors import InputError, OutputError
 from ..io.files import _REASONS as _OUTPUT_REASONS
 from ..io.files import output_error

@@ -1,31 +1,40 @@
-"""Argument types shared by the command-line modules (argparse ``type=`` callables), and
-:func:`join_dash_values`, which lets options take values that start with '-' (``--up -y``)."""
+"""Argument types shared by the command-line modules (argparse ``type=`` callables): thin
+wrappers over :mod:`statue2model.quantities` that turn its InputError into an argparse error
+with the same message; and :func:`join_dash_values`, which lets options take values that start
+with '-' (``--up -y``)."""
 from __future__ import annotations
 
 import argparse
-import math
+import functools
+
+from .. import quantities as Q
+from ..errors import InputError
 
 
-def positive_float(text: str) -> float:
-    """A positive finite number, or an argparse error naming the problem."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
-    return value
+def argtype(parse):
+    """``parse`` (a function of :mod:`statue2model.quantities`) as an argparse type: its
+    InputError becomes an ArgumentTypeError with the same message.
+
+    >>> argtype(Q.scale_ratio)("2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: scale 2 is ambiguous: write 1:2 (prototype half the size) or 0.5
+    """
+    @functools.wraps(parse)
+    def convert(text):
+        try:
+            return parse(text)
+        except InputError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return convert
 
 
-def finite_float(text: str) -> float:
-    """A finite number, or an argparse error naming the problem."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
-    return value
+positive_float = argtype(Q.positive_float)
+finite_float = argtype(Q.finite_float)
+length = argtype(Q.length)
+sheet_size = argtype(Q.sheet_size)
+scale_ratio = argtype(Q.scale_ratio)
 
 
 def plausible(quantity: str, parse=positive_float, option: str = ""):
@@ -43,7 +52,6 @@ def plausible(quantity: str, parse=positive_float, option: str = ""):
     """
     import sys
 
-    from ..errors import InputError
     from ..geometry.units import check_plausible
 
     def convert(text: str) -> float:
@@ -58,98 +66,6 @@ def plausible(quantity: str, parse=positive_float, option: str = ""):
 
     convert.__name__ = quantity.replace("_", " ")       # argparse's "invalid <name> value"
     return convert
-
-
-_PER_METRE = {"mm": 1000.0, "cm": 100.0, "m": 1.0, "in": 1 / 0.0254}
-
-
-def _split_unit(text: str, default: str) -> tuple[str, float]:
-    t = text.strip().lower()
-    for unit in sorted(_PER_METRE, key=len, reverse=True):
-        if t.endswith(unit):
-            return t[: -len(unit)].strip(), _PER_METRE[unit]
-    if t and (t[-1].isalpha()):
-        raise argparse.ArgumentTypeError(f"unknown length unit in {text!r} (use mm, cm, m or in)")
-    return t, _PER_METRE[default]
-
-
-def length(text: str) -> float:
-    """A non-negative length with a unit ('9mm', '0.5 mm', '1.2cm', '0.009m', '0.35in'),
-    returned in metres; a bare number is taken as millimetres.
-
-    >>> length("9mm"), length("0.5 mm"), length("9")
-    (0.009, 0.0005, 0.009)
-    """
-    number, per_metre = _split_unit(text, "mm")
-    try:
-        value = float(number)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a length: {text!r} (e.g. 9mm)") from None
-    if not (math.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"must be a non-negative finite length, got {text}")
-    return value / per_metre
-
-
-def sheet_size(text: str) -> tuple[float, float]:
-    """Panel size 'WxH' with one unit for both ('2500x1250mm', '2.5x1.25m'; bare numbers are mm),
-    returned as (W, H) in metres.
-
-    >>> sheet_size("2500x1250mm")
-    (2.5, 1.25)
-    """
-    number, per_metre = _split_unit(text, "mm")
-    parts = number.replace("*", "x").split("x")
-    try:
-        w, h = (float(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a sheet size: {text!r} (e.g. 2500x1250mm)") from None
-    if not all(math.isfinite(v) and v > 0 for v in (w, h)):
-        raise argparse.ArgumentTypeError(f"sheet sides must be positive, got {text}")
-    return w / per_metre, h / per_metre
-
-
-def scale_ratio(text: str | float) -> float:
-    """Model scale as '1:2', '1/2' or a ratio prototype/statue '0.5' (a string, or a number
-    from a project file); returns lambda (prototype length = real length / lambda).
-
-    A bare number above 1 is refused: '2' could mean 1:2 or 2:1 (one meaning everywhere).
-
-    >>> scale_ratio("1:2"), scale_ratio("1/4"), scale_ratio("0.5"), scale_ratio(0.25), scale_ratio("1")
-    (2.0, 4.0, 2.0, 4.0, 1.0)
-    >>> scale_ratio("2")
-    Traceback (most recent call last):
-    ...
-    argparse.ArgumentTypeError: scale 2 is ambiguous: write 1:2 (prototype half the size) or 0.5
-    """
-    t = str(text).strip().replace("/", ":")
-    try:
-        if ":" in t:
-            a, b = (float(p) for p in t.split(":"))
-            lam = b / a
-        else:
-            ratio = float(t)
-            if math.isfinite(ratio) and ratio > 1:
-                raise argparse.ArgumentTypeError(
-                    f"scale {ratio:g} is ambiguous: write 1:{ratio:g} (prototype "
-                    f"{'half' if ratio == 2 else f'1/{ratio:g} of'} the size) or {1 / ratio:.4g}")
-            lam = 1.0 / ratio
-    except (ValueError, ZeroDivisionError):
-        raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)") from None
-    if not (math.isfinite(lam) and lam > 0):
-        raise argparse.ArgumentTypeError(f"not a scale: {text!r} (e.g. 1:2)")
-    return lam
-
-
-def scale_text(lam: float) -> str:
-    """lambda -> the scale as written ('1:2'); reads back with :func:`scale_ratio` to the same float.
-
-    >>> scale_text(2.0), scale_text(2.5), scale_ratio(scale_text(1 / 0.3)) == 1 / 0.3
-    ('1:2', '1:2.5', True)
-    """
-    s = f"{lam:.15g}"
-    if float(s) != lam:
-        s = repr(float(lam))
-    return f"1:{s}"
 
 
 DASH_VALUES = {"--up": ("-x", "-y", "-z")}
@@ -187,7 +103,7 @@ def scan_or_params(source: str):
     from pathlib import Path
 
     from ..errors import InputError
-    from ..pipeline.run import MESH_SUFFIXES
+    from ..geometry.scan import SCAN_SUFFIXES
 
     path = Path(source)
     if not path.is_file():
@@ -203,6 +119,6 @@ def scan_or_params(source: str):
             return path, RockingParams.from_dict(data)
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"{source} does not hold rocking parameters ({exc})") from None
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise InputError(f"{source}: expected a scan ({', '.join(MESH_SUFFIXES)}) or a PARAMS.json")
+    if path.suffix.lower() not in SCAN_SUFFIXES:
+        raise InputError(f"{source}: expected a scan ({', '.join(SCAN_SUFFIXES)}) or a PARAMS.json")
     return path, None

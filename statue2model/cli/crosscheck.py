@@ -66,7 +66,7 @@ def load_scene(source: str, direction: float | None = None):
 def _cmd_crosscheck(args) -> int:
     from ..crosscheck.isolator_scene import IsolatorScene
     from ..crosscheck.world import SimSettings, check_user_dt
-    from ..dynamics.motions import parse_spec
+    from ..hazard.motions import parse_spec
     from ..io.files import open_output
     from .isolator import read_design
 
@@ -97,10 +97,10 @@ def _cmd_crosscheck(args) -> int:
 def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.extended import compare_extended
-    from ..crosscheck.report import summary, table, write_report
+    from ..crosscheck.output import summary, table, write_report
 
     contact = ContactSettings()
-    from ..dynamics.model import RockingModel
+    from ..rocking.model import RockingModel
 
     # a squat body: plastic impacts (eq. 15 < 0) and sliding on the 3D floor (friction contact.friction^2)
     notes = RockingModel.housner(scene.params, mu_static=contact.friction**2).notes

@@ -100,7 +100,7 @@ def _load_params(path: str):
 
 
 def build_model(args):
-    from ..dynamics.model import RockingModel
+    from ..rocking.model import RockingModel
 
     params = _load_params(args.params)
     aL = args.alpha_L if args.alpha_L is not None else args.alpha
@@ -144,7 +144,7 @@ def _out(args, default_name: str, *beside: str):
 
 
 def _motion(spec: str):
-    from ..dynamics.motions import parse_spec
+    from ..hazard.motions import parse_spec
 
     return parse_spec(spec)
 
@@ -156,7 +156,7 @@ and the plot's copy."""
 
 
 def cmd_rock(args) -> int:
-    from ..dynamics.engine import FREE_TIME, simulate
+    from ..rocking.engine import FREE_TIME, simulate
     from ..io.files import atomic_write, write_json
     from ..report.dynamics_plots import plot_time_history
 
@@ -205,7 +205,7 @@ def cmd_rock(args) -> int:
 
 # --- spectrum -----------------------------------------------------------------------------
 def _grid(text: str, what: str, accel: bool = False):
-    from ..dynamics.sweeps import linspace_spec
+    from ..rocking.sweeps import linspace_spec
 
     return linspace_spec(text, what, accel)
 
@@ -213,7 +213,7 @@ def _grid(text: str, what: str, accel: bool = False):
 def cmd_spectrum(args) -> int:
     import time
 
-    from ..dynamics.spectrum import stability_spectrum
+    from ..rocking.spectrum import stability_spectrum
     from ..io.files import atomic_write, write_json
     from ..report.dynamics_plots import plot_spectrum
 
@@ -283,7 +283,7 @@ def _write_sweep(sw, out: Path, group) -> None:
 
 
 def cmd_variability(args) -> int:
-    from ..dynamics.sweeps import variability
+    from ..rocking.sweeps import variability
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
@@ -298,7 +298,7 @@ def cmd_variability(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from ..dynamics.sweeps import linspace_spec, parameter_sweep
+    from ..rocking.sweeps import linspace_spec, parameter_sweep
 
     model = build_model(args)
     motion, theta0 = _motion(args.motion)
@@ -319,7 +319,7 @@ def cmd_sweep(args) -> int:
 
 # --- identify ---------------------------------------------------------------------------------
 def cmd_identify(args) -> int:
-    from ..dynamics.identify import identify_restitution, read_rotation_record
+    from ..rocking.identify import identify_restitution, read_rotation_record
     from ..io.files import atomic_write, write_json
     from ..report.dynamics_plots import plot_identification
 
@@ -343,7 +343,7 @@ def cmd_identify(args) -> int:
 
 # --- motion -----------------------------------------------------------------------------------
 def cmd_motion(args) -> int:
-    from ..dynamics.motions import table_displacement
+    from ..hazard.motions import table_displacement
     from ..io.files import OutputGroup, atomic_write
     from ..report.dynamics_plots import plot_table_motion
 
@@ -386,10 +386,10 @@ def _tolerance(text: str) -> tuple[float, float]:
 
 
 def cmd_records(args) -> int:
-    from ..dynamics.floor import parse_floor
-    from ..dynamics.matching import band_for_period
+    from ..hazard.floor import parse_floor
+    from ..hazard.matching import band_for_period
     from ..io.files import open_output
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.code_spectra import parse_spectrum
 
     target = ground = parse_spectrum(args.spectrum)
     if args.floor:
@@ -405,8 +405,8 @@ def _records(args, od, target, band) -> int:
     import re
     import time
 
-    from ..dynamics.matching import match_set, plot_spectra, set_files
-    from ..dynamics.motions import write_record_csv
+    from ..hazard.matching import match_set, plot_spectra, set_files
+    from ..hazard.motions import write_record_csv
     from ..io.files import write_json
 
     t0 = time.perf_counter()

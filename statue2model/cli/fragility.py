@@ -77,7 +77,7 @@ def _params(source: str, direction):
 
 
 def _model(args, params):
-    from ..dynamics.model import RockingModel
+    from ..rocking.model import RockingModel
 
     if (args.alpha_L is None) != (args.alpha_R is None):
         raise InputError("give both --alpha-L and --alpha-R (the imperfect model), or neither (Housner)")
@@ -93,7 +93,7 @@ def parse_levels(text: str, im: str):
     """'LO:HI:N' -> N levels (m/s^2 for PGA, with a unit; m/s for PGV)."""
     import numpy as np
 
-    from ..dynamics.motions import parse_accel
+    from ..quantities import parse_accel
 
     parts = text.split(":")
     if len(parts) != 3:
@@ -121,7 +121,7 @@ def parse_records(text: str, units: str | None, say=print, check=None):
     folder (the files its set.json names, checked; ``say``: the note on files it leaves out).
     ``check(n_records, samples_per_record)``: the study's budget, called before synthetic
     records are made."""
-    from ..dynamics import motions
+    from ..hazard import motions
 
     if text.startswith("synthetic:"):
         head, *opts = text[len("synthetic:"):].split(",")
@@ -141,7 +141,7 @@ def parse_records(text: str, units: str | None, say=print, check=None):
         if check is not None and kw["dt"] > 0 and kw["duration"] > 0:
             check(n, kw["duration"] / kw["dt"] + 1)
         return [motions.synthetic_record(kw["duration"], kw["dt"], 1.0, seed=kw["seed"] + i) for i in range(n)]
-    from ..dynamics.matching import read_record_set
+    from ..hazard.matching import read_record_set
 
     path = Path(text)
     if not path.is_dir():
@@ -155,7 +155,7 @@ def parse_records(text: str, units: str | None, say=print, check=None):
 
 
 def build_samples(args, model):
-    from ..dynamics import sampling
+    from ..rocking import sampling
 
     ranges = {}
     for item in args.vary:
@@ -191,7 +191,7 @@ FRAGILITY_FILES = ("fragility.json", "fragility.csv", "fragility.png")
 
 
 def _cmd_fragility(args) -> int:
-    from ..dynamics.fragility import FragilityStudy
+    from ..assessment.fragility import FragilityStudy
     from ..io.files import open_output
     from .isolator import read_design
 
@@ -206,7 +206,7 @@ def _cmd_fragility(args) -> int:
         from ..isolator.device import isolator_from_design
 
         iso = isolator_from_design(read_design(args.isolator))   # a rejected design is refused
-    from ..dynamics.fragility import check_study
+    from ..assessment.fragility import check_study
 
     # the study's runs and memory are checked before its records are made (compute/budget.py)
     records = parse_records(args.records, args.units, check=lambda n, npts: check_study(
@@ -220,7 +220,7 @@ def _cmd_fragility(args) -> int:
 def _study(args, od, model, records, levels, samples, study, iso) -> int:
     import contextlib
 
-    from ..dynamics.fragility import run_fragility
+    from ..assessment.fragility import run_fragility
 
     group = od.group(FRAGILITY_FILES)
     out = od.path

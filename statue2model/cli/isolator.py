@@ -139,7 +139,7 @@ def _accel(text: str) -> float:
     """An acceleration with a unit (0.075g, 0.736m/s2)."""
     import argparse
 
-    from ..dynamics.motions import parse_accel
+    from ..quantities import parse_accel
 
     try:
         value = parse_accel(text)
@@ -151,10 +151,10 @@ def _accel(text: str) -> float:
 
 
 def _cmd_design(args) -> int:
-    from ..dynamics.motions import parse_spec
+    from ..hazard.motions import parse_spec
     from ..io.files import OutputGroup, atomic_write, write_json
     from ..isolator.design import design
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.code_spectra import parse_spectrum
 
     statue = _statue(args.params)
     aL = args.alpha_L if args.alpha_L is not None else (args.alpha if args.alpha is not None else 1.0)
@@ -197,15 +197,15 @@ def _cmd_plates(args) -> int:
 
 
 def _cmd_simulate(args) -> int:
-    from ..dynamics.model import RockingModel
-    from ..dynamics.motions import parse_spec
+    from ..rocking.model import RockingModel
+    from ..hazard.motions import parse_spec
     from ..io.files import OutputGroup, write_json
-    from ..isolator.dynamics import simulate, statue_on_plate
+    from ..isolator.time_history import simulate, statue_on_plate
 
     spec = args.motion.strip()
     u0 = v0 = 0.0
     if spec.startswith("free:") and "u0" in spec:
-        from ..dynamics import motions
+        from ..hazard import motions
 
         opts = dict(kv.split("=", 1) for kv in spec[5:].split(",") if kv)
         try:
@@ -219,7 +219,7 @@ def _cmd_simulate(args) -> int:
     else:
         motion = parse_spec(spec)[0]
     from ..compute.budget import check_history
-    from ..isolator.dynamics import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
+    from ..isolator.time_history import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
 
     # the run and its CSV (about 80 characters a sample), before anything is allocated
     check_history(args.t_end if args.t_end is not None else motion.end + FREE_TIME, args.dt_out,
@@ -308,7 +308,7 @@ _TABLES = {"19-steel": "steel_r0.0095", "19-resin": "resin_r0.0183", "19-resin-r
 
 
 def _cmd_identify(args) -> int:
-    from ..dynamics.identify import read_time_series
+    from ..rocking.identify import read_time_series
     from ..io.files import OutputGroup, write_json
     from ..isolator.friction import TABLE_19, TABLE_25, friction_from_record, mu_for_load
 

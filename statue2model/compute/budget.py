@@ -16,7 +16,7 @@ a request beyond the machine ends as one clear line, never as a ``MemoryError``.
 The estimates cover the peak, not only the result: a spectrum-compatible record set
 (:func:`record_set_bytes`) counts the FFT work arrays of an iteration and the re-sampled
 inputs and outputs of the response-spectrum filters over its period grid; a fragility
-study (``statue2model.dynamics.fragility.check_study``) its records, the rows of its runs
+study (``statue2model.assessment.fragility.check_study``) its records, the rows of its runs
 and the records scaled for the isolated runs. They are checked before anything is
 allocated, generated or integrated.
 
@@ -149,12 +149,12 @@ def human_seconds(s: float) -> str:
 
 def record_set_bytes(n_records: int, npts: int, nfft: int, tail: int, k_max: int) -> float:
     """Peak bytes of matching ``n_records`` records of ``npts`` samples to a spectrum
-    (:func:`statue2model.dynamics.matching.match_set`), the largest of its steps:
+    (:func:`statue2model.hazard.matching.match_set`), the largest of its steps:
 
     * an iteration's FFT step: the set (8 n npts), the correction factors (8 n F, F =
       nfft / 2 + 1), the records' spectra and the corrected spectra (16 n F each), then
       the inverse's output (8 n nfft) in their place;
-    * a response spectrum (:func:`statue2model.dynamics.response.psa`): the set, the set
+    * a response spectrum (:func:`statue2model.hazard.response_spectra.psa`): the set, the set
       followed by ``tail`` zeros (8 n N', N' = npts + tail), re-sampled ``k_max`` times
       finer for the shortest periods (M = (N' - 1) k_max + 1 samples: the linear
       interpolation holds four (n, M) arrays at once, plus its (M,) index and weight

@@ -5,7 +5,7 @@ What is compiled
 The entry points of the three kernel modules that Python calls (:data:`KERNELS`),
 each for the one argument-type signature its module declares in ``SIGNATURES``
 (float64 scalars, int64 integers, C-contiguous float64 arrays, read-only motion
-samples: see :func:`statue2model.dynamics.kernel.as_samples`). The helpers they
+samples: see :func:`statue2model.rocking.kernel.as_samples`). The helpers they
 call are compiled into them. From scratch this takes about 40 s of one core
 (:data:`COLD_SECONDS`); :func:`warm_up` runs the three modules in up to three
 processes at once (about 25 s on 2 cores). Loading them from the cache takes
@@ -67,9 +67,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 KERNELS = (
-    ("statue2model.dynamics.kernel", "simulate_kernel"),
-    ("statue2model.dynamics.kernel", "simulate_batch"),
-    ("statue2model.dynamics.kernel", "ground_acc"),
+    ("statue2model.rocking.kernel", "simulate_kernel"),
+    ("statue2model.rocking.kernel", "simulate_batch"),
+    ("statue2model.rocking.kernel", "ground_acc"),
     ("statue2model.isolator.kernel", "coulomb"),
     ("statue2model.isolator.kernel", "boucwen"),
     ("statue2model.isolator.coupled_kernel", "simulate_kernel"),
@@ -77,9 +77,9 @@ KERNELS = (
 """(module, function) of every kernel entry point called from Python."""
 
 COLD_SECONDS = {
-    "statue2model.dynamics.kernel.simulate_kernel": 13.0,
-    "statue2model.dynamics.kernel.simulate_batch": 3.0,
-    "statue2model.dynamics.kernel.ground_acc": 0.2,
+    "statue2model.rocking.kernel.simulate_kernel": 13.0,
+    "statue2model.rocking.kernel.simulate_batch": 3.0,
+    "statue2model.rocking.kernel.ground_acc": 0.2,
     "statue2model.isolator.kernel.coulomb": 6.0,
     "statue2model.isolator.kernel.boucwen": 3.0,
     "statue2model.isolator.coupled_kernel.simulate_kernel": 12.0,
@@ -92,10 +92,10 @@ START_SECONDS = 2.0
 """Seconds to start a compiling process (Python, numpy, numba)."""
 
 DEPENDS = {
-    "statue2model.dynamics.kernel": ("statue2model.dynamics.dop853",),
-    "statue2model.isolator.kernel": ("statue2model.dynamics.kernel",),
-    "statue2model.isolator.coupled_kernel": ("statue2model.dynamics.kernel", "statue2model.isolator.kernel",
-                                             "statue2model.dynamics.dop853"),
+    "statue2model.rocking.kernel": ("statue2model.rocking.dop853",),
+    "statue2model.isolator.kernel": ("statue2model.rocking.kernel",),
+    "statue2model.isolator.coupled_kernel": ("statue2model.rocking.kernel", "statue2model.isolator.kernel",
+                                             "statue2model.rocking.dop853"),
 }
 """Kernel modules whose compiled code also holds code of these modules (numba does
 not see that: see the module docstring)."""
@@ -147,11 +147,6 @@ def cache_state() -> dict[str, bool | None]:
         else:
             state[name] = _cached(fn, sig)
     return state
-
-
-def is_warm() -> bool:
-    """True when no kernel needs compiling (all loaded or in the cache)."""
-    return all(v is True for v in cache_state().values())
 
 
 def kernel_stats(_=None) -> dict[str, dict]:

@@ -11,10 +11,10 @@ returns the results in the order of the items, whatever order they finish in:
 
 Every executor runs each task on one numba thread and one BLAS thread
 (parallelism comes from the workers, not from threads inside a task), so
-``workers`` is the number of cores used. The sweeps (:func:`~statue2model.dynamics.spectrum.stability_spectrum`,
-:func:`~statue2model.dynamics.sweeps.variability`,
-:func:`~statue2model.dynamics.sweeps.parameter_sweep`, and the batch below them,
-:func:`~statue2model.dynamics.batch.run_batch`) take ``executor=``; without one
+``workers`` is the number of cores used. The sweeps (:func:`~statue2model.rocking.spectrum.stability_spectrum`,
+:func:`~statue2model.rocking.sweeps.variability`,
+:func:`~statue2model.rocking.sweeps.parameter_sweep`, and the batch below them,
+:func:`~statue2model.rocking.batch.run_batch`) take ``executor=``; without one
 they run in this process on numba's threads, as before. Each run is
 deterministic and independent of the others, so the results are bit-identical
 whichever executor runs them.
@@ -60,7 +60,7 @@ from ..errors import InputError, missing_extra
 def _single_numba_thread() -> int:
     """Limit numba's parallel loops in the calling thread to 1 thread; returns the
     previous count. Chooses the OpenMP layer unless the user chose one (as
-    :func:`statue2model.dynamics.batch.run_batch` does)."""
+    :func:`statue2model.rocking.batch.run_batch` does)."""
     import numba
     from numba import config
 

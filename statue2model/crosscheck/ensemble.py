@@ -3,7 +3,7 @@
 Rocking under a record is sensitive to every impact (a 1 % change of e moves a single peak by
 tens of per cent, runs.motion_cases), so single histories cannot be expected to agree; rocking
 studies agree statistically. Here the same ``n_records`` synthetic Kanai-Tajimi records
-(statue2model.dynamics.motions.synthetic_record, seeds 0..n-1, durations cycling over
+(statue2model.hazard.motions.synthetic_record, seeds 0..n-1, durations cycling over
 ``durations``) are scaled to each PGA level and run in the 2D model and in the 3D scene; per
 level:
 
@@ -17,7 +17,7 @@ level:
 
 Each miss says why: which side overturns more, by how much, whether the intervals overlap, how
 many 3D runs the validity screen flags. The screen is the standard cases' own
-(:func:`statue2model.crosscheck.runs.screen_values`: the friction the 2D trajectory needs against the
+(:func:`statue2model.crosscheck.compare.screen_values`: the friction the 2D trajectory needs against the
 scene's, 3D slip > runs.SLIP_LIMIT, yaw > runs.YAW_LIMIT); a flagged record leaves the level's
 statistics on both sides (the runs are paired) and is listed; a level left with fewer than 2 records
 is "not applicable".
@@ -42,12 +42,13 @@ import time
 
 import numpy as np
 
-from ..dynamics import motions
-from ..dynamics.engine import simulate as simulate_2d
-from ..dynamics.model import RockingModel
+from ..quantities import G
+from ..hazard import motions
+from ..rocking.engine import simulate as simulate_2d
+from ..rocking.model import RockingModel
 from ..errors import InputError
 from .contact import ContactSettings
-from .runs import NOT_APPLICABLE, SLIP_LIMIT, YAW_LIMIT, Case, model_2d, screen_values, slip_of
+from .compare import NOT_APPLICABLE, SLIP_LIMIT, YAW_LIMIT, Case, model_2d, screen_values, slip_of
 from .statue_scene import StatueScene, simulate_statue
 from .world import SimSettings
 
@@ -178,7 +179,7 @@ def level_result(pga: float, o2, q2, o3, q3, screened, prob_target: float, media
         first = (reasons or {}).get(screened[0], [])
         why.append(f"{len(screened)} of {n + len(screened)} records left out by the validity screen, both sides "
                    f"(seeds {screened}" + (f"; seed {screened[0]}: {'; '.join(first)}" if first else "") + ")")
-    return {"pga": pga, "pga_g": pga / 9.81, "n": n, "p_2d": p2, "p_3d": p3, "ci_2d": list(ci2), "ci_3d": list(ci3),
+    return {"pga": pga, "pga_g": pga / G, "n": n, "p_2d": p2, "p_3d": p3, "ci_2d": list(ci2), "ci_3d": list(ci3),
             "ci_overlap": bool(ci_overlap), "prob_met": bool(prob_ok), "median_2d": m2, "median_3d": m3,
             "median_ci_2d": [m2lo, m2hi], "median_ci_3d": [m3lo, m3hi], "median_ratio": ratio,
             "median_overlap": bool(med_overlap), "median_met": bool(med_ok), "differ": differ,
@@ -213,7 +214,7 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
     if not math.isfinite(pga_ref):
         raise InputError("the 2D model does not overturn under half of the records even at 40 x its uplift "
                          "acceleration: no overturning level to centre the ensemble on")
-    say(f"records: 2D median overturning PGA {pga_ref / 9.81:.3f} g")
+    say(f"records: 2D median overturning PGA {pga_ref / G:.3f} g")
     t2d = time.perf_counter() - t0
     tasks, two = [], []
     for lev in levels:
@@ -249,11 +250,11 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
         screened = [i for i, x in enumerate(scr) if not x["applicable"]]
         keep = [i for i, x in enumerate(scr) if x["applicable"]]
         reasons = {i: scr[i]["reasons"] for i in screened}
-        tag = f"records x{lev:g} ({lev * pga_ref / 9.81:.3f} g, {n} records)"
+        tag = f"records x{lev:g} ({lev * pga_ref / G:.3f} g, {n} records)"
         if len(keep) < 2:
             why = (f"{NOT_APPLICABLE}: {len(screened)} of {n} records fail the validity screen (seed {screened[0]}: "
                    f"{'; '.join(reasons[screened[0]])})")
-            out.append({"level": lev, "pga": lev * pga_ref, "pga_g": lev * pga_ref / 9.81, "n": len(keep),
+            out.append({"level": lev, "pga": lev * pga_ref, "pga_g": lev * pga_ref / G, "n": len(keep),
                         "screened": screened, "screen_reasons": reasons, "why": why, "applicable": False})
             for q in ("overturning probability", "median peak rotation"):
                 cases.append(Case(f"{tag}: {q}", q, None, None, math.inf, prob_target if "prob" in q else median_target,
@@ -283,7 +284,7 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
         cases.append(_with_why(c, res["why"] if not res["median_met"] else ""))
     sim = sum(x["sim_time_s"] for x in three)
     wall3 = sum(x["wall_time_s"] for x in three)
-    results = {"levels": out, "pga_ref": pga_ref, "pga_ref_g": pga_ref / 9.81, "n_records": n,
+    results = {"levels": out, "pga_ref": pga_ref, "pga_ref_g": pga_ref / G, "n_records": n,
                "durations": list(durations), "free_time": free_time, "model_2d": model.to_dict(),
                "targets": {"probability_difference": prob_target, "median_ratio": median_target},
                "screen": {"slip_m": SLIP_LIMIT, "yaw_rad": YAW_LIMIT, "friction_scene": contact.friction**2},

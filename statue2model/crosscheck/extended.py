@@ -1,6 +1,6 @@
 """The comparison with the optional extended checks: the imperfect base and the record ensemble.
 
-:func:`compare_extended` runs :func:`statue2model.crosscheck.runs.compare` (every standard case)
+:func:`compare_extended` runs :func:`statue2model.crosscheck.compare.compare` (every standard case)
 and appends the cases of :mod:`statue2model.crosscheck.imperfect` (``imperfect=True``) and of
 :mod:`statue2model.crosscheck.ensemble` (``records=N`` > 0), their histories and their run
 details (``runs['imperfect base: ...']``, ``runs['records']``; non-finite numbers as null). The command line reaches it with
@@ -8,7 +8,7 @@ details (``runs['imperfect base: ...']``, ``runs['records']``; non-finite number
 """
 from __future__ import annotations
 
-from .runs import Comparison, compare
+from .compare import Comparison, compare
 
 
 def compare_extended(scene, motion=None, *, imperfect: bool = False, records: int = 0, levels=None,

@@ -43,7 +43,7 @@ Identification from 3D tests, the thesis' way (ch. 4.1.2, 6.4) (:func:`identify_
   the rigid one, theta_side. The fitted points end where the body runs away (the peak of the
   restoring moment).
 * e_L, e_R: free rocking of the imperfect 3D body from 0.5 delta (both pivots), eq. 43
-  (statue2model.dynamics.identify), as the thesis calibrates e on free-rocking tests.
+  (statue2model.rocking.identify), as the thesis calibrates e on free-rocking tests.
 
 Comparison (:func:`imperfect_cases`): the classical 2D model (alpha = 1) and the imperfect one
 (the identified alpha, theta), both with the identified e, against the imperfect 3D body on cases
@@ -71,12 +71,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..dynamics import motions
-from ..dynamics.engine import simulate as simulate_2d
-from ..dynamics.model import RockingModel
+from ..hazard import motions
+from ..rocking.engine import simulate as simulate_2d
+from ..rocking.model import RockingModel
 from ..errors import InputError
 from .contact import ContactSettings
-from .runs import Case, first_crossing, overturn_amplitude_2d, threshold_time_2d
+from .compare import Case, first_crossing, overturn_amplitude_2d, threshold_time_2d
 from .statue_scene import LIFT_HEIGHT, LIFT_STEPS, StatueScene, simulate_statue
 from .world import SimSettings
 

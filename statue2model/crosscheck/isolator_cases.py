@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..dynamics import motions
+from ..hazard import motions
 from .contact import ContactSettings
 from .world import SimSettings
 
@@ -38,9 +38,9 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
     from dataclasses import replace
 
     from ..isolator.device import Isolator
-    from ..isolator.dynamics import simulate as plate_2d
+    from ..isolator.time_history import simulate as plate_2d
     from .isolator_scene import simulate_isolator
-    from .runs import Case
+    from .compare import Case
 
     sc = replace(iso_scene, statue=None)
     g = settings.g
@@ -180,9 +180,9 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
     from dataclasses import replace
 
     from ..isolator.device import Isolator
-    from ..isolator.dynamics import simulate as plate_2d
+    from ..isolator.time_history import simulate as plate_2d
     from .isolator_scene import simulate_isolator
-    from .runs import Case
+    from .compare import Case
 
     g = settings.g
     dt = settings.dt

@@ -25,7 +25,7 @@ our tensor, with our principal moments (checked by :func:`inertia_check`).
 Example
 -------
 >>> from statue2model.crosscheck.statue_scene import StatueScene
->>> from statue2model.dynamics import motions
+>>> from statue2model.hazard import motions
 >>> from statue2model.geometry.rocking_params import RockingParams
 >>> sc = StatueScene.block(b=0.1, h=0.5, m=100.0)
 >>> r = simulate_statue(sc, motions.free(), theta0=0.5 * sc.params.delta_R, t_end=0.6)
@@ -40,6 +40,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..quantities import G
 from ..errors import InputError
 from ..geometry.rocking_params import RockingParams
 from .contact import ContactSettings
@@ -135,7 +136,7 @@ class StatueScene:
                    x_R=x_R, x_L=x_L, mesh=(v, np.asarray(body.faces)), name=name or "statue")
 
     @classmethod
-    def block(cls, b: float, h: float, m: float, depth: float | None = None, g: float = 9.81) -> StatueScene:
+    def block(cls, b: float, h: float, m: float, depth: float | None = None, g: float = G) -> StatueScene:
         """Homogeneous rectangular block, half-width b, half-height h (m), mass m (kg),
         thickness ``depth`` across the excitation (default 2 b)."""
         depth = 2 * b if depth is None else depth

@@ -40,7 +40,7 @@ from ..errors import InputError, missing_extra
 if TYPE_CHECKING:
     from typing_extensions import Self
 
-G = 9.81
+from ..quantities import G  # m/s^2
 
 
 def check_user_dt(name: str, dt: float) -> float:

@@ -32,7 +32,8 @@ import os
 import shutil
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
+from ..quantities import G
 from ..io.csvsafe import csv_text
 from ..io.files import OutputDir, atomic_write, open_output, output_error, swap_in, write_json
 from ..geometry.props import props_dict
@@ -76,11 +77,6 @@ def open_slice_dir(out: Path, reuse: bool = False) -> OutputDir:
         od.close()
         raise
     return od
-
-
-def check_out_dir(out: Path, reuse: bool = False) -> None:
-    """Refuse an output folder with foreign content (or in use), before any work."""
-    open_slice_dir(out, reuse).close()
 
 
 def _drawing(part, hole: float, placement=None) -> Drawing:
@@ -205,7 +201,7 @@ def comparison_rows(res: SliceResult) -> list[dict]:
     """The prototype as built against the scaled scan, one dict per quantity:
     quantity, built, scan, error (text), status ('pass'/'fail' for the quantities
     held to ERROR_LIMIT, '' otherwise) and cause (the likely cause when it fails)."""
-    g = 9.81
+    g = G
     c, pp, sp = res.comparison, res.proto_params, res.scan_params
     failing = set(c.failing())
 

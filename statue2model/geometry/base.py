@@ -35,6 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..quantities import G
+
 from .footprint import convex_hull_2d, hull_edge_distances, polygon_area
 from .orient import BASE_BAND, base_faces
 
@@ -112,7 +114,7 @@ class ContactCase:
         return max(float(-proj.min()), 0.0), max(float(proj.max()), 0.0)
 
 
-def contact_case(vertices: np.ndarray, com: np.ndarray, tol: float, g: float = 9.81) -> ContactCase:
+def contact_case(vertices: np.ndarray, com: np.ndarray, tol: float, g: float = G) -> ContactCase:
     """Contact hull and weakest uplift acceleration with vertices within ``tol`` of z = 0."""
     hull = convex_hull_2d(vertices[vertices[:, 2] <= tol, :2])
     a_min = 0.0
@@ -150,7 +152,7 @@ class BaseContact:
     def uncertain(self) -> bool:
         return self.spread > SENSITIVITY_LIMIT
 
-    def rows(self, com: np.ndarray, direction_deg: float, g: float = 9.81) -> list[dict]:
+    def rows(self, com: np.ndarray, direction_deg: float, g: float = G) -> list[dict]:
         """One row per tolerance: tol, b_L, b_R along ``direction_deg``, a_min (m, m/s^2)."""
         out = []
         for c in self.cases:
@@ -158,7 +160,7 @@ class BaseContact:
             out.append({"tol": c.tol, "b_L": b_L, "b_R": b_R, "a_min": c.a_min, "a_min_g": c.a_min / g})
         return out
 
-    def warning(self, g: float = 9.81) -> str | None:
+    def warning(self, g: float = G) -> str | None:
         """The line the user must read when the contact is uncertain, else None."""
         if not self.uncertain:
             return None
@@ -171,7 +173,7 @@ class BaseContact:
                 f"{hi.a_min / g:.3f} g at double ({hi.tol * 1000:.2f} mm), a change of {self.spread:.0%}; {cause}. "
                 "Check the base (or measure it) and pass --base-tol to choose")
 
-    def to_dict(self, com: np.ndarray, direction_deg: float, g: float = 9.81) -> dict:
+    def to_dict(self, com: np.ndarray, direction_deg: float, g: float = G) -> dict:
         return {"tol": self.tol, "why": self.why, "tilt_deg": float(np.degrees(self.tilt)),
                 "edge": self.surface.edge, "roughness": self.surface.roughness, "warp": self.surface.warp,
                 "sensitivity": self.rows(com, direction_deg, g), "spread": self.spread,
@@ -179,7 +181,7 @@ class BaseContact:
 
 
 def base_contact(vertices: np.ndarray, com: np.ndarray, surface: BaseSurface, tol: float, why: str,
-                 tilt: float, g: float = 9.81) -> BaseContact:
+                 tilt: float, g: float = G) -> BaseContact:
     """The contact at tol / 2, tol and 2 tol of a body resting on z = 0 (G at ``com``)."""
     cases = tuple(contact_case(vertices, com, t, g) for t in (0.5 * tol, tol, 2.0 * tol))
     return BaseContact(tol=tol, why=why, surface=surface, tilt=tilt, cases=cases)

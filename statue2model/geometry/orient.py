@@ -60,16 +60,6 @@ class BaseCandidate:
         return self.flat_area / self.plan_area if self.plan_area > 0 else 0.0
 
 
-@dataclass(frozen=True)
-class Orientation:
-    """Where the scan stands: x_body = rotation @ x_file + translation (after scaling)."""
-
-    up: str
-    rotation: np.ndarray
-    tilt: float  # levelling correction applied, rad
-    note: str
-
-
 def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Proper rotation turning unit vector a into unit vector b (Rodrigues)."""
     v = np.cross(a, b)

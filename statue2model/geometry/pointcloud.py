@@ -116,15 +116,6 @@ def read_points(path: Path) -> np.ndarray:
     return points
 
 
-def reconstruct_surface(points: np.ndarray, depth: int | None = None) -> tuple[np.ndarray, np.ndarray, str]:
-    """Closed triangle surface through ``points`` ((n, 3), any unit): (vertices, faces, note).
-
-    The short form of :func:`reconstruct` (which also gives the distances and warnings).
-    """
-    r = reconstruct(points, depth)
-    return r.vertices, r.faces, r.note
-
-
 def reconstruct(points: np.ndarray, depth: int | None = None) -> Reconstruction:
     """Closed surface through ``points`` ((n, 3), any unit), see the module docstring.
 

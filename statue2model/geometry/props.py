@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
 
 
 def props_dict(body, params, rose) -> dict:

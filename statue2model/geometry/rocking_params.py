@@ -46,7 +46,7 @@ from ..errors import InputError
 from .footprint import hull_edge_distances
 from .massprops import MassProperties
 
-G = 9.81
+from ..quantities import G  # m/s^2
 """Gravity, m/s^2 (MODEL.md)."""
 
 PARAM_KEYS = (

@@ -28,9 +28,13 @@ from .gltf import read_gltf
 if TYPE_CHECKING:
     from .pointcloud import Reconstruction
 
-MESH_SUFFIXES = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
-CLOUD_SUFFIXES = {".pcd", ".xyz", ".xyzn", ".pts"}
-GLTF_SUFFIXES = {".glb", ".gltf"}
+MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
+"""File types read as a surface mesh."""
+CLOUD_SUFFIXES = (".pcd", ".xyz", ".xyzn", ".pts")
+"""File types read as a point cloud (meshed with open3d, the ``[pointcloud]`` extra)."""
+GLTF_SUFFIXES = (".glb", ".gltf")
+SCAN_SUFFIXES = MESH_SUFFIXES + CLOUD_SUFFIXES
+"""Every file type a scan may have: the one list (folder runs, the command line, :func:`load_scan`)."""
 
 
 @dataclass(frozen=True)
@@ -62,8 +66,8 @@ def _check_file(path: Path) -> None:
     if path.stat().st_size == 0:
         raise InputError(f"file is empty: {path}")
     suffix = path.suffix.lower()
-    if suffix not in MESH_SUFFIXES | CLOUD_SUFFIXES:
-        known = ", ".join(sorted(MESH_SUFFIXES | CLOUD_SUFFIXES))
+    if suffix not in SCAN_SUFFIXES:
+        known = ", ".join(sorted(SCAN_SUFFIXES))
         raise InputError(f"unsupported file type '{suffix or path.name}': use one of {known}")
 
 

@@ -53,6 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..quantities import A_MAX, G  # the g of '0.3g': '100g' (A_MAX) is at the limit
 from .massprops import PLAUSIBLE_DENSITY, POSSIBLE_DENSITY
 
 UNIT_SCALE = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
@@ -81,7 +82,6 @@ class Plausible:
 _LENGTH_TYPOS = (("mm", 1e-3), ("cm", 1e-2), ("in", 0.0254))
 _MASS_TYPOS = (("g", 1e-3), ("t", 1e3), ("lb", 0.45359237))
 _ACC_TYPOS = (("cm/s^2 (gal)", 1e-2), ("mm/s^2", 1e-3))
-G_ACC = 9.81      # m/s^2 per g of the limits below: the g of '0.3g' in a spec, so that '100g' is at the limit
 
 PLAUSIBLE: dict[str, Plausible] = {
     # the statue: largest extent of a scan with explicit units, or the height it is rescaled to
@@ -98,7 +98,7 @@ PLAUSIBLE: dict[str, Plausible] = {
                           _LENGTH_TYPOS),
     "plate_thickness": Plausible("isolator plate thickness", "m", 0.01, 0.2, 0.01, 0.2, _LENGTH_TYPOS),
     # ground motions: the largest recorded PGA is about 4 g; 100 g is no ground motion
-    "acceleration": Plausible("ground acceleration", "m/s^2", 0.0, 5 * G_ACC, 0.0, 100 * G_ACC, _ACC_TYPOS),
+    "acceleration": Plausible("ground acceleration", "m/s^2", 0.0, 5 * G, 0.0, A_MAX, _ACC_TYPOS),
     "time_step": Plausible("record's time step", "s", 1e-4, 0.05, 1e-6, 1.0, (("ms", 1e-3),)),
 }
 """quantity -> its :class:`Plausible` range: the one table of :func:`check_plausible`.

@@ -523,7 +523,7 @@ class OutputDir:
         return removed
 
     def _save(self) -> None:
-        from .. import __version__
+        from ..version import __version__
 
         kind = (read_manifest(self.path) or {}).get("kind", self.kind)
         write_json(self.path / MANIFEST_NAME, {"schema": MANIFEST_SCHEMA, "kind": kind, "version": __version__,

@@ -78,8 +78,8 @@ may lift it).
 
 Example
 -------
->>> from statue2model.dynamics import motions
->>> from statue2model.dynamics.model import RockingModel
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking.model import RockingModel
 >>> from statue2model.geometry.rocking_params import RockingParams
 >>> from statue2model.isolator.device import Isolator
 >>> block = RockingParams.rectangular_block(b=0.05, h=0.25, m=10.0)
@@ -100,16 +100,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..compute.compile import ensure_compiled
-from ..dynamics.engine import outcome_name
-from ..dynamics.model import RockingModel
-from ..dynamics.motions import GroundMotion
+from ..rocking.engine import outcome_name
+from ..rocking.model import RockingModel
+from ..hazard.motions import GroundMotion
 from ..errors import InputError
 from . import coupled_kernel as CK
-from . import dynamics as ID
+from . import time_history as ID
 from .device import Isolator
 
 FREE_TIME = ID.FREE_TIME
-PHASES = {0: "stick", 1: "transition", 2: "rocking", 3: "overturned", 4: "capacity exceeded"}
 
 
 @dataclass(frozen=True, eq=False)

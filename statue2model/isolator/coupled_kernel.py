@@ -42,8 +42,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..dynamics import dop853 as D8
-from ..dynamics import kernel as K
+from ..rocking import dop853 as D8
+from ..hazard import motion_kernel as MK
+from ..rocking import kernel as K
 from . import kernel as IK
 
 _NS = D8.N_STAGES
@@ -153,7 +154,7 @@ def _hold_bounds(u, md, Q):
 @njit(cache=True)
 def _accs(t, u, th, om, md, Q, seg):
     """(u'', theta'', a_abs) of the coupled system."""
-    f = K._acc(t, seg)
+    f = MK.seg_acc(t, seg)
     if md[MD_ROCK] == 0.0:
         if _stuck(md, Q):
             return 0.0, 0.0, f
@@ -171,7 +172,7 @@ def _accs(t, u, th, om, md, Q, seg):
 def _demand(t, u, th, om, md, Q, seg):
     """D: friction force per unit M needed to keep a Coulomb plate stuck (u'' = 0):
     D = -(omega^2 u + f + (m/M) x_rel''); the plate stays stuck while |D| <= mu g."""
-    f = K._acc(t, seg)
+    f = MK.seg_acc(t, seg)
     xdd = 0.0
     if md[MD_ROCK] != 0.0:
         A0, A1, c, d = _statue_terms(th, md[MD_SIDE], md[MD_REG], Q)
@@ -397,7 +398,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     y[2] = theta0
     y[3] = omega0
     # --- initial modes
-    K.segment(t, kind, M, samples, seg)
+    MK.segment(t, kind, M, samples, seg)
     md[MD_UR] = u0
     md[MD_ZR] = 0.0
     if theta0 != 0.0 or omega0 != 0.0:
@@ -467,7 +468,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         if nsteps + nrej >= max_steps:
             status = STATUS_MAX_STEPS
             break
-        seg_end = K.segment(t, kind, M, samples, seg)
+        seg_end = MK.segment(t, kind, M, samples, seg)
         t_lim = min(seg_end, t_end)
         rock = md[MD_ROCK] != 0.0
         # ---------------- Coulomb plate stuck, statue in full contact: closed form
@@ -492,12 +493,12 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 reg = _start_region(s, Q)
                 t_up = te_s
                 A0, A1, _, _ = _statue_terms(0.0, s, reg, Q)
-                thdd = A0 + A1 * K._acc(t_up, seg)
+                thdd = A0 + A1 * MK.seg_acc(t_up, seg)
                 nud = 4.0 * _EPS * max(1.0, abs(t_up))
                 while s * thdd <= 0.0 and t_up < t_lim:
                     t_up += nud
                     nud *= 4.0
-                    thdd = A0 + A1 * K._acc(t_up, seg)
+                    thdd = A0 + A1 * MK.seg_acc(t_up, seg)
                 if s * thdd <= 0.0:
                     t = t_lim
                     continue
@@ -714,7 +715,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             out[io, 6] = phase
             io += 1
     elif status == STATUS_OK:
-        K.segment(t, kind, M, samples, seg)
+        MK.segment(t, kind, M, samples, seg)
         while io < n_out and io * dt_out <= t_end * (1.0 + 1e-12):
             _record_output(io, io * dt_out, y, md, Q, seg, out)
             io += 1
@@ -909,7 +910,7 @@ def _end_stop(t, y, md, Q, seg, S):
 
 
 SIGNATURES = {
-    "simulate_kernel": (K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8,
+    "simulate_kernel": (K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.I8, K.VEC, MK.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8,
                         K.F8, K.F8, K.VEC, K.I8, K.MAT, K.MAT, K.MAT, K.MAT, K.VEC),
 }
 """The one argument-type signature of the entry point (types of dynamics.kernel; see

@@ -76,7 +76,7 @@ required checks, then the smallest worst ratio) is shown with passed False, and
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.isolator.design_spectrum import ec8
+>>> from statue2model.hazard.code_spectra import ec8
 >>> statue = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
 >>> d = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, thickness=0.03)
 >>> d.passed, d.R, d.r, d.n_grooves, round(d.T, 2), round(d.side, 3)   # the statue's base sets the plate
@@ -123,7 +123,7 @@ PLATE_TOLERANCE = 0.10
 DISPLACEMENT_MARGIN = 1.5
 """Travel need / spectral displacement: EN 1998-1 §10.3(2) gamma_x = 1.2 times about 1.25
 for the two horizontal components on a spherical groove (module docstring)."""
-BALL_LOAD_TESTED = 30.0 * 9.81 / 4
+BALL_LOAD_TESTED = 30.0 * G / 4
 """N per ball: the thesis' four-groove beech device carried up to 30 kg on its 20 mm balls
 undamaged (ch. 6.4); heavier loads on 9.5 and 18.3 mm balls left pits (ch. 5.2)."""
 BALL_TESTED = 0.020
@@ -568,7 +568,7 @@ def _demand_fn(spectrum, motion, mu: float, g: float):
             if spectrum is not None:
                 cache[R, r] = (float(spectrum.Se(iso.T)), float(spectrum.SDe(iso.T)))
             else:
-                from .dynamics import simulate
+                from .time_history import simulate
 
                 res = simulate(iso, motion, dt_out=0.01)
                 cache[R, r] = (float(res.acc_abs_max), float(res.u_max))

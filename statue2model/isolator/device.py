@@ -37,7 +37,7 @@ from dataclasses import asdict, dataclass
 
 from ..errors import InputError
 
-G = 9.81
+from ..quantities import G  # m/s^2
 MODELS = ("coulomb", "boucwen")
 
 

@@ -8,9 +8,9 @@ period T = 2 pi sqrt(R_hat / g) and loses 4 mu R_hat of amplitude per cycle, so
 
 Example: a simulated free vibration, identified back
 -------
->>> from statue2model.dynamics import motions
+>>> from statue2model.hazard import motions
 >>> from statue2model.isolator.device import Isolator
->>> from statue2model.isolator.dynamics import simulate
+>>> from statue2model.isolator.time_history import simulate
 >>> iso = Isolator(R=0.30, r=0.0183, M=21.664, mu=0.0114)
 >>> res = simulate(iso, motions.free(), u0=0.08, t_end=6.0, dt_out=0.002)
 >>> fr = friction_from_record(res.t, res.u)
@@ -26,10 +26,10 @@ import numpy as np
 
 from ..errors import InputError
 
-G = 9.81
+from ..quantities import G  # m/s^2
 
 
-def identify_mu(peaks_u, T: float, g: float = 9.81) -> dict:
+def identify_mu(peaks_u, T: float, g: float = G) -> dict:
     """Rolling friction from the successive peaks of a free-vibration record (eq. 51):
     mu_j = omega^2 (u_j - u_{j+2}) / (4 g) per cycle, and the least-squares slope of
     the peak envelope (|u_j| against j: each half cycle loses 2 mu g / omega^2)."""
@@ -96,7 +96,7 @@ def friction_from_record(t, u, T: float | None = None, g: float = G, min_fractio
     parabola (half-cycles below ``min_fraction`` of the largest are noise or the
     final rest and are dropped). ``T`` (s) is the period used in eq. 51; default:
     the measured one (the period does not depend on the friction)."""
-    from ..dynamics.identify import find_peaks
+    from ..rocking.identify import find_peaks
 
     t = np.asarray(t, dtype=float)
     u = np.asarray(u, dtype=float)

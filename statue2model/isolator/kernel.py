@@ -1,7 +1,7 @@
 """Compiled integrators of the top plate (numba); see dynamics.py for the interface.
 
 The ground acceleration is taken piece by piece from the rocking kernel's motion
-representation (statue2model.dynamics.kernel.segment): on each piece
+representation (statue2model.rocking.kernel.segment): on each piece
 f(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi).
 
 Coulomb (eq. 20): while sliding with velocity sign s, u'' + omega^2 u = -s mu g - f(t)
@@ -51,7 +51,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..dynamics import kernel as K
+from ..hazard import motion_kernel as MK
+from ..rocking import kernel as K
 
 # statistics vector (I_TCAP, I_UCAP: first time and displacement at which |u| reached the
 # capacity, nan if never; I_NHITS: capacity crossings, i.e. end-stop impacts with stop = 1)
@@ -187,8 +188,8 @@ def _max_abs_f(ta, tb, seg, t_piece_end):
     ends and the sine's crests inside. At tb = t_piece_end a record's exact sample (seg[7]) is
     used; a tb inside the piece (a stuck phase that ends mid-sample) takes the piece's line
     at tb, never the next sample's value (a state no longer valid then)."""
-    fb = seg[7] if (tb >= t_piece_end and seg[7] == seg[7]) else K._acc(tb, seg)
-    m = max(abs(K._acc(ta, seg)), abs(fb))
+    fb = seg[7] if (tb >= t_piece_end and seg[7] == seg[7]) else MK.seg_acc(tb, seg)
+    m = max(abs(MK.seg_acc(ta, seg)), abs(fb))
     if seg[3] != 0.0 and seg[1] == 0.0:
         w, ts, ph = seg[4], seg[5], seg[6]
         xa = w * (ta - ts) + ph
@@ -208,8 +209,8 @@ def _stop_rebound(t, v, s, e_stop, cap, F, kind, M, samples, seg):
     v_new = -e_stop * v
     if v_new == 0.0:
         return 0.0, True
-    K.segment(t, kind, M, samples, seg)
-    a_in = -F - K._acc(t, seg)
+    MK.segment(t, kind, M, samples, seg)
+    a_in = -F - MK.seg_acc(t, seg)
     if s * a_in > 0.0 and v_new * v_new / (2.0 * abs(a_in)) < REST_TOL * cap:
         return 0.0, True
     return v_new, False
@@ -252,7 +253,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         t_end = 0.0
     while t < t_end and steps < 10_000_000:
         steps += 1
-        t_piece_end = K.segment(t, kind, M, samples, seg)
+        t_piece_end = MK.segment(t, kind, M, samples, seg)
         tb = min(t_piece_end, t_end)
         if s == 0.0:
             # stuck: moves with the ground until |om^2 u + f| > mu g (on the end stop: only
@@ -269,7 +270,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
                 tk = k_out * dt_out
                 out_u[k_out] = u
                 out_v[k_out] = 0.0
-                out_a[k_out] = K._acc(tk, seg)
+                out_a[k_out] = MK.seg_acc(tk, seg)
                 k_out += 1
             amax = max(amax, _max_abs_f(t, t_stop, seg, t_piece_end))
             if te < tb or (te == tb and side != 0):
@@ -277,7 +278,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
                 s = float(side)
                 pin = 0.0
                 continue
-            if t_piece_end == np.inf and kind != K.M_NONE and abs(om2 * u) <= mug:
+            if t_piece_end == np.inf and kind != MK.M_NONE and abs(om2 * u) <= mug:
                 # the ground is at rest for good and the plate is stuck: done
                 t = t_end
                 break
@@ -299,7 +300,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         t_rev = np.inf
         lo = t
         v_lo = v
-        a_lo = -om2 * u - s * mug - K._acc(t, seg)
+        a_lo = -om2 * u - s * mug - MK.seg_acc(t, seg)
         for i in range(1, nsub + 1):
             ti = t + i * h if i < nsub else tb
             _, vi, ai = _coulomb_state(ti, t, seg, cf, om)
@@ -331,7 +332,7 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
             uk, vk, ak = _coulomb_state(tk, t, seg, cf, om)
             out_u[k_out] = uk
             out_v[k_out] = vk
-            out_a[k_out] = ak + K._acc(tk, seg)
+            out_a[k_out] = ak + MK.seg_acc(tk, seg)
             k_out += 1
         # |a_abs| = |om^2 u + s mu g| is monotonic while sliding: its extremes are at the ends
         amax = max(amax, abs(om2 * u + s * mug), abs(om2 * u_end + s * mug))
@@ -359,8 +360,8 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         if t_rev <= tb and t_rev < np.inf:
             v = 0.0
             pk_t, pk_u, n_pk = _push_peak(pk_t, pk_u, n_pk, t, u)
-            K.segment(t, kind, M, samples, seg)
-            d = -om2 * u - K._acc(t, seg)
+            MK.segment(t, kind, M, samples, seg)
+            d = -om2 * u - MK.seg_acc(t, seg)
             if abs(d) <= mug * (1.0 + 1e-12):
                 s = 0.0
             else:
@@ -371,8 +372,8 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         if k_out == 0 and t == 0.0:
             out_u[0] = u0
             out_v[0] = v0
-            K.segment(0.0, kind, M, samples, seg)
-            out_a[0] = -(om2 * u0 + s * mug) if s != 0.0 else K._acc(0.0, seg)
+            MK.segment(0.0, kind, M, samples, seg)
+            out_a[0] = -(om2 * u0 + s * mug) if s != 0.0 else MK.seg_acc(0.0, seg)
         else:
             out_u[k_out] = np.nan
             out_v[k_out] = np.nan
@@ -383,8 +384,8 @@ def coulomb(om, mug, kind, M, samples, u0, v0, t_end, dt_out, cap, stop, e_stop,
         out_u[k_out] = u
         out_v[k_out] = 0.0 if s == 0.0 else v
         if s == 0.0:
-            K.segment(tk, kind, M, samples, seg)
-            out_a[k_out] = K._acc(tk, seg)
+            MK.segment(tk, kind, M, samples, seg)
+            out_a[k_out] = MK.seg_acc(tk, seg)
         else:
             out_a[k_out] = -(om2 * u + s * mug)
         k_out += 1
@@ -424,7 +425,7 @@ def z_map(z_r, du, s, u_y, n):
 @njit(cache=True)
 def _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n):
     z = z_map(z_r, u - u_r, s, u_y, n)
-    return -om2 * u - cz * z - K._acc(t, seg), z
+    return -om2 * u - cz * z - MK.seg_acc(t, seg), z
 
 
 # Dormand-Prince 5(4)
@@ -522,7 +523,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         # only (exact between reversals, where a_abs is monotonic), never at the start
         amax = abs(om2 * u0)
     while not stopped:
-        t_piece_end = K.segment(t, kind, M, samples, seg)
+        t_piece_end = MK.segment(t, kind, M, samples, seg)
         if pin != 0.0:
             # on the end stop (u' = 0, z fixed): until the force pulls the plate away from it
             c = om2 * u + cz * z_r
@@ -533,7 +534,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             while k_out < n_out and k_out * dt_out < t_stop:
                 out_u[k_out] = u
                 out_v[k_out] = 0.0
-                out_a[k_out] = K._acc(k_out * dt_out, seg)
+                out_a[k_out] = MK.seg_acc(k_out * dt_out, seg)
                 out_z[k_out] = z_r
                 k_out += 1
             amax = max(amax, _max_abs_f(t, t_stop, seg, t_piece_end))
@@ -573,7 +574,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             a_rel, z = _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n)
             out_u[k_out] = u
             out_v[k_out] = v
-            out_a[k_out] = a_rel + K._acc(t, seg)
+            out_a[k_out] = a_rel + MK.seg_acc(t, seg)
             out_z[k_out] = z
             k_out += 1
         if t >= t_end or steps > 50_000_000:
@@ -614,7 +615,7 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             z_e = z_map(z_r, um - u_r, s, u_y, n)
             umax = max(umax, abs(um))
             a_e, _ = _bw_acc(t, um, seg, om2, cz, u_r, z_r, s, u_y, n)
-            amax = max(amax, abs(a_e + K._acc(t, seg)))
+            amax = max(amax, abs(a_e + MK.seg_acc(t, seg)))
             if n_hits == 0:
                 t_cap = t
                 u_cap = um
@@ -647,10 +648,10 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
             umax = max(umax, abs(u))
             u_r = u
             z_r = z_e
-            K.segment(t, kind, M, samples, seg)
+            MK.segment(t, kind, M, samples, seg)
             a_e, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, -s, u_y, n)
             s = 1.0 if a_e > 0.0 else (-1.0 if a_e < 0.0 else 0.0)
-            amax = max(amax, abs(a_e + K._acc(t, seg)))
+            amax = max(amax, abs(a_e + MK.seg_acc(t, seg)))
             h = max(h_new, 1e-12)
             continue
         t = t + hh
@@ -658,15 +659,15 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
         v = v5
         umax = max(umax, abs(u))
         a_rel, _ = _bw_acc(t, u, seg, om2, cz, u_r, z_r, s, u_y, n)
-        amax = max(amax, abs(a_rel + K._acc(t, seg)))
+        amax = max(amax, abs(a_rel + MK.seg_acc(t, seg)))
         h = h_new
     if stopped:      # the run ended at the capacity: nothing after it
         if k_out == 0:
-            K.segment(0.0, kind, M, samples, seg)
+            MK.segment(0.0, kind, M, samples, seg)
             a_rel, z = _bw_acc(0.0, u0, seg, om2, cz, u0, 0.0, s if s != 0.0 else 1.0, u_y, n)
             out_u[0] = u0
             out_v[0] = v0
-            out_a[0] = a_rel + K._acc(0.0, seg)
+            out_a[0] = a_rel + MK.seg_acc(0.0, seg)
             out_z[0] = z
             k_out = 1
         while k_out < n_out:
@@ -688,9 +689,9 @@ def boucwen(om, mug, q, n, kind, M, samples, u0, v0, t_end, dt_out, rtol, atol_u
 
 
 SIGNATURES = {
-    "coulomb": (K.F8, K.F8, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8, K.F8,
+    "coulomb": (K.F8, K.F8, K.I8, K.VEC, MK.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8, K.F8,
                 K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC),
-    "boucwen": (K.F8, K.F8, K.F8, K.I8, K.I8, K.VEC, K.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8,
+    "boucwen": (K.F8, K.F8, K.F8, K.I8, K.I8, K.VEC, MK.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8,
                 K.F8, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC),
 }
 """The one argument-type signature of each entry point (types of dynamics.kernel; see

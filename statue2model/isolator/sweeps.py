@@ -3,7 +3,7 @@
 Every point is one coupled plate + statue run (:func:`~statue2model.isolator.coupled.
 simulate_coupled`: the plate alone first, the 2-DOF system only where the statue
 may lift), so the results sit beside the fixed-base ones of
-:mod:`statue2model.dynamics.spectrum` and :mod:`statue2model.dynamics.sweeps`
+:mod:`statue2model.rocking.spectrum` and :mod:`statue2model.rocking.sweeps`
 with the same outcome classes, plus two codes of their own: FAILED = -1 for a point
 the solver could not finish (counted apart) and CAPACITY = -3 ("isolator capacity
 exceeded": the plate passed ``iso.capacity``; a failure, as bad as overturning).
@@ -23,7 +23,7 @@ Example
 -------
 >>> import numpy as np
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel
+>>> from statue2model.rocking import RockingModel
 >>> from statue2model.isolator.device import Isolator
 >>> statue = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
 >>> iso = Isolator(R=0.9, r=0.0095, M=statue.m + 15.0, mu=0.0073)
@@ -41,15 +41,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics import motions
-from ..dynamics.batch import CAPACITY_CODE, OUTCOMES, outcome_label
-from ..dynamics.model import RockingModel
-from ..dynamics.spectrum import PULSES, StabilitySpectrum
-from ..dynamics.sweeps import SweepResult
+from ..hazard import motions
+from ..rocking.batch import CAPACITY_CODE, OUTCOMES, outcome_label
+from ..rocking.model import RockingModel
+from ..rocking.spectrum import PULSES, StabilitySpectrum
+from ..rocking.sweeps import SweepResult
 from ..errors import InputError
 from .coupled import FREE_TIME, simulate_coupled
 from .device import Isolator
-from .dynamics import CAPACITY_EXCEEDED, END_STOP_RESTITUTION, check_end_stop
+from .time_history import CAPACITY_EXCEEDED, END_STOP_RESTITUTION, check_end_stop
 
 _PULSE = {"cosine": motions.cosine_pulse, "sine": motions.sine_pulse}
 

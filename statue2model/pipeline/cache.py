@@ -183,18 +183,6 @@ def check_replaceable(stage_dir: Path) -> None:
                          "and replaces its folder; move them out of it (nothing was changed)")
 
 
-def clean_partials(out: Path) -> list[Path]:
-    """Remove the hidden partial (and replaced) folders left by interrupted runs in
-    ``out``: only those of names its manifest ``.statue2model.json`` lists (a user's
-    ``.backup.old-2024`` stays). Two runs never share one folder: see files.open_output."""
-    from ..io.files import OutputDir, read_manifest
-
-    data = read_manifest(out) if Path(out).is_dir() else None
-    if data is None:
-        return []
-    return OutputDir(Path(out), data.get("kind", "run"), data["entries"], None, False).clean()
-
-
 def run_stage(stage_dir: Path, key: str, work: Callable[[Path], dict], force: bool = False) -> dict:
     """Run ``work(tmp_dir) -> manifest dict`` unless ``stage_dir`` is complete with
     ``key``; returns the manifest, with ``cached`` (bool) and ``seconds`` (of the

@@ -57,7 +57,6 @@ statue2model.errors.InputError: ...project.toml: unknown key 'bord' in [prototyp
 """
 from __future__ import annotations
 
-import argparse
 import difflib
 import math
 import sys
@@ -66,8 +65,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli.argtypes import length, scale_ratio, scale_text, sheet_size
+from .. import quantities as Q
+from ..quantities import G
 from ..errors import InputError
+from ..quantities import scale_text
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -144,7 +145,7 @@ class IsolatorConfig:
     grooves: int | None = None          # 3 | 4 | None = the lighter passing design
     thickness: float = 0.03             # plate thickness, m
     target: float | None = None         # stricter plate acceleration limit, m/s^2
-    fuse_release: float | None = 0.075 * 9.81   # m/s^2; None = no fuse
+    fuse_release: float | None = 0.075 * G   # m/s^2; None = no fuse
     segments: int = 256                 # groove tessellation of the plate solids
 
 
@@ -256,6 +257,15 @@ def _show(v) -> str:
     return f'"{v}"' if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v)
 
 
+def _whole(parse, value):
+    """``parse(value)`` (a function of :mod:`statue2model.quantities`) with its whole message
+    kept when it refuses the value (ValueError; an InputError's message would be cut)."""
+    try:
+        return parse(value)
+    except InputError as exc:
+        raise ValueError(str(exc)) from None
+
+
 def _convert(sec: str, key: str, value, default, where: str, nullable: bool = False):
     """One TOML value -> the field's type, or an InputError naming it."""
     name = f"{where}: [{sec}] {key}"
@@ -277,21 +287,19 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
                 raise ValueError(f"must be one of {', '.join(_CHOICES[sec, key])}")
             return v
         if (sec, key) in _LENGTHS:
-            v = length(value) if isinstance(value, str) else float(value)
+            v = _whole(Q.length, value) if isinstance(value, str) else float(value)
         elif (sec, key) in _ACCELS:
-            from ..dynamics.motions import parse_accel
-
             if not isinstance(value, str):  # one meaning everywhere: an acceleration carries its unit
                 raise ValueError(f"an acceleration needs its unit: write \"{float(value):g}g\" or "
                                  f"\"{float(value):g}m/s2\"")
             try:
-                v = parse_accel(value, key, key=key)
+                v = Q.parse_accel(value, key, key=key)
             except InputError as exc:       # its whole message ("fuse_release=0.3 has no unit: ...")
                 raise ValueError(str(exc)) from None
         elif key == "scale":
-            v = scale_ratio(value)         # "1:2" or 0.5; a bare 2 is refused (1:2 or 2:1?)
+            v = _whole(Q.scale_ratio, value)         # "1:2" or 0.5; a bare 2 is refused (1:2 or 2:1?)
         elif key == "sheet":
-            v = sheet_size(value) if isinstance(value, str) else tuple(float(x) for x in value)
+            v = _whole(Q.sheet_size, value) if isinstance(value, str) else tuple(float(x) for x in value)
             if len(v) != 2:
                 raise ValueError("must be [W, H] in m or 'WxHmm'")
             return v
@@ -316,7 +324,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             if isinstance(value, bool):
                 raise ValueError("must be a number")
             v = float(value)
-    except (ValueError, TypeError, argparse.ArgumentTypeError, InputError) as exc:
+    except (ValueError, TypeError, InputError) as exc:
         msg = str(exc).split(": ")[-1] if isinstance(exc, InputError) else str(exc)
         raise InputError(f"{name} = {value!r}: {msg}") from None
     if not math.isfinite(v):
@@ -408,7 +416,7 @@ def motion_files(cfg: ProjectConfig, sections) -> dict:
 
 def grid(text: str, what: str, accel: bool = False) -> np.ndarray:
     """'START:STOP:N' (or 'a,b,c') -> the values (accelerations may carry a g suffix)."""
-    from ..dynamics.sweeps import linspace_spec
+    from ..rocking.sweeps import linspace_spec
 
     return linspace_spec(text, what, accel)
 
@@ -437,8 +445,8 @@ def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np
 def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     """Check what can be checked before any work starts (grids, motions, spectra,
     ranges), so a typo fails in a second, not after minutes."""
-    from ..dynamics.motions import parse_spec
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.motions import parse_spec
+    from ..hazard.code_spectra import parse_spectrum
 
     def bad(msg):
         raise InputError(f"{where}: {msg}")
@@ -566,8 +574,8 @@ def _check_sizes(name: str, motion, d: DynamicsConfig, freqs, amps, pgas, where:
     (:mod:`statue2model.compute.budget`): the spectrum grids, the PGA levels (each level's task
     carries the record: levels x samples), the histories of the motion."""
     from ..compute.budget import check_bytes, check_history, check_runs, num
-    from ..dynamics.engine import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
-    from ..dynamics.spectrum import BYTES_PER_RUN, check_grid
+    from ..rocking.engine import FREE_TIME, HISTORY_BYTES_PER_SAMPLE
+    from ..rocking.spectrum import BYTES_PER_RUN, check_grid
 
     def named(fn, *a, **kw):
         try:

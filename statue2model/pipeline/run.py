@@ -38,16 +38,16 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
+from ..quantities import G
 from ..io.csvsafe import write_csv
 from ..errors import InputError
 from ..io.files import atomic_write, open_output, write_json
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, motion_files, stage_list
 from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
-from .verdict import assess
-
-MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".pcd", ".xyz", ".xyzn", ".pts")
+from ..assessment.verdict import assess
+from ..geometry.scan import SCAN_SUFFIXES
 
 
 @dataclass(frozen=True)
@@ -226,7 +226,7 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
                                   "mesh_sha256": mesh_hash, "seconds": res.seconds, "verdict": verdict,
                                   "stages": results, "warnings": res.warnings})
     if report:
-        from .report import write_html
+        from ..report.page import write_html
 
         res = RunResult(mesh=mesh, out=out, config=cfg, stages=results, seconds=res.seconds,
                         report=write_html(res), verdict=verdict)
@@ -274,9 +274,9 @@ def shell_arg(value) -> str:
 def scans_in(folder: str | Path) -> list[Path]:
     """The scans in a folder (by suffix), sorted by name; an error if there is none."""
     folder = Path(folder)
-    scans = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in MESH_SUFFIXES)
+    scans = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in SCAN_SUFFIXES)
     if not scans:
-        raise InputError(f"no scans ({', '.join(MESH_SUFFIXES)}) in folder {folder}")
+        raise InputError(f"no scans ({', '.join(SCAN_SUFFIXES)}) in folder {folder}")
     return scans
 
 
@@ -295,14 +295,14 @@ def _scan_task(task) -> dict:
 
 COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]", 1.0),
                       ("params", "b_L", "b_L [m]", 1.0), ("params", "b_R", "b_R [m]", 1.0),
-                      ("params", "a_min", "weakest uplift [g]", 1 / 9.81),
+                      ("params", "a_min", "weakest uplift [g]", 1 / G),
                       ("params", "weakest_deg", "weakest direction [deg]", 1.0),
                       ("dynamics", "spectrum_overturn_fraction_fixed", "pulses overturning, fixed", 1.0),
                       ("dynamics", "spectrum_overturn_fraction_isolated",
                        "pulses overturning or exceeding the isolator's capacity, isolated", 1.0),
-                      ("dynamics", "first_overturn_pga_fixed", "lowest overturning PGA fixed [g]", 1 / 9.81),
+                      ("dynamics", "first_overturn_pga_fixed", "lowest overturning PGA fixed [g]", 1 / G),
                       ("dynamics", "first_overturn_pga_isolated",
-                       "lowest failing PGA isolated (overturning or capacity exceeded) [g]", 1 / 9.81),
+                       "lowest failing PGA isolated (overturning or capacity exceeded) [g]", 1 / G),
                       ("isolator", "R", "isolator R [m]", 1.0), ("isolator", "T", "isolator T [s]", 1.0),
                       ("isolator", "passed", "isolator passes", None))
 

@@ -35,7 +35,7 @@ from ..errors import InputError
 from ..io.files import atomic_write, read_json, write_json
 from .config import ProjectConfig, grid
 
-G = 9.81
+from ..quantities import G  # m/s^2
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class Context:
         return RockingParams.from_dict(read_json(self.dirs["params"] / "props.json"))
 
     def model(self):
-        from ..dynamics.model import RockingModel
+        from ..rocking.model import RockingModel
 
         m, p = self.config.model, self.params()
         mu_s = getattr(m, "mu_static", None)
@@ -167,9 +167,9 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
 
 # --- isolator -------------------------------------------------------------------------------------
 def isolator_stage(ctx: Context, d: Path) -> dict:
-    from ..dynamics.motions import parse_spec
+    from ..hazard.motions import parse_spec
     from ..isolator.design import design
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.code_spectra import parse_spectrum
     from ..isolator.plates import PlateGeometry, write_plates
 
     c, m = ctx.config.isolator, ctx.config.model
@@ -217,8 +217,8 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
 def _spectrum_rows(sp, label):
     """One row of the spectra table. Isolated spectra (codes may be CAPACITY): 'overturns'
     and the lowest amplitude count overturning or capacity exceeded, the conservative failure."""
-    from ..dynamics.batch import OUTCOMES
-    from ..dynamics.spectrum import label as code_label
+    from ..rocking.batch import OUTCOMES
+    from ..rocking.spectrum import label as code_label
     from ..isolator.sweeps import CAPACITY, is_failure
 
     n = sp.codes.size
@@ -239,13 +239,13 @@ def _first_overturn(sw) -> float | None:
 
 
 def dynamics_stage(ctx: Context, d: Path) -> dict:
-    from ..dynamics.engine import simulate as rock
-    from ..dynamics.motions import parse_spec
-    from ..dynamics.spectrum import stability_spectrum
-    from ..dynamics.sweeps import variability
+    from ..rocking.engine import simulate as rock
+    from ..hazard.motions import parse_spec
+    from ..rocking.spectrum import stability_spectrum
+    from ..rocking.sweeps import variability
     from ..isolator.coupled import simulate_coupled
     from ..isolator.device import isolator_from_design
-    from ..isolator.dynamics import simulate as plate_run
+    from ..isolator.time_history import simulate as plate_run
     from ..isolator.sweeps import CAPACITY, FAILED, is_failure, isolated_spectrum, isolated_variability
     from ..report.dynamics_plots import plot_spectrum
     from ..report.pipeline_plots import plot_history_pair, plot_variability_pair
@@ -361,8 +361,8 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
                             "the run stops there: a failure, as bad as overturning.")
     data.update(outcome_fixed=fixed.outcome, theta_max_over_delta_fixed=fixed.theta_max_over_delta)
     if c.fragility:
-        from .fragility import fragility_section
-        from .verdict import DEFAULT_SPECTRUM
+        from ..assessment.study import fragility_section
+        from ..assessment.verdict import DEFAULT_SPECTRUM
 
         fr = fragility_section(ctx, d, model, iso, ctx.config.isolator.spectrum or DEFAULT_SPECTRUM, ctx.executor)
         figs += fr["figures"]
@@ -448,12 +448,12 @@ def _why_missed(cd: dict) -> str:
 def crosscheck_stage(ctx: Context, d: Path) -> dict:
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.isolator_scene import IsolatorScene
-    from ..crosscheck.report import summary as cc_summary
-    from ..crosscheck.report import write_report
-    from ..crosscheck.runs import compare
+    from ..crosscheck.output import summary as cc_summary
+    from ..crosscheck.output import write_report
+    from ..crosscheck.compare import compare
     from ..crosscheck.statue_scene import StatueScene
     from ..crosscheck.world import SimSettings
-    from ..dynamics.motions import parse_spec
+    from ..hazard.motions import parse_spec
 
     c = ctx.config.crosscheck
     motion = parse_spec(c.motion)[0]

@@ -4,7 +4,8 @@ Example
 -------
 >>> import tempfile, pathlib
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions, simulate
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel, simulate
 >>> model = RockingModel.housner(RockingParams.rectangular_block(0.0384, 0.2, 1.286), e_L=0.9, e_R=0.9)
 >>> r = simulate(model, motions.cosine_pulse(0.3 * 9.81, 2.0), dt_out=0.005)
 >>> plot_time_history(r, pathlib.Path(tempfile.mkdtemp()) / "rock.png").exists()
@@ -69,8 +70,8 @@ def plot_spectrum(sp, path, title: str | None = None) -> Path:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from ..dynamics.batch import OUTCOMES
-    from ..dynamics.spectrum import label
+    from ..rocking.batch import OUTCOMES
+    from ..rocking.spectrum import label
 
     g = sp.model.params.g
     codes = np.asarray(sp.codes, dtype=np.int64)

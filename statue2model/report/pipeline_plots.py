@@ -5,8 +5,9 @@ Example
 -------
 >>> import tempfile, pathlib, numpy as np
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions
->>> from statue2model.dynamics.sweeps import variability
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
+>>> from statue2model.rocking.sweeps import variability
 >>> model = RockingModel.housner(RockingParams.rectangular_block(0.0384, 0.2, 1.286))
 >>> sw = variability(model, motions.sine_pulse(0.3 * 9.81, 2.0), np.linspace(0.1, 0.6, 6) * 9.81)
 >>> plot_variability_pair(sw, None, None, pathlib.Path(tempfile.mkdtemp()) / "v.png").exists()

@@ -1,6 +1,6 @@
 """The dynamics stage's fragility study: probability of failure against PGA, fixed base and isolated.
 
-The records are a spectrum-compatible set (statue2model.dynamics.matching.match_set) matched to the
+The records are a spectrum-compatible set (statue2model.hazard.matching.match_set) matched to the
 design spectrum of the project (``[isolator] spectrum``, the hazard of the verdict), ``[dynamics]
 fragility_records`` records of ``fragility_duration`` s, seeds 1..N (written to
 ``dynamics/records/``: record_NN.csv, set.json, spectra.png). Each is scaled to every PGA level
@@ -8,7 +8,7 @@ fragility_records`` records of ``fragility_duration`` s, seeds 1..N (written to
 every parameter sample (the thesis' theta_R sweep, ``fragility_samples`` values, for the imperfect
 model; the model as it is for Housner's, whose curves are then the record-to-record variability
 alone, said in the text) and run on a fixed base and, with an isolator design, on the isolator
-(statue2model.dynamics.fragility.run_fragility). Writes fragility.json, fragility.csv and
+(statue2model.assessment.fragility.run_fragility). Writes fragility.json, fragility.csv and
 fragility.png; returns the report's table, figure, text and the verdict's numbers:
 
     fragility_median_fixed        median PGA of overturning on a fixed base (m/s^2; None if not fitted)
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-G = 9.81
+from ..quantities import G  # m/s^2
 AUTO_LEVELS = (0.2, 3.0, 10)
 """'auto' PGA levels: (lowest, highest multiple of the design PGA, number), geometric."""
 
@@ -39,19 +39,19 @@ def levels_for(text: str, pga: float) -> np.ndarray:
     if str(text).strip().lower() == "auto":
         lo, hi, n = AUTO_LEVELS
         return pga * np.geomspace(lo, hi, n)
-    from .config import fragility_levels
+    from ..pipeline.config import fragility_levels
 
     return fragility_levels(text)
 
 
 def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, executor=None) -> dict:
     """Run the study of the module docstring; returns {'figures', 'tables', 'text', 'warnings', 'data'}."""
-    from ..dynamics.fragility import LABELS, FragilityStudy, run_fragility
-    from ..dynamics.matching import match_set, plot_spectra, set_files
-    from ..dynamics.motions import write_record_csv
-    from ..dynamics.sampling import nominal, thesis_theta_R
+    from .fragility import LABELS, FragilityStudy, run_fragility
+    from ..hazard.matching import match_set, plot_spectra, set_files
+    from ..hazard.motions import write_record_csv
+    from ..rocking.sampling import nominal, thesis_theta_R
     from ..io.files import write_json
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.code_spectra import parse_spectrum
 
     c = ctx.config.dynamics
     target = parse_spectrum(design_spectrum_text)

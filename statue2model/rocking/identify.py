@@ -14,7 +14,8 @@ their mean when fewer than three.
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions, simulate
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel, simulate
 >>> p = RockingParams(m=19.6, h=0.3523, b_L=0.1995, b_R=0.0805, I_G=1.105)
 >>> r = simulate(RockingModel.housner(p, e_L=0.95, e_R=0.90), motions.free(),
 ...              theta0=0.8 * p.delta_R, t_end=3.0, dt_out=1e-3)

@@ -12,7 +12,7 @@ Example
 -------
 >>> import numpy as np
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel
+>>> from statue2model.rocking import RockingModel
 >>> a1 = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
 >>> model = RockingModel.imperfect(a1, 0.65, 0.65, 0.13 * a1.delta_L, 0.13 * a1.delta_R, e_L=0.93, e_R=0.93)
 >>> sp = stability_spectrum(model, np.linspace(1, 6, 6), np.linspace(0.05, 1.0, 8) * 9.81)

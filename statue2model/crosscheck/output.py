@@ -8,7 +8,7 @@ n_not_applicable, n_diagnostic, not_applicable: [...]}, "runs":
 
 Example
 -------
->>> from statue2model.crosscheck.runs import Case, Comparison
+>>> from statue2model.crosscheck.compare import Case, Comparison
 >>> import tempfile, json, numpy as np, pathlib
 >>> d = pathlib.Path(tempfile.mkdtemp())
 >>> c = Comparison(cases=(Case.relative("q", "s", 1.0, 1.001, 0.01),),

@@ -1,7 +1,7 @@
 """The same rocking model written plainly with scipy.integrate.solve_ivp.
 
 This is the baseline of the work-precision benchmark and an independent
-cross-check of :mod:`statue2model.dynamics.kernel` in the tests: it shares the
+cross-check of :mod:`statue2model.rocking.kernel` in the tests: it shares the
 model (:class:`RockingModel`) and the motion objects but none of the solver code.
 One ``solve_ivp`` call per phase of motion; impacts, region changes and
 overturning are terminal events, peaks are non-terminal events; the stick phase
@@ -10,7 +10,8 @@ is scanned on a grid and refined with ``brentq``.
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
 >>> model = RockingModel.housner(RockingParams.rectangular_block(0.0384, 0.2, 1.286), e_L=0.9, e_R=0.9)
 >>> out = simulate_scipy(model, motions.free(), theta0=0.1, t_end=1.0)
 >>> len(out["impact_times"]) >= 2
@@ -25,7 +26,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from .model import RockingModel
-from .motions import GroundMotion
+from ..hazard.motions import GroundMotion
 
 
 def _accel_fn(motion: GroundMotion):

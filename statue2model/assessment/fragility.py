@@ -1,9 +1,9 @@
 """Fragility: the probability of failure against the intensity of the ground motion,
 on a fixed base and on the isolator, fitted as lognormal curves.
 
-A study runs every record (a list of :class:`~statue2model.dynamics.motions.GroundMotion`)
+A study runs every record (a list of :class:`~statue2model.hazard.motions.GroundMotion`)
 scaled to every intensity level (PGA in m/s^2, or PGV in m/s) for every parameter
-sample (:mod:`statue2model.dynamics.sampling`): records x levels x samples runs. Each
+sample (:mod:`statue2model.rocking.sampling`): records x levels x samples runs. Each
 run's outcome is a yes / no per *outcome*, each with its own curve:
 
 * ``overturn`` - the body overturns on a fixed base (rocking kernel, run_batch);
@@ -53,8 +53,9 @@ Example
 -------
 >>> import numpy as np
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions
->>> from statue2model.dynamics.sampling import lognormal_factor
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
+>>> from statue2model.rocking.sampling import lognormal_factor
 >>> block = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
 >>> model = RockingModel.housner(block, e_L=0.9, e_R=0.9)
 >>> recs = [motions.synthetic_record(8.0, 0.01, 1.0, seed=s) for s in range(3)]
@@ -72,18 +73,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..quantities import G
 from ..compute.budget import check_bytes, check_runs
 from ..errors import InputError
-from . import kernel as K
-from .batch import run_batch
-from .engine import FREE_TIME
-from .model import RockingModel
-from .motions import GroundMotion
-from .sampling import ParameterSamples
+from ..rocking import kernel as K
+from ..rocking.batch import run_batch
+from ..rocking.engine import FREE_TIME
+from ..rocking.model import RockingModel
+from ..hazard.motions import GroundMotion
+from ..rocking.sampling import ParameterSamples
 
 IMS = ("pga", "pgv")
 FIXED = ("overturn",)
-ISOLATED = ("overturn_isolated", "capacity_exceeded", "failure_isolated")
 LABELS = {"overturn": "overturning, fixed base", "overturn_isolated": "overturning on the isolator",
           "capacity_exceeded": "isolator capacity exceeded",
           "failure_isolated": "failure on the isolator (overturning or capacity)"}
@@ -464,7 +465,7 @@ def _check_inputs(model, records, levels, samples, study):
     if not records or not all(isinstance(r, GroundMotion) for r in records):
         raise InputError("records must be a non-empty list of GroundMotion")
     if not isinstance(samples, ParameterSamples):
-        raise InputError("samples must be ParameterSamples (statue2model.dynamics.sampling)")
+        raise InputError("samples must be ParameterSamples (statue2model.rocking.sampling)")
     lv = np.asarray(levels, dtype=float).ravel()
     if lv.size == 0 or not np.all(np.isfinite(lv)) or np.any(lv <= 0):
         raise InputError(f"intensity levels must be finite and > 0 ({'m/s^2' if study.im == 'pga' else 'm/s'})")
@@ -484,7 +485,7 @@ def _n_samples(motion: GroundMotion) -> int:
 def _rows_task(task: tuple) -> np.ndarray:
     """One block of fixed-base rows on a worker: (P, eLw, eLe, eRw, eRe, kinds, M, samples,
     t_end, rtol, max_steps) -> statistics (rows, N_S). Module level: it pickles."""
-    from .batch import _run_rows
+    from ..rocking.batch import _run_rows
 
     return _run_rows(task)
 
@@ -560,7 +561,7 @@ def _iso_task(task: tuple) -> np.ndarray:
     (samples, 3) int: overturned, capacity exceeded, finished. The plate alone is run once
     per distinct scaled motion (Coulomb: exact while the statue stays in contact); the
     coupled system only for the samples the plate's absolute acceleration can lift."""
-    from ..isolator import dynamics as ID
+    from ..isolator import time_history as ID
     from ..isolator.coupled import simulate_coupled
 
     iso, models, motion, factors, t_end, rtol = task
@@ -786,7 +787,7 @@ def plot_fragility(res: FragilityResult, path):
 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
-    scale = 9.81 if res.im == "pga" else 1.0
+    scale = G if res.im == "pga" else 1.0
     xs = np.geomspace(res.levels[0], res.levels[-1], 200)
     for k, c in res.curves.items():
         col = COLOURS[k]

@@ -25,8 +25,8 @@ import numbers
 import time
 from pathlib import Path
 
-from .. import __version__
-from .cache import safe_figures
+from ..version import __version__
+from ..pipeline.cache import safe_figures
 
 TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sheets",
           "isolator": "Rolling-ball isolator", "dynamics": "2D analyses: fixed base and isolator",
@@ -134,6 +134,6 @@ def _figures(man: dict, out: Path, name: str) -> list[dict]:
 
 
 def write_html(res) -> Path:
-    from ..report.html import render_report
+    from .html import render_report
 
     return render_report(build_doc(res), Path(res.out) / "report.html", base_dir=Path(res.out))

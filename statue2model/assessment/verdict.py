@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-G = 9.81
+from ..quantities import G  # m/s^2
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 
 
@@ -76,7 +76,7 @@ def _ratio(cap: float | None, demand: float | None) -> float | None:
 
 def hazard(cfg) -> dict:
     """The design earthquake of the configuration: code, ground/soil, a_g, S, PGA (m/s^2)."""
-    from ..isolator.design_spectrum import parse_spectrum
+    from ..hazard.code_spectra import parse_spectrum
 
     text = DEFAULT_SPECTRUM
     if cfg is not None and getattr(cfg, "isolator", None) is not None and cfg.isolator.spectrum:

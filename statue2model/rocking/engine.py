@@ -1,13 +1,14 @@
 """Run the 2D rocking model: :func:`simulate` -> :class:`RockingResult`.
 
-The problem (a :class:`~statue2model.dynamics.model.RockingModel` and a
-:class:`~statue2model.dynamics.motions.GroundMotion`) is kept apart from the
-solver (:mod:`statue2model.dynamics.kernel`) and from the result.
+The problem (a :class:`~statue2model.rocking.model.RockingModel` and a
+:class:`~statue2model.hazard.motions.GroundMotion`) is kept apart from the
+solver (:mod:`statue2model.rocking.kernel`) and from the result.
 
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
 >>> block = RockingParams.rectangular_block(b=0.0384, h=0.2, m=1.286)
 >>> model = RockingModel.housner(block, e_L=0.9, e_R=0.9)
 >>> r = simulate(model, motions.free(), theta0=0.1)
@@ -35,7 +36,7 @@ from ..compute.compile import ensure_compiled
 from ..errors import InputError
 from . import kernel as K
 from .model import RockingModel
-from .motions import GroundMotion
+from ..hazard.motions import GroundMotion
 
 FREE_TIME = 20.0  # s of free motion simulated after the ground stops, by default
 HISTORY_BYTES_PER_SAMPLE = 72

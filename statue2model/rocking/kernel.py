@@ -1,6 +1,6 @@
 """Compiled integrator of the 2D rocking model (numba, no Python objects).
 
-This module is the hot loop behind :func:`statue2model.dynamics.engine.simulate`;
+This module is the hot loop behind :func:`statue2model.rocking.engine.simulate`;
 use that function, not these arrays, unless you are writing a new sweep.
 
 Method
@@ -8,7 +8,7 @@ Method
 * Dormand-Prince 8(5,3) (the DOP853 tableau of scipy, read from scipy so the
   coefficients are not re-typed) with its own step-size control, on the state
   ``(theta, theta')``; the tableau, error norm, step-size controller, dense output
-  and Illinois iteration are those of :mod:`statue2model.dynamics.dop853`, shared
+  and Illinois iteration are those of :mod:`statue2model.rocking.dop853`, shared
   with the coupled plate + statue kernel.
 * The right-hand side is smooth inside a *segment*: one side (pivot), one
   region of the rolling transition (|theta| below or above theta_L / theta_R)
@@ -39,6 +39,10 @@ import numpy as np
 from numba import njit, prange
 from numba import types as nt
 
+from ..hazard.motion_kernel import (  # noqa: F401  (re-exported: the motion encoding the kernels read)
+    M_HARMONIC, M_NONE, M_RECORD, M_RECT, MA, MDT, MPH, MT0, MT1, MW, N_M, SAMPLES, as_samples, ground_acc,
+    segment)
+from ..hazard.motion_kernel import seg_acc as _acc
 from . import dop853 as D8
 
 _NS = D8.N_STAGES
@@ -52,11 +56,6 @@ _NI = D8.INTERPOLATOR_POWER
 P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL, EARLY = range(14)
 N_P = 14
 
-# --- motion: kind and parameter vector M -----------------------------------
-M_NONE, M_HARMONIC, M_RECT, M_RECORD = 0, 1, 2, 3
-# M = [amp (or gain of a record), omega, phase, t_start, t_stop, dt]
-MA, MW, MPH, MT0, MT1, MDT = range(6)
-N_M = 6
 
 # --- statistics vector S ----------------------------------------------------
 (S_QMAX_R, S_QMAX_L, S_T_UPLIFT, S_N_IMP, S_OVERTURNED, S_T_OVERTURN, S_IMP_BEFORE_OT,
@@ -77,83 +76,6 @@ F8, I8 = nt.float64, nt.int64
 VEC = nt.Array(nt.float64, 1, "C")
 MAT = nt.Array(nt.float64, 2, "C")
 IVEC = nt.Array(nt.int64, 1, "C")
-SAMPLES = nt.Array(nt.float64, 1, "C", readonly=True)
-
-
-def as_samples(samples) -> np.ndarray:
-    """Motion samples (m/s^2, shape (n,)) as every kernel takes them: float64,
-    C-contiguous and read-only (a read-only view, no copy, when the array already is
-    float64 and contiguous), so a record and a pulse share one compiled signature."""
-    a = np.ascontiguousarray(samples, dtype=np.float64)
-    if a.flags.writeable:
-        a = a.view()
-        a.flags.writeable = False
-    return a
-
-
-# --- ground motion ------------------------------------------------------------
-@njit(cache=True)
-def segment(t, kind, M, samples, seg):
-    """Fill ``seg`` = [c0, c1, t0, A, w, ts, phi, u_end] for the smooth piece of the
-    motion that holds t (right-continuous); u(t) = c0 + c1 (t - t0) + A sin(w (t - ts) + phi);
-    u_end is a record sample's exact value at the end of the piece (nan otherwise).
-    Return the end of that piece (inf if none)."""
-    for i in range(8):
-        seg[i] = 0.0
-    seg[7] = np.nan
-    if kind == M_NONE:
-        return np.inf
-    ts = M[MT0]
-    te = M[MT1]
-    if t < ts:
-        return ts
-    if t >= te:
-        return np.inf
-    if kind == M_HARMONIC:
-        seg[3] = M[MA]
-        seg[4] = M[MW]
-        seg[5] = ts
-        seg[6] = M[MPH]
-        return te
-    if kind == M_RECT:
-        seg[0] = M[MA]
-        return te
-    # record: samples at ts + k dt, linear in between
-    dt = M[MDT]
-    n = samples.shape[0]
-    k = int(math.floor((t - ts) / dt))
-    if k < 0:
-        k = 0
-    if k > n - 2:
-        k = n - 2
-    if t < ts + k * dt and k > 0:
-        k -= 1
-    if t >= ts + (k + 1) * dt and k < n - 2:
-        k += 1
-    tk = ts + k * dt
-    seg[0] = M[MA] * samples[k]
-    seg[1] = M[MA] * (samples[k + 1] - samples[k]) / dt
-    seg[2] = tk
-    seg[7] = M[MA] * samples[k + 1]  # the exact value at the end of the piece
-    if k == n - 2:
-        return te
-    return ts + (k + 1) * dt
-
-
-@njit(cache=True, inline="always")
-def _acc(t, seg):
-    u = seg[0] + seg[1] * (t - seg[2])
-    if seg[3] != 0.0:
-        u += seg[3] * math.sin(seg[4] * (t - seg[5]) + seg[6])
-    return u
-
-
-@njit(cache=True)
-def ground_acc(t, kind, M, samples):
-    """Ground acceleration u_g''(t) in m/s^2 (right-continuous at breakpoints)."""
-    seg = np.empty(8)
-    segment(t, kind, M, samples, seg)
-    return _acc(t, seg)
 
 
 @njit(cache=True)

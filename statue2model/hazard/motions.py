@@ -38,19 +38,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from . import kernel as K
+from ..quantities import A_MAX, G, G_STANDARD, parse_accel, scale_ratio
+from . import motion_kernel as MK
 
-G_STD = 9.80665  # the g of accelerogram files (PEER NGA)
-
-
-def _limits():
-    from ..geometry.units import PLAUSIBLE
-
-    return PLAUSIBLE["acceleration"], PLAUSIBLE["time_step"]
-
-
-A_MAX = _limits()[0].hard_high
-"""Largest |u_g''| (m/s^2) accepted anywhere: 100 g (981 m/s^2)."""
 
 
 def check_acc(value: float, where: str) -> None:
@@ -140,25 +130,25 @@ class GroundMotion:
 
         ensure_compiled()
         kind, M, samples = self.kernel_args()
-        return np.vectorize(lambda x: K.ground_acc(x, kind, M, samples), otypes=[float])(t)
+        return np.vectorize(lambda x: MK.ground_acc(x, kind, M, samples), otypes=[float])(t)
 
     def kernel_args(self) -> tuple[int, np.ndarray, np.ndarray]:
         """(kind, M, samples) of the kernels (samples read-only: :func:`kernel.as_samples`)."""
-        M = np.zeros(K.N_M)
-        M[K.MT0] = self.start
-        M[K.MT1] = self.start + self.duration
+        M = np.zeros(MK.N_M)
+        M[MK.MT0] = self.start
+        M[MK.MT1] = self.start + self.duration
         if self.kind == "none":
-            return K.M_NONE, M, K.as_samples(np.zeros(2))
-        M[K.MA] = self.amp
+            return MK.M_NONE, M, MK.as_samples(np.zeros(2))
+        M[MK.MA] = self.amp
         if self.kind == "harmonic":
-            M[K.MW] = 2 * math.pi * self.freq
-            M[K.MPH] = self.phase
-            return K.M_HARMONIC, M, K.as_samples(np.zeros(2))
+            M[MK.MW] = 2 * math.pi * self.freq
+            M[MK.MPH] = self.phase
+            return MK.M_HARMONIC, M, MK.as_samples(np.zeros(2))
         if self.kind == "rect":
-            return K.M_RECT, M, K.as_samples(np.zeros(2))
-        M[K.MA] = 1.0
-        M[K.MDT] = self.dt
-        return K.M_RECORD, M, K.as_samples(self.samples)
+            return MK.M_RECT, M, MK.as_samples(np.zeros(2))
+        M[MK.MA] = 1.0
+        M[MK.MDT] = self.dt
+        return MK.M_RECORD, M, MK.as_samples(self.samples)
 
     def scaled(self, factor: float) -> "GroundMotion":
         """Accelerations times ``factor``."""
@@ -287,7 +277,7 @@ def record(acc, dt: float, start: float = 0.0, label: str = "record") -> GroundM
     return GroundMotion("record", 1.0, 0.0, 0.0, float(start), dt * (acc.size - 1), float(dt), acc, label)
 
 
-def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 * 9.81, seed: int = 0,
+def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 * G, seed: int = 0,
                      f_g: float = 2.5, zeta_g: float = 0.6) -> GroundMotion:
     """A reproducible artificial accelerogram: white noise through a Kanai-Tajimi
     filter (ground frequency f_g Hz, damping zeta_g), shaped by a rise / strong /
@@ -358,7 +348,7 @@ def _read_at2(path: Path) -> GroundMotion:
             where.append(j)
     if len(values) != npts:
         raise InputError(f"{path}: header says NPTS={npts} but the file holds {len(values)} values")
-    acc = np.asarray(values) * G_STD
+    acc = np.asarray(values) * G_STANDARD
     _check_samples(acc, str(path), where)
     return record(acc, dt, label=path.name)
 
@@ -391,7 +381,7 @@ def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
         raise InputError(f"{path}: line {line_no[i]} has {len(rows[i])} columns, line {line_no[0]} has "
                          f"{len(rows[0])}: rows have different numbers of columns")
     data = np.asarray(rows)
-    factor = G_STD if units == "g" else 1.0
+    factor = G_STANDARD if units == "g" else 1.0
     if data.shape[1] == 1:
         if dt is None:
             raise InputError(f"{path}: one column of accelerations needs the time step: add dt=S to the spec")
@@ -488,50 +478,6 @@ def table_displacement(motion: GroundMotion, dt: float | None = None):
 
 
 # --- SPEC strings ------------------------------------------------------------------
-G_SPEC = 9.81
-"""The g of an acceleration written '0.3g' (SPEC strings, grids, project files)."""
-
-ACCEL_UNITS = (("m/s^2", 1.0), ("m/s**2", 1.0), ("m/s²", 1.0), ("m/s2", 1.0), ("g", None))
-"""Unit spellings of an acceleration (case-insensitive) -> factor to m/s^2 (None: g)."""
-
-
-def parse_accel(text: str, what: str = "acceleration", key: str | None = None, g: float = G_SPEC) -> float:
-    """'0.3g' (times ``g`` = 9.81) or '2.94m/s2' ('m/s^2', 'm/s**2', 'm/s²') -> m/s^2.
-
-    A number without a unit is refused (it once meant m/s^2 and read as 'no motion' to
-    whoever meant g); only 0 may go without one. ``key`` names the value in the
-    message as the user wrote it (``amp=0.3``).
-
-    >>> parse_accel("0.3g"), parse_accel("2.5 m/s^2"), parse_accel("0")
-    (2.943, 2.5, 0.0)
-    >>> parse_accel("0.3", key="amp")
-    Traceback (most recent call last):
-    ...
-    statue2model.errors.InputError: amp=0.3 has no unit: write amp=0.3g or amp=2.94m/s2
-    """
-    raw = str(text).strip()
-    s = raw.lower()
-    factor = None
-    for unit, f in ACCEL_UNITS:
-        if s.endswith(unit):
-            s, factor = s[: -len(unit)].strip(), (g if f is None else f)
-            break
-    try:
-        value = float(s) * (1.0 if factor is None else factor)
-    except ValueError:
-        raise InputError(f"{what} must be a number with a unit (0.3g or 2.94m/s2), got {text!r}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{what} must be finite, got {text!r}")
-    if factor is None and value != 0:
-        name = f"{key}=" if key else ""
-        head = f"{name}{raw}" if key else f"{what}: {raw}"
-        raise InputError(f"{head} has no unit: write {name}{raw}g or {name}{value * g:.3g}m/s2")
-    if abs(value) > A_MAX:
-        raise InputError(f"{f'{key}={raw}' if key else f'{what} {raw}'} is {abs(value) / g:.4g} g: no ground "
-                         f"motion reaches {A_MAX / G_SPEC:g} g (check the unit)")
-    return value
-
-
 def _num(key: str, text: str, positive: bool = False) -> float:
     try:
         value = float(text)
@@ -567,13 +513,9 @@ _SPEC_KEYS = {
 def _froude_scale(text: str) -> float:
     """lambda of ``scale=1:2`` (or the ratio ``0.5``) in a motion spec; a bare 2 is refused
     as everywhere else (1:2 or 2:1?)."""
-    import argparse
-
-    from ..cli.argtypes import scale_ratio
-
     try:
         return scale_ratio(text)
-    except argparse.ArgumentTypeError as exc:
+    except InputError as exc:
         raise InputError(f"scale={text}: {exc}") from None
 
 

@@ -48,7 +48,7 @@ import numpy as np
 
 from ..errors import InputError
 
-G = 9.80665  # standard gravity, m/s^2
+from ..quantities import G_STANDARD as G  # m/s^2 (standard gravity)
 
 #: EN 1998-1:2004 recommended values, {spectrum type: {ground type: (S, T_B, T_C, T_D)}}
 #: (Table 3.2 for Type 1, Table 3.3 for Type 2).
@@ -234,7 +234,7 @@ def ntc2018(a_g: float, F0: float, Tc_star: float, soil: str = "A", topography: 
 
 # --- command-line form ---------------------------------------------------------------
 def _accel(key: str, text: str) -> float:
-    from ..dynamics.motions import parse_accel     # one reading of an acceleration: 0.25g or 2.45m/s2
+    from ..quantities import parse_accel     # one reading of an acceleration: 0.25g or 2.45m/s2
 
     value = parse_accel(text, f"spectrum: {key}", key=key, g=G)
     if not value > 0:

@@ -5,7 +5,7 @@
 u_o is the plate's displacement relative to the ground (m); the statue feels the
 absolute plate acceleration a_abs = u_g'' + u_o''. The problem (an immutable
 :class:`~statue2model.isolator.device.Isolator` and a
-:class:`~statue2model.dynamics.motions.GroundMotion`) is kept apart from the
+:class:`~statue2model.hazard.motions.GroundMotion`) is kept apart from the
 solvers in kernel.py; :func:`simulate` returns an :class:`IsolatorResult`.
 
 With a statue on top (:func:`statue_on_plate`), plate and statue are integrated
@@ -25,7 +25,7 @@ The crossing time is exact (kernel.py), not read at output samples.
 
 Example
 -------
->>> from statue2model.dynamics import motions
+>>> from statue2model.hazard import motions
 >>> from statue2model.isolator.device import Isolator
 >>> iso = Isolator(R=0.30, r=0.0183, M=21.664, mu=0.0114)
 >>> res = simulate(iso, motions.free(), u0=0.05, t_end=6.0)
@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..compute.compile import ensure_compiled
-from ..dynamics.motions import GroundMotion
+from ..hazard.motions import GroundMotion
 from ..errors import InputError
 from . import kernel as IK
 from .device import Isolator
@@ -264,8 +264,8 @@ def statue_on_plate(plate: IsolatorResult, rocking_model, compare_fixed: bool = 
     start and sampling): the coupled plate + statue model decides whether it lifts
     and how it rocks; the one-way estimate (statue driven by the plate-only a_abs)
     and the fixed-base response are given beside it."""
-    from ..dynamics import motions
-    from ..dynamics.engine import simulate as rock
+    from ..hazard import motions
+    from ..rocking.engine import simulate as rock
     from .coupled import simulate_coupled
 
     up, dn = rocking_model.uplift_limits

@@ -1,7 +1,7 @@
 """Samples of the uncertain model parameters, for fragility studies.
 
 A :class:`ParameterSamples` holds n values of each varied parameter (theta_R,
-alpha_L, e, ... in the units of :class:`~statue2model.dynamics.model.RockingModel`:
+alpha_L, e, ... in the units of :class:`~statue2model.rocking.model.RockingModel`:
 rad for theta, dimensionless alpha and e) and turns them into n models. The special
 name ``im_factor`` (dimensionless, > 0) is not a model parameter: it multiplies the
 ground motion of a run at every intensity level (an uncertain amplification between

@@ -1,6 +1,6 @@
 """Dormand-Prince 8(5,3) machinery shared by the compiled integrators (numba).
 
-The rocking kernel (:mod:`statue2model.dynamics.kernel`, state (theta, theta'))
+The rocking kernel (:mod:`statue2model.rocking.kernel`, state (theta, theta'))
 and the coupled plate + statue kernel (:mod:`statue2model.isolator.coupled_kernel`,
 state (u, u', theta, theta')) step the same method: scipy's DOP853 tableau with
 its error norm, step-size controller and 7th-order dense output (3 extra

@@ -30,7 +30,7 @@ Isolator cases: statue2model.crosscheck.isolator_cases.
 
 Example
 -------
->>> from statue2model.crosscheck.runs import Case
+>>> from statue2model.crosscheck.compare import Case
 >>> c = Case.relative("quarter period", "s", 0.4373, 0.4371, 0.01)
 >>> c.met, c.status, c.as_diagnostic().status
 (True, 'met', 'diagnostic')
@@ -42,9 +42,9 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from ..dynamics import motions
-from ..dynamics.engine import simulate as simulate_2d
-from ..dynamics.model import RockingModel
+from ..hazard import motions
+from ..rocking.engine import simulate as simulate_2d
+from ..rocking.model import RockingModel
 from .contact import ContactSettings, effective_e
 from .statue_scene import LIFT_HEIGHT, STATUE_SETTINGS, StatueScene, simulate_statue
 from .world import SimSettings
@@ -439,7 +439,7 @@ def model_2d(scene: StatueScene, calib: dict | None = None, table: bool = True, 
     scene has (``calib`` from :func:`calibrate_restitution`: its table e(|theta'-|), or its
     constants if ``table`` is False); without ``calib``, eq. 15's (= :func:`user_model`). ``scale``
     multiplies e (the sensitivity study)."""
-    from ..dynamics.model import Restitution
+    from ..rocking.model import Restitution
 
     p = scene.params
     if calib is None:

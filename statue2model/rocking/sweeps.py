@@ -14,7 +14,8 @@ Example
 -------
 >>> import numpy as np
 >>> from statue2model.geometry.rocking_params import RockingParams
->>> from statue2model.dynamics import RockingModel, motions
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
 >>> a1 = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
 >>> model = RockingModel.imperfect(a1, 0.65, 0.65, e_L=0.93, e_R=0.93)
 >>> rec = motions.synthetic_record(10.0, 0.01, 1.0, seed=3)
@@ -38,7 +39,7 @@ from .batch import NOT_APPLICABLE_CODE, outcome_codes, run_batch
 from .engine import FREE_TIME, simulate
 from .spectrum import BYTES_PER_RUN, label
 from .model import RockingModel
-from .motions import GroundMotion
+from ..hazard.motions import GroundMotion
 
 SWEEP_BYTES_PER_RUN = 1024
 """Bytes one value of :func:`parameter_sweep` costs: its own RockingModel and its rows (about 700 B
@@ -220,7 +221,7 @@ def parameter_sweep(model: RockingModel, motion: GroundMotion, name: str, values
 def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:
     """'START:STOP:N' -> N equally spaced values (inclusive, N in 1..1e6); 'a,b,c' -> a
     list. With ``accel``, values carry a unit ('0.05g:1g:20', '0.5m/s2:9m/s2:20'), returned in m/s^2."""
-    from .motions import parse_accel
+    from ..quantities import parse_accel
 
     conv = (lambda v: parse_accel(v, what)) if accel else float
     text = str(text)

@@ -25,12 +25,12 @@ fundamental period in the direction considered, Ta the object's period:
 
 At Ta = 0 both give the floor's peak acceleration: a_g S (1 + 1.5 z/H) (EC8) and
 a_g S (1 + z/H) (NTC). A :class:`FloorSpectrum` has ``Se(T)`` and ``to_dict()`` like
-:class:`~statue2model.isolator.design_spectrum.ElasticSpectrum`, so it is a target
-for :func:`statue2model.dynamics.matching.match_set`. Units: SI (m/s^2, s).
+:class:`~statue2model.hazard.code_spectra.ElasticSpectrum`, so it is a target
+for :func:`statue2model.hazard.matching.match_set`. Units: SI (m/s^2, s).
 
 Example
 -------
->>> from statue2model.isolator.design_spectrum import G, ntc2018
+>>> from statue2model.hazard.code_spectra import G, ntc2018
 >>> ground = ntc2018(0.1 * G, 2.5, 0.3, soil="C")           # a_g S = 0.15 g
 >>> fl = floor_spectrum(ground, z=2, H=3, T1=0.4, code="ec8")
 >>> [round(float(v) / G, 4) for v in fl.Se([0.0, 0.4, 4.0])]   # 1 + 1.5 z/H; 3 (1 + z/H) - 0.5; floor
@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..isolator.design_spectrum import ElasticSpectrum, _periods
+from .code_spectra import ElasticSpectrum, _periods
 
 CODES = ("ec8", "ntc2018")
 

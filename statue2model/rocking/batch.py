@@ -5,7 +5,7 @@ Each row i is one run: model vector ``P[i]``, motion ``kinds[i]``, ``M[i]``
 (all rows share one record's ``samples`` and the restitution tables of one
 model), end time ``t_end[i]``. Rows whose motion never exceeds the uplift
 limits are not integrated at all. Returns the statistics matrix (n, N_S) of
-:mod:`statue2model.dynamics.kernel` (indices ``kernel.S_*``).
+:mod:`statue2model.rocking.kernel` (indices ``kernel.S_*``).
 
 Rows are independent and each is integrated deterministically, so the matrix is
 bit-identical whether the rows run in numba's threads here or in blocks on an

@@ -2,8 +2,8 @@
 
 :func:`match_set` makes N artificial records (default 7) whose 5 %-damped
 pseudo-acceleration spectra match a target: a code spectrum
-(:class:`~statue2model.isolator.design_spectrum.ElasticSpectrum`) or a floor
-spectrum (:class:`~statue2model.dynamics.floor.FloorSpectrum`); anything with
+(:class:`~statue2model.hazard.code_spectra.ElasticSpectrum`) or a floor
+spectrum (:class:`~statue2model.hazard.floor.FloorSpectrum`); anything with
 ``Se(T)`` in m/s^2 (and ``to_dict()``) will do. The method (SIMQKE, Gasparini &
 Vanmarcke 1976, as most codes' "artificial accelerograms"):
 
@@ -12,7 +12,7 @@ Vanmarcke 1976, as most codes' "artificial accelerograms"):
    (the strong phase: 10 s of a 20 s record, EC8 asks for at least 10 s), exponential
    decay to 5 % at D;
 2. each iteration computes the spectra of all records
-   (:func:`statue2model.dynamics.response.psa`, exact for piecewise-linear input), and
+   (:func:`statue2model.hazard.response_spectra.psa`, exact for piecewise-linear input), and
    multiplies each record's Fourier amplitudes by the ratio target / computed,
    interpolated in log frequency between the matching periods (phases kept), then
    re-applies the envelope and removes a baseline (below);
@@ -22,7 +22,7 @@ Vanmarcke 1976, as most codes' "artificial accelerograms"):
 Baseline: the acceleration minus env(t) (c0 + c1 t), with c0, c1 such that the
 velocity and the displacement (trapezoidal integration) end at zero: the records
 start and end at rest, so a shake table can play them (see
-:func:`~statue2model.dynamics.motions.table_displacement`).
+:func:`~statue2model.hazard.motions.table_displacement`).
 
 The set is then checked as the codes ask: its mean spectrum within -10 % / +30 %
 (``tolerance``) of the target at every period of ``band`` (default 0.1-4 s, the
@@ -40,7 +40,7 @@ never filled in from whatever else lies in the folder.
 
 Example
 -------
->>> from statue2model.isolator.design_spectrum import parse_spectrum
+>>> from statue2model.hazard.code_spectra import parse_spectrum
 >>> target = parse_spectrum("ntc2018:ag=0.1g,F0=2.5,Tc=0.3,soil=C")
 >>> s = match_set(target, n=3, seed=1, duration=10, dt=0.01, band=(0.1, 1.5))
 >>> s.met, len(s.records), s.seeds, s.records[0].dt
@@ -55,9 +55,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..quantities import G_STANDARD
 from ..errors import InputError
 from .motions import GroundMotion, record
-from .response import POINTS_PER_PERIOD, psa
+from .response_spectra import POINTS_PER_PERIOD, psa
 
 TOLERANCE = (-0.10, 0.30)
 """Allowed deviation of the set's mean spectrum from the target (EC8 -10 %, NTC 2018 +30 %)."""
@@ -266,7 +267,7 @@ def plot_spectra(rs: RecordSet, path, title: str = "spectrum-compatible set"):
 
     from ..io.files import atomic_write
 
-    g = 9.80665
+    g = G_STANDARD
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, sp in enumerate(rs.spectra):
         ax.plot(rs.periods, sp / g, color="0.7", lw=0.8, label="records" if k == 0 else None)
