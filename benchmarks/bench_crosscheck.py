@@ -21,12 +21,8 @@ import numpy as np
 
 from statue2model.crosscheck.contact import ContactSettings
 from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
-from statue2model.crosscheck.compare import (
-    calibrate_restitution,
-    model_2d,
-    overturn_amplitude_2d,
-    overturn_grid,
-)
+from statue2model.crosscheck.boundary import overturn_amplitude_2d, overturn_grid
+from statue2model.crosscheck.restitution import calibrate_restitution, model_2d
 from statue2model.crosscheck.statue_scene import StatueScene, simulate_statue
 from statue2model.crosscheck.world import SimSettings
 from statue2model.hazard import motions

@@ -25,7 +25,7 @@ def main() -> None:
 
     from statue2model.crosscheck import ensemble as ens
     from statue2model.crosscheck.output import table
-    from statue2model.crosscheck.compare import model_2d
+    from statue2model.crosscheck.restitution import model_2d
     from statue2model.crosscheck.statue_scene import StatueScene
 
     if a.block:

@@ -35,7 +35,7 @@ import numpy as np
 
 from statue2model.crosscheck.isolator_cases import lowpass
 from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
-from statue2model.crosscheck.compare import overturn_amplitude_2d
+from statue2model.crosscheck.boundary import overturn_amplitude_2d
 from statue2model.crosscheck.statue_scene import (
     STATUE_SETTINGS,
     StatueScene,

@@ -1,4 +1,4 @@
-"""Throughput of a fragility study (dynamics/fragility.py) and its scaling on 1 and 2 workers.
+"""Throughput of a fragility study (assessment/fragility.py) and its scaling on 1 and 2 workers.
 
 The study of issue [12]: the thesis' statue prototype (Table 24: h 0.3523, b_L 0.1995,
 b_R 0.0805 m, m 12.074 kg, imperfect model alpha_L 0.159, alpha_R 0.175, theta 4.55e-3 rad)

@@ -148,7 +148,7 @@ def test_as_samples_is_read_only_without_copying():
 
 
 def test_changed_dependency_empties_the_isolator_caches(tmp_path):
-    """Numba keys a cache on the function's own file only: after dynamics/kernel.py
+    """Numba keys a cache on the function's own file only: after rocking/kernel.py
     changes, the isolator kernels (which contain its code) must not load."""
     code = r"""
 import json
@@ -164,7 +164,7 @@ C._refresh_dependents()                                   # nothing changed: kep
 assert C._cached(IK.z_map, sig) is True
 stamp = Path(IK.z_map._cache.cache_path) / "kernel.depends.json"
 stamp.write_text(json.dumps({"depends": ["statue2model.rocking.kernel"], "sha256": "0" * 64}))
-C._refresh_dependents()                                   # as after an edit of dynamics/kernel.py
+C._refresh_dependents()                                   # as after an edit of rocking/kernel.py
 assert C._cached(IK.z_map, sig) is False
 assert json.loads(stamp.read_text())["sha256"] != "0" * 64
 print("ok")

@@ -11,15 +11,10 @@ import pytest
 
 from statue2model.cli import main
 from statue2model.crosscheck.contact import ContactSettings, effective_e, rolling_for_mu
-from statue2model.crosscheck.compare import (
-    Case,
-    calibrate_restitution,
-    free_rocking_cases,
-    model_2d,
-    motion_cases,
-    overturn_grid,
-    pulse_cases,
-)
+from statue2model.crosscheck.boundary import overturn_grid
+from statue2model.crosscheck.case import Case
+from statue2model.crosscheck.restitution import calibrate_restitution, model_2d
+from statue2model.crosscheck.statue_cases import free_rocking_cases, motion_cases, pulse_cases
 from statue2model.crosscheck.statue_scene import (
     StatueScene,
     add_statue,
@@ -362,7 +357,7 @@ def test_groove_loss_converges_with_dt():
 
 
 def test_grid_mesh_on_the_sphere():
-    from statue2model.crosscheck.isolator_scene import grid_cap
+    from statue2model.crosscheck.grooves import grid_cap
 
     R, d = 0.3, 0.012
     v, f = grid_cap(R, d, 0.004)
@@ -378,7 +373,8 @@ def test_groove_tiles_tangent_and_maximal_coordinates():
     localInertiaDiagonal alone zeroed it, NaN at the first step) and keeps the period 2 pi sqrt(R_hat/g)."""
     from dataclasses import replace
 
-    from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator, tile_cap
+    from statue2model.crosscheck.grooves import tile_cap
+    from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
 
     R, d = 0.3, 0.012
     tiles = tile_cap(R, d, 0.01)
@@ -416,7 +412,7 @@ def test_free_standing_statue_checked_against_the_coupled_model(statue):
     from dataclasses import replace
 
     from statue2model.crosscheck.isolator_cases import isolated_statue_cases
-    from statue2model.crosscheck.compare import user_model
+    from statue2model.crosscheck.restitution import user_model
 
     iso = replace(_design_isolator(statue, groove="tiles"), capacity=0.01)
     m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)

@@ -43,7 +43,7 @@ def test_level_result_fails_and_says_why():
 @pytest.mark.slow
 def test_small_ensemble_agrees_and_a_wrong_e_fails():
     pytest.importorskip("pybullet")
-    from statue2model.crosscheck.compare import model_2d
+    from statue2model.crosscheck.restitution import model_2d
     from statue2model.crosscheck.statue_scene import StatueScene
 
     sc = StatueScene.block(b=0.1, h=0.5, m=100.0)
@@ -61,7 +61,7 @@ def test_small_ensemble_agrees_and_a_wrong_e_fails():
 
 @pytest.mark.slow
 def test_ensemble_uses_the_standard_screen_a_squat_block_is_not_applicable():
-    """The ensemble screens each record with runs.screen_values (the standard cases' limits): a squat
+    """The ensemble screens each record with screen.screen_values (the standard cases' limits): a squat
     block (b = h) needs more friction than the scene has, every record is screened and the level is
     'not applicable', never a NO."""
     pytest.importorskip("pybullet")

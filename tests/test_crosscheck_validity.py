@@ -8,19 +8,11 @@ import pytest
 
 from statue2model.crosscheck.contact import ContactSettings
 from statue2model.crosscheck.output import summary, table
-from statue2model.crosscheck.compare import (
-    BOUNDARY_TARGET,
-    LIFT_TARGET,
-    Case,
-    boundary_cases,
-    calibrate_restitution,
-    lift_angle,
-    liftoff_time_2d,
-    pulse_cases,
-    restitution_cases,
-    screen,
-    user_model,
-)
+from statue2model.crosscheck.boundary import BOUNDARY_TARGET, boundary_cases
+from statue2model.crosscheck.case import Case
+from statue2model.crosscheck.restitution import calibrate_restitution, restitution_cases, user_model
+from statue2model.crosscheck.screen import screen
+from statue2model.crosscheck.statue_cases import LIFT_TARGET, lift_angle, liftoff_time_2d, pulse_cases
 from statue2model.crosscheck.statue_scene import (
     LIFT_HEIGHT,
     StatueScene,

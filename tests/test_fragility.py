@@ -1,4 +1,4 @@
-"""Fragility studies (dynamics/fragility.py, dynamics/sampling.py, cli/fragility.py).
+"""Fragility studies (assessment/fragility.py, rocking/sampling.py, cli/fragility.py).
 
 Closed form: a slender block (Housner, linearised) under a rectangular pulse of duration
 t_p and amplitude a overturns iff a >= a* = g delta / (1 - exp(-p t_p)) (MODEL.md section 3).
@@ -33,6 +33,7 @@ from statue2model.rocking.sampling import (
 )
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
+from statue2model.report.fragility_plots import plot_fragility
 
 BLOCK = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
 STATUE = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
@@ -134,7 +135,7 @@ def test_outputs(tmp_path):
     assert d["curves"]["overturn"]["n_trials"].sum() == 3 * 5 * 3
     res.write_json(tmp_path / "f.json")
     res.write_csv(tmp_path / "f.csv")
-    res.plot(tmp_path / "f.png")
+    plot_fragility(res, tmp_path / "f.png")
     lines = (tmp_path / "f.csv").read_text().splitlines()
     assert lines[0].startswith("outcome,pga_m_s2,n_fail,n_trials") and len(lines) == 1 + 5
     assert (tmp_path / "f.png").stat().st_size > 10_000

@@ -16,7 +16,7 @@ import trimesh
 
 from statue2model.io.csvsafe import csv_text, safe_cell, write_csv
 from statue2model.fabrication.output import _csv_text
-from statue2model.pipeline.cache import safe_figures
+from statue2model.report.figure_paths import safe_figures
 from statue2model.pipeline.config import ProjectConfig, load_config
 from statue2model.report.page import build_doc
 from statue2model.pipeline.run import (

@@ -21,8 +21,8 @@ from statue2model.isolator.plates import (
     plate_solid,
     to_trimesh,
     volume_deficit_bound,
-    write_plates,
 )
+from statue2model.report.isolator_plots import write_plates_with_section
 
 REALISTIC = {"side": 0.40, "thickness": 0.03, "R": 0.30, "depth": 0.012,
              "groove_centres": ((-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)), "ball_radius": 0.0183}
@@ -179,7 +179,7 @@ def test_three_grooves(tmp_path):
     assert 0 < g.removed_volume - removed(g, solid) <= volume_deficit_bound(g, 128)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")                          # no lxml: no 3MF, a warning
-        paths = write_plates(g, tmp_path, segments=32)
+        paths = write_plates_with_section(g, tmp_path, segments=32)
     assert paths["section_png"].stat().st_size > 0
 
 
@@ -259,7 +259,7 @@ def test_write_plates(tmp_path):
     g = PlateGeometry(**REALISTIC, **FUSE)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        paths = write_plates(g, tmp_path / "plates", segments=128)
+        paths = write_plates_with_section(g, tmp_path / "plates", segments=128)
     names = {"bottom_stl": "bottom_plate.stl", "top_stl": "top_plate.stl", "bottom_dxf": "bottom_plate.dxf",
              "top_dxf": "top_plate.dxf", "section_png": "plates_section.png", "section_svg": "plates_section.svg"}
     if importlib.util.find_spec("lxml") is not None:

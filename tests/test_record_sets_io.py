@@ -152,7 +152,7 @@ def test_a_hand_written_set_names_its_files_and_their_units(tmp_path):
 
 
 def test_the_run_s_fragility_set_is_a_readable_set(tmp_path):
-    """dynamics/records/ of a run: set.json written as pipeline/fragility.py does (set_files)."""
+    """dynamics/records/ of a run: set.json written as assessment/study.py does (set_files)."""
     from statue2model.hazard.code_spectra import parse_spectrum
 
     rs = matching.match_set(parse_spectrum("ec8:ag=0.2g"), n=2, duration=5, band=(0.1, 1.0))

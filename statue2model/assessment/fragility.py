@@ -73,7 +73,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..quantities import G
 from ..compute.budget import check_bytes, check_runs
 from ..errors import InputError
 from ..rocking import kernel as K
@@ -373,10 +372,6 @@ class FragilityResult:
         from ..io.files import write_json
 
         return write_json(path, self.to_dict())
-
-    def plot(self, path):
-        """Fractions (markers), fitted curves (lines) and their bands (shaded), one colour per outcome."""
-        return plot_fragility(self, path)
 
     def summary_lines(self) -> list[str]:
         """One line per curve and ratio; an undefined number is '-' or its reason, never nan or inf."""
@@ -773,39 +768,3 @@ def _ordered_ci(values, lo_q, hi_q, n_boot, hi_why: str, lo_why: str,
             ends[i] = float("nan")
     lo, hi = ends
     return (lo, hi), ("; ".join(notes) or None)
-
-
-# --- plot -------------------------------------------------------------------------------
-COLOURS = {"overturn": "#d62728", "overturn_isolated": "#1f77b4", "capacity_exceeded": "#6a3d9a",
-           "failure_isolated": "#2ca02c"}
-
-
-def plot_fragility(res: FragilityResult, path):
-    """The fragility curves of ``res`` as a PNG at ``path``."""
-    from ..report.dynamics_plots import _save
-    from ..report.plots import _pyplot
-
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 4.8))
-    scale = G if res.im == "pga" else 1.0
-    xs = np.geomspace(res.levels[0], res.levels[-1], 200)
-    for k, c in res.curves.items():
-        col = COLOURS[k]
-        ax.plot(c.levels / scale, c.fraction, "o", ms=3.5, color=col, alpha=0.7)
-        if c.status in ("ok", "step"):
-            ax.plot(xs / scale, c.probability(xs), "-", color=col,
-                    label=f"{LABELS[k]} (median {c.median / scale:.3g}{' g' if res.im == 'pga' else ' m/s'}, "
-                          f"beta {c.beta:.2f})")
-        else:
-            ax.plot([], [], "o", color=col, label=f"{LABELS[k]} (not fitted: {c.reason})")
-        if c.band_lo is not None and np.all(np.isfinite(c.band_lo)):
-            ax.fill_between(c.levels / scale, c.band_lo, c.band_hi, color=col, alpha=0.15, lw=0)
-    ax.set_xlabel("PGA (g)" if res.im == "pga" else "PGV (m/s)")
-    ax.set_ylabel("probability")
-    ax.set_ylim(-0.02, 1.02)
-    ax.grid(alpha=0.3)
-    ax.set_title(f"fragility: {len(res.record_labels)} records x {res.levels.size} levels x {res.samples.n} "
-                 f"samples; bands {res.study.confidence:.0%} ({res.bootstrap_unit} bootstrap)", fontsize=9)
-    ax.legend(fontsize=7.5, loc="lower right")
-    fig.tight_layout()
-    return _save(fig, path)

@@ -2,14 +2,16 @@
 
 The records are a spectrum-compatible set (statue2model.hazard.matching.match_set) matched to the
 design spectrum of the project (``[isolator] spectrum``, the hazard of the verdict), ``[dynamics]
-fragility_records`` records of ``fragility_duration`` s, seeds 1..N (written to
-``dynamics/records/``: record_NN.csv, set.json, spectra.png). Each is scaled to every PGA level
-(``fragility_levels``: "auto" = 10 levels, geometric, 0.2-3 x the design PGA; or START:STOP:N) for
-every parameter sample (the thesis' theta_R sweep, ``fragility_samples`` values, for the imperfect
-model; the model as it is for Housner's, whose curves are then the record-to-record variability
-alone, said in the text) and run on a fixed base and, with an isolator design, on the isolator
-(statue2model.assessment.fragility.run_fragility). Writes fragility.json, fragility.csv and
-fragility.png; returns the report's table, figure, text and the verdict's numbers:
+fragility_records`` records of ``fragility_duration`` s, seeds 1..N (:func:`match_records`; written
+by :func:`write_records` to ``dynamics/records/``: record_NN.csv, set.json; the stage draws
+spectra.png). Each is scaled to every PGA level (``fragility_levels``: "auto" = 10 levels,
+geometric, 0.2-3 x the design PGA; or START:STOP:N, :func:`fragility_levels`) for every parameter
+sample (the thesis' theta_R sweep, ``fragility_samples`` values, for the imperfect model; the
+model as it is for Housner's, whose curves are then the record-to-record variability alone, said
+in the text) and run on a fixed base and, with an isolator design, on the isolator
+(statue2model.assessment.fragility.run_fragility), by :func:`run_study`. The stage writes
+fragility.json, fragility.csv and fragility.png; the report's table, figure and text are
+statue2model.report.fragility_section's; :meth:`StudyRun.data` gives the verdict's numbers:
 
     fragility_median_fixed        median PGA of overturning on a fixed base (m/s^2; None if not fitted)
     fragility_median_isolated     median PGA of failure on the isolator (overturning or capacity exceeded)
@@ -25,13 +27,38 @@ end not identified: 12 of 200 replicates had no failure ..."). No number here is
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..quantities import G  # m/s^2
+from ..errors import InputError
+
 AUTO_LEVELS = (0.2, 3.0, 10)
 """'auto' PGA levels: (lowest, highest multiple of the design PGA, number), geometric."""
+
+
+def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np.ndarray:
+    """The PGA levels (m/s^2) of a fragility_levels grid ('START:STOP:N' or 'a,b,c', with units),
+    refused in one line naming ``what`` unless there are at least 3, all > 0 and strictly
+    increasing (a reversed grid would otherwise fail only after the study's records are built).
+
+    >>> fragility_levels("0.1g:0.5g:3") / 9.81
+    array([0.1, 0.3, 0.5])
+    >>> fragility_levels("1g:0.1g:5")
+    Traceback (most recent call last):
+    ...
+    statue2model.errors.InputError: [dynamics] fragility_levels must increase from START to STOP ...
+    """
+    from ..rocking.sweeps import linspace_spec
+
+    lv = linspace_spec(text, what, accel=True)
+    if lv.size < 3 or np.any(lv <= 0):
+        raise InputError(f"{what} needs at least 3 PGAs > 0, got {text!r}")
+    if np.any(np.diff(lv) <= 0):
+        raise InputError(f"{what} must increase from START to STOP (each level above the one before), "
+                         f"got {text!r}")
+    return lv
 
 
 def levels_for(text: str, pga: float) -> np.ndarray:
@@ -39,90 +66,87 @@ def levels_for(text: str, pga: float) -> np.ndarray:
     if str(text).strip().lower() == "auto":
         lo, hi, n = AUTO_LEVELS
         return pga * np.geomspace(lo, hi, n)
-    from ..pipeline.config import fragility_levels
-
     return fragility_levels(text)
 
 
-def fragility_section(ctx, d: Path, model, iso, design_spectrum_text: str, executor=None) -> dict:
-    """Run the study of the module docstring; returns {'figures', 'tables', 'text', 'warnings', 'data'}."""
-    from .fragility import LABELS, FragilityStudy, run_fragility
-    from ..hazard.matching import match_set, plot_spectra, set_files
-    from ..hazard.motions import write_record_csv
-    from ..rocking.sampling import nominal, thesis_theta_R
-    from ..io.files import write_json
-    from ..hazard.code_spectra import parse_spectrum
+@dataclass(frozen=True)
+class StudyRun:
+    """One study of the module docstring: the design spectrum ``target``, the matched
+    ``records`` (a RecordSet; ``met``: its mean within the tolerance), the PGA ``levels``
+    (m/s^2), the parameter ``samples`` (``varied``: what they vary, in words), the ``study``
+    settings, its FragilityResult ``result``, and whether it ran on an isolator too."""
 
-    c = ctx.config.dynamics
+    target: object
+    records: object
+    met: bool
+    levels: np.ndarray
+    samples: object
+    varied: str
+    study: object
+    result: object
+    isolated: bool
+
+    @property
+    def pga(self) -> float:
+        """The design PGA a_g S of the target, m/s^2."""
+        return self.target.a_g * self.target.S
+
+    @property
+    def n_runs(self) -> int:
+        """Runs per base: records x levels x samples."""
+        return len(self.records.records) * self.levels.size * self.samples.n
+
+    def data(self) -> dict:
+        """The verdict's fragility_* numbers (module docstring) and the study's size and inputs."""
+        data = fragility_data(self.result, self.pga, self.isolated)
+        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied)
+        return data
+
+
+def match_records(design_spectrum_text: str, n: int, duration: float):
+    """(the design spectrum, a RecordSet of ``n`` records of ``duration`` s matched to it, seeds 1..n)."""
+    from ..hazard.code_spectra import parse_spectrum
+    from ..hazard.matching import match_set
+
     target = parse_spectrum(design_spectrum_text)
-    pga = target.a_g * target.S
-    dur = float(c.fragility_duration)
-    rs = match_set(target, n=int(c.fragility_records), seed=1, duration=dur, dt=0.01, band=(0.1, dur / 5))
-    rd = d / "records"
+    dur = float(duration)
+    return target, match_set(target, n=int(n), seed=1, duration=dur, dt=0.01, band=(0.1, dur / 5))
+
+
+def write_records(rd: Path, rs) -> None:
+    """The records of RecordSet ``rs`` as ``rd``/record_NN.csv and the set.json naming them
+    (readable by ``statue2model fragility --records``)."""
+    from ..hazard.matching import set_files
+    from ..hazard.motions import write_record_csv
+    from ..io.files import write_json
+
     rd.mkdir(parents=True, exist_ok=True)
     for i, m in enumerate(rs.records):
         write_record_csv(rd / f"record_{i + 1:02d}.csv", m)
     names = [f"record_{i + 1:02d}.csv" for i in range(len(rs.records))]
-    write_json(rd / "set.json", {**rs.to_dict(), **set_files(rd, names)})     # readable by fragility --records
-    plot_spectra(rs, rd / "spectra.png", f"{len(rs.records)} records matched to {target.code}")
-    warnings, text = [], []
+    write_json(rd / "set.json", {**rs.to_dict(), **set_files(rd, names)})
+
+
+def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: float, executor=None) -> StudyRun:
+    """Run the study of the module docstring on the records ``rs`` matched to ``target``: the
+    thesis' theta_R sweep of ``n_samples`` values (imperfect model) or the model as it is
+    (Housner's), at the levels of ``levels_text``, on a fixed base and on ``iso`` (or None)."""
+    from ..rocking.sampling import nominal, thesis_theta_R
+    from .fragility import FragilityStudy, run_fragility
+
     met = bool(rs.check()["met"])
-    if not met:
-        warnings.append("Fragility records: the set's mean spectrum is outside the tolerance of the design spectrum "
-                        "(records/set.json); the curves use it anyway.")
     if model.kind == "imperfect":
-        samples = thesis_theta_R(model, int(c.fragility_samples))
+        samples = thesis_theta_R(model, int(n_samples))
         varied = (f"theta_R over the thesis' range (Table 24: {samples.values['theta_R'].min():.4g}-"
                   f"{samples.values['theta_R'].max():.4g} rad, {samples.n} values)")
     else:
         samples = nominal(1)
         varied = ("no model parameter (Housner's model has no theta_R to vary): the curves are the "
                   "record-to-record variability alone")
-    lv = levels_for(c.fragility_levels, pga)
-    study = FragilityStudy(im="pga", rtol=ctx.config.model.rtol, n_boot=200, seed=0)
+    lv = levels_for(levels_text, target.a_g * target.S)
+    study = FragilityStudy(im="pga", rtol=rtol, n_boot=200, seed=0)
     res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor)
-    res.write_json(d / "fragility.json")
-    res.write_csv(d / "fragility.csv")
-    res.plot(d / "fragility.png")
-
-    def fit(name):
-        cv = res.curves.get(name)
-        if cv is None or not cv.fitted:
-            return None, None, cv
-        return float(cv.median), float(cv.probability(pga)), cv
-
-    m_f, p_f, cf = fit("overturn")
-    m_i, p_i, ci = fit("failure_isolated")
-    ratio = res.ratio.get("failure") if iso is not None else None
-    rows = []
-    for name in res.curves:
-        m, p_at, cv = fit(name)
-        med = "-" if m is None else f"{m / G:.3f} g"
-        rows.append([LABELS[name], cv.status if cv.fitted else f"not fitted: {cv.reason}", med,
-                     band_text(cv.median_ci if m is not None else None, lv),
-                     "-" if m is None else f"{cv.beta:.3f}", "-" if p_at is None else f"{p_at:.3f}",
-                     f"{int(cv.n_fail.sum())} / {int(cv.n_trials.sum())}"])
-    n_runs = len(rs.records) * lv.size * samples.n
-    title = (f"Fragility: {len(rs.records)} records matched to the design spectrum x {lv.size} PGA levels "
-             f"({lv[0] / G:.3f}-{lv[-1] / G:.3f} g) x {samples.n} sample(s) = {n_runs} runs per base")
-    tables = [{"title": title, "columns": ["failure", "fit", "median PGA", f"{study.confidence:.0%} band",
-                                           "dispersion beta", f"P at the design PGA {pga / G:.3f} g",
-                                           "failed / runs"], "rows": rows}]
-    text.append(f"Fragility: the probability of failure against PGA, lognormal fits by maximum likelihood with "
-                f"bootstrap bands over the {res.bootstrap_unit}; uncertain parameters: {varied}.")
-    if ratio is not None and ratio.get("value") is not None:
-        lo, hi = ratio["ci"]
-        text.append(f"The isolator multiplies the median failure PGA by {ratio['value']:.2f}"
-                    + (f" ({lo:.2f}-{hi:.2f})" if lo is not None and hi is not None else
-                       f" ({ratio['ci_note']})" if ratio.get("ci_note") else "") + ".")
-    elif ratio is not None:
-        text.append(f"The isolator's ratio of median failure PGAs is {ratio['note']}.")
-    figs = [{"path": "fragility.png", "caption": title + "; markers: fraction failed at each level, lines: "
-             "lognormal fits, shaded: bootstrap bands"},
-            {"path": "records/spectra.png", "caption": "The fragility records' spectra against the design spectrum"}]
-    data = fragility_data(res, pga, iso is not None)
-    data.update(fragility_runs=n_runs, fragility_records_met=met, fragility_varied=varied)
-    return {"figures": figs, "tables": tables, "text": text, "warnings": warnings, "data": data}
+    return StudyRun(target, rs, met, lv, samples, varied, study, res, iso is not None)
 
 
 def _num(v) -> float | None:
@@ -166,21 +190,3 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
                     fragility_ratio_ci=rci,
                     fragility_ratio_ci_reason=(r.get("ci_note") or (None if rci is not None else "no band")))
     return data
-
-
-def band_text(ci, levels) -> str:
-    """A median's band as table text (g): 'lo-hi g'; an end not identified reads 'below X' /
-    'above Y' (the lowest / highest of ``levels``, m/s^2: a finite upper end means a missing lower
-    one fell on a replicate that failed everywhere, and vice versa); '-' when there is no band.
-
-    >>> band_text([None, 6.0], [1.0, 9.81]), band_text([4.905, float("inf")], [1.0, 9.81])
-    ('below 0.102 g - 0.612 g', '0.500 g - above 1.000 g')
-    """
-    if ci is None:
-        return "-"
-    lo, hi = (_num(x) for x in ci)
-    if lo is None and hi is None:
-        return "-"
-    a = f"{lo / G:.3f}" if lo is not None else f"below {levels[0] / G:.3f}"
-    b = f"{hi / G:.3f}" if hi is not None else f"above {levels[-1] / G:.3f}"
-    return f"{a}-{b} g" if lo is not None and hi is not None else f"{a} g - {b} g"

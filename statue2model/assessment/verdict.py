@@ -22,7 +22,7 @@ side, < 1 that it is not:
                          (DISPLACEMENT_MARGIN x SDe + mu R_hat, isolator/design.py)
                analyses  the lowest PGA at which the statue on the isolator overturned or
                          the isolator's capacity was exceeded, against the design PGA
-    fragility  the dynamics stage's fragility study (pipeline/fragility.py): median failure
+    fragility  the dynamics stage's fragility study (assessment/study.py): median failure
                PGAs fixed and isolated with their bands, the probabilities at the design PGA,
                the isolator's ratio of medians (one line, :func:`fragility`)
 

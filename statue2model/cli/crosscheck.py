@@ -6,7 +6,8 @@
 
 MESH_OR_PARAMS is a scan (its convex hull and mass properties are used) or a
 PARAMS.json of rocking parameters (then a prism with those m, h, b_L, b_R, I_G).
-Writes DIR/crosscheck.json (a list ``cases``) and overlay plots (PNG).
+Writes DIR/crosscheck.json (a list ``cases``) and overlay plots (PNG): statue2model.crosscheck.compare
+runs the cases, statue2model.report.crosscheck_plots writes the folder.
 """
 from __future__ import annotations
 
@@ -95,9 +96,10 @@ def _cmd_crosscheck(args) -> int:
 
 
 def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
+    from ..crosscheck.compare import compare
     from ..crosscheck.contact import ContactSettings
-    from ..crosscheck.extended import compare_extended
-    from ..crosscheck.output import summary, table, write_report
+    from ..crosscheck.output import summary, table
+    from ..report.crosscheck_plots import write_crosscheck
 
     contact = ContactSettings()
     from ..rocking.model import RockingModel
@@ -108,15 +110,15 @@ def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
         print(f"note (3D floor friction {contact.friction**2:g}): {note}")
     # its plots of an earlier cross-check in this folder go when this one has other cases
     group = od.group(["crosscheck.json", *(n for n in od.entries if n.endswith(".png"))])
-    comp = compare_extended(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
-                            contact=contact,
-                            pulse_freq=args.pulse_freq, quick=args.quick, imperfect=args.imperfect,
-                            records=args.records, progress=lambda m: print(f"  running: {m}", flush=True))
+    comp = compare(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
+                   contact=contact,
+                   pulse_freq=args.pulse_freq, quick=args.quick, imperfect=args.imperfect,
+                   records=args.records, progress=lambda m: print(f"  running: {m}", flush=True))
     extra = {"scene": {"name": scene.name, "params": scene.params.to_dict(), "hull_vertices": len(scene.hull)},
              "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(), "contact": contact.to_dict(), "motion": motion.to_dict(),
              "notes": notes}
     with group as g:
-        paths = write_report(comp, g.tmp, extra)
+        paths = write_crosscheck(comp, g.tmp, extra)
     print(table(comp.cases))
     s = summary(comp.cases)
     print(f"\n{s['n_met']} of {s['n_cases']} applicable checks meet their target ({s['n_not_applicable']} not "

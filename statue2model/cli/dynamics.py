@@ -215,7 +215,7 @@ def cmd_spectrum(args) -> int:
 
     from ..rocking.spectrum import stability_spectrum
     from ..io.files import atomic_write, write_json
-    from ..report.dynamics_plots import plot_spectrum
+    from ..report.dynamics_plots import plot_spectrum, plot_spectrum_not_applicable
 
     model = build_model(args)
     freqs = _grid(args.freq, "--freq")
@@ -240,17 +240,7 @@ def cmd_spectrum(args) -> int:
         write_json(g / out, d)
         csv = atomic_write(g / out.with_suffix(".csv"), lambda f: f.write_text(sp.to_csv()))
         if na.any():
-            import dataclasses
-
-            import matplotlib
-            import numpy as np
-
-            # not-applicable cells are masked: they show the axes' (grey) background
-            shown = dataclasses.replace(sp, codes=np.ma.masked_array(sp.codes, mask=na))
-            with matplotlib.rc_context({"axes.facecolor": "0.55"}):
-                png = plot_spectrum(shown, g / out.with_suffix(".png"),
-                                    f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs; grey: not "
-                                    f"applicable, slides before it rocks)")
+            png = plot_spectrum_not_applicable(sp, g / out.with_suffix(".png"))
         else:
             png = plot_spectrum(sp, g / out.with_suffix(".png"))
     print(f"wrote {out.name}, {csv.name}, {png.name} in {out.parent}")
@@ -405,9 +395,10 @@ def _records(args, od, target, band) -> int:
     import re
     import time
 
-    from ..hazard.matching import match_set, plot_spectra, set_files
+    from ..hazard.matching import match_set, set_files
     from ..hazard.motions import write_record_csv
     from ..io.files import write_json
+    from ..report.hazard_plots import plot_spectra
 
     t0 = time.perf_counter()
     rs = match_set(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,

@@ -77,6 +77,7 @@ def _cmd_slice(args) -> int:
     from ..fabrication.spec import SliceSpec
     from ..geometry.body import load_body
     from ..io.paths import default_scan
+    from ..report.fabrication_plots import plot_sheet
 
     try:
         scale = scale_ratio(args.scale)         # a bare 2 is refused with one line (1:2 or 2:1?)
@@ -97,7 +98,7 @@ def _cmd_slice(args) -> int:
         t_load = time.perf_counter() - t0
         res = slice_body(body, spec, direction_deg=args.direction, front_deg=args.front)
         t1 = time.perf_counter()
-        write_slice(res, od, previews=not args.no_previews)
+        write_slice(res, od, preview=None if args.no_previews else plot_sheet)
         t_write = time.perf_counter() - t1
     print(summary(res, out))
     print(f"\ntime: load {t_load:.2f} s, " + ", ".join(f"{k} {v:.2f} s" for k, v in res.timings.items())

@@ -12,7 +12,7 @@ against the length and hash recorded there (dynamics/matching.read_record_set; a
 without set.json, or with a file missing or changed, is refused). Levels: N values from
 LO to HI (PGA with a unit, 0.05g or 0.49m/s2; PGV in m/s). --isolator: a design that
 `isolator design` passed. Writes DIR/fragility.json, fragility.csv and fragility.png
-(dynamics/fragility.py) together, into a folder that is new, empty or statue2model's
+(assessment/fragility.py) together, into a folder that is new, empty or statue2model's
 (files.open_output: a folder with a user's files is refused before any work).
 """
 from __future__ import annotations
@@ -221,6 +221,7 @@ def _study(args, od, model, records, levels, samples, study, iso) -> int:
     import contextlib
 
     from ..assessment.fragility import run_fragility
+    from ..report.fragility_plots import plot_fragility
 
     group = od.group(FRAGILITY_FILES)
     out = od.path
@@ -239,7 +240,7 @@ def _study(args, od, model, records, levels, samples, study, iso) -> int:
     with group as g:
         res.write_json(g / "fragility.json")
         res.write_csv(g / "fragility.csv")
-        res.plot(g / "fragility.png")
+        plot_fragility(res, g / "fragility.png")
     for line in res.summary_lines():
         print(line)
     s = res.stats

@@ -50,6 +50,7 @@ def _cmd_props(args) -> int:
     from ..geometry.props import write_props
     from ..io.files import OutputGroup
     from ..io.paths import default_scan
+    from ..report.plots import plot_footprint_and_rose
     from ..report.tables import props_table
 
     mesh = Path(args.mesh) if args.mesh else default_scan()
@@ -69,6 +70,7 @@ def _cmd_props(args) -> int:
     rose = body.rose()
     print(props_table(body, params, rose))
     with group as g:
-        _, csv, png = write_props(g / out, body, params, rose)
+        _, csv = write_props(g / out, body, params, rose)
+        png = plot_footprint_and_rose(body, params, rose, (g / out).with_suffix(".png"))
     print(f"\nwrote {out}, {csv.name} and {png.name}")
     return 0

@@ -184,14 +184,15 @@ PLATE_FILES = tuple(f"{w}_plate.{ext}" for w in ("bottom", "top") for ext in ("s
 
 def _cmd_plates(args) -> int:
     from ..io.files import open_output
-    from ..isolator.plates import PlateGeometry, write_plates
+    from ..isolator.plates import PlateGeometry
+    from ..report.isolator_plots import write_plates_with_section
 
     geom = PlateGeometry.from_design(read_design(args.design, "DESIGN.json"), str(args.design))
     if args.segments < 16 or args.segments > 4096:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
     with open_output(args.out, "plates", command="isolator plates", can_reuse=False) as od, \
             od.group(PLATE_FILES) as g:
-        paths = write_plates(geom, g.tmp, segments=args.segments)
+        paths = write_plates_with_section(geom, g.tmp, segments=args.segments)
     print("wrote " + ", ".join(str(od.path / p.name) for p in paths.values()))
     return 0
 

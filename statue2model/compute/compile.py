@@ -33,7 +33,8 @@ Where the cache is (numba's rules, the first that applies)
 ---------------------------------------------------------
 1. ``$NUMBA_CACHE_DIR/<folder>_<sha1 of the folder's path>/`` when that variable is set;
 2. the ``__pycache__`` folder beside each kernel module when it is writable:
-   ``statue2model/dynamics/__pycache__`` and ``statue2model/isolator/__pycache__``.
+   ``statue2model/rocking/__pycache__``, ``statue2model/hazard/__pycache__`` and
+   ``statue2model/isolator/__pycache__``.
    That is the checkout for an editable install (``pip install -e``, what
    ``.ci/install`` does) and ``<venv>/lib/python3.X/site-packages/statue2model/...``
    for a normal install into a virtual environment the user owns;
@@ -45,8 +46,9 @@ code of the one signature). An entry is used only with the same numba and Python
 versions, the same CPU and the same bytecode, modification time and size of the
 module's file; otherwise the kernel is compiled again (and announced). Numba
 checks only the function's own file, but the kernels contain code of other modules:
-the rocking and coupled kernels that of ``dynamics/dop853.py`` (the shared DOP853
-machinery), the isolator kernels that of ``dynamics/kernel.py`` (and the coupled
+every kernel that of ``hazard/motion_kernel.py`` (the compiled ground motion), the
+rocking and coupled kernels that of ``rocking/dop853.py`` (the shared DOP853
+machinery), the isolator kernels that of ``rocking/kernel.py`` (and the coupled
 kernel that of ``isolator/kernel.py``): :func:`ensure_compiled` therefore keeps the
 hash of those sources beside each such module's cache (``<module>.depends.json``)
 and empties that cache when they changed (:data:`DEPENDS`).
@@ -92,10 +94,10 @@ START_SECONDS = 2.0
 """Seconds to start a compiling process (Python, numpy, numba)."""
 
 DEPENDS = {
-    "statue2model.rocking.kernel": ("statue2model.rocking.dop853",),
-    "statue2model.isolator.kernel": ("statue2model.rocking.kernel",),
+    "statue2model.rocking.kernel": ("statue2model.rocking.dop853", "statue2model.hazard.motion_kernel"),
+    "statue2model.isolator.kernel": ("statue2model.rocking.kernel", "statue2model.hazard.motion_kernel"),
     "statue2model.isolator.coupled_kernel": ("statue2model.rocking.kernel", "statue2model.isolator.kernel",
-                                             "statue2model.rocking.dop853"),
+                                             "statue2model.rocking.dop853", "statue2model.hazard.motion_kernel"),
 }
 """Kernel modules whose compiled code also holds code of these modules (numba does
 not see that: see the module docstring)."""
@@ -328,7 +330,9 @@ def _machine_lock():
 
 
 def _dispatchers(module) -> list:
-    return [v for v in vars(module).values() if _is_dispatcher(v) and getattr(v, "_cache", None) is not None]
+    """The cached numba functions defined in ``module`` (not those it imports)."""
+    return [v for v in vars(module).values() if _is_dispatcher(v) and getattr(v, "_cache", None) is not None
+            and getattr(getattr(v, "py_func", None), "__module__", None) == module.__name__]
 
 
 def _refresh_dependents() -> None:

@@ -1,7 +1,7 @@
 """2D against 3D over an ensemble of records: agreement in distribution, not history by history.
 
 Rocking under a record is sensitive to every impact (a 1 % change of e moves a single peak by
-tens of per cent, runs.motion_cases), so single histories cannot be expected to agree; rocking
+tens of per cent, statue_cases.motion_cases), so single histories cannot be expected to agree; rocking
 studies agree statistically. Here the same ``n_records`` synthetic Kanai-Tajimi records
 (statue2model.hazard.motions.synthetic_record, seeds 0..n-1, durations cycling over
 ``durations``) are scaled to each PGA level and run in the 2D model and in the 3D scene; per
@@ -17,13 +17,14 @@ level:
 
 Each miss says why: which side overturns more, by how much, whether the intervals overlap, how
 many 3D runs the validity screen flags. The screen is the standard cases' own
-(:func:`statue2model.crosscheck.compare.screen_values`: the friction the 2D trajectory needs against the
-scene's, 3D slip > runs.SLIP_LIMIT, yaw > runs.YAW_LIMIT); a flagged record leaves the level's
+(:func:`statue2model.crosscheck.screen.screen_values`: the friction the 2D trajectory needs against the
+scene's, 3D slip > screen.SLIP_LIMIT, yaw > screen.YAW_LIMIT); a flagged record leaves the level's
 statistics on both sides (the runs are paired) and is listed; a level left with fewer than 2 records
 is "not applicable".
 
 Levels: multiples of the 2D ensemble's median overturning PGA (:func:`median_overturn_pga`: the
-smallest PGA at which at least half the records overturn the 2D model, by bisection), so the
+smallest PGA at which at least half the records overturn the 2D model, by boundary.bisect on a
+geometric midpoint), so the
 levels sit around the 2D overturning level whatever the body. 2D runs are cheap; the 3D runs go
 through an executor (statue2model.compute.executors; default two local processes).
 
@@ -39,6 +40,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -47,8 +49,11 @@ from ..hazard import motions
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from ..errors import InputError
+from .boundary import bisect
+from .case import NOT_APPLICABLE, Case
 from .contact import ContactSettings
-from .compare import NOT_APPLICABLE, SLIP_LIMIT, YAW_LIMIT, Case, model_2d, screen_values, slip_of
+from .restitution import model_2d
+from .screen import SLIP_LIMIT, YAW_LIMIT, screen_values, slip_of
 from .statue_scene import StatueScene, simulate_statue
 from .world import SimSettings
 
@@ -111,13 +116,7 @@ def median_overturn_pga(model: RockingModel, recs, free_time: float = 2.0, tol: 
 
     if frac(hi) < 0.5:
         return math.inf
-    while hi - lo > tol * hi:
-        mid = math.sqrt(lo * hi)
-        if frac(mid) >= 0.5:
-            hi = mid
-        else:
-            lo = mid
-    return hi
+    return bisect(lambda pga: frac(pga) >= 0.5, lo, hi, tol, geometric=True)[1]
 
 
 def run_3d(task: tuple) -> dict:
@@ -192,7 +191,7 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
                    median_target: float = 0.20, executor=None, workers: int = 2, progress=None,
                    pga_ref: float | None = None, runs_3d: list | None = None) -> tuple[list, dict]:
     """The ensemble comparison of the module docstring. ``levels``: multiples of the 2D median
-    overturning PGA; ``model``: the 2D model (default: eq. 15's e, runs.model_2d - the 2D model
+    overturning PGA; ``model``: the 2D model (default: eq. 15's e, restitution.model_2d - the 2D model
     as the user runs it); ``quick``: shorter records (3-5 s) and 1 s of free motion. Returns
     (cases: two per level, results: {'levels': [...], 'pga_ref', 'runs_3d', 'wall_time_s', ...}).
     ``pga_ref`` (m/s^2) and ``runs_3d`` (an earlier results['runs_3d'], same records, levels and
@@ -299,8 +298,6 @@ def _num(x):
 
 
 def _with_why(case: Case, why: str) -> Case:
-    from dataclasses import replace
-
     return replace(case, why=why) if why else case
 
 

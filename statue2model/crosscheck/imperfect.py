@@ -67,6 +67,7 @@ Example
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -75,8 +76,10 @@ from ..hazard import motions
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from ..errors import InputError
-from .contact import ContactSettings
-from .compare import Case, first_crossing, overturn_amplitude_2d, threshold_time_2d
+from .boundary import overturn_amplitude_2d
+from .case import Case, Comparison
+from .contact import ContactSettings, effective_e
+from .statue_cases import first_crossing, threshold_time_2d
 from .statue_scene import LIFT_HEIGHT, LIFT_STEPS, StatueScene, simulate_statue
 from .world import SimSettings
 
@@ -265,8 +268,6 @@ def identify_3d(scene: StatueScene, settings: SimSettings, contact: ContactSetti
     """alpha and theta of each side of a 3D scene (typically :func:`imperfect_scene`'s) from 3D
     pulse tests and a push-over ramp (module docstring). Returns per side {'alpha' (pulses),
     'alpha_ramp', 'theta' (ramp), 'a_uplift', 'ladder', 'fit'} and the wall time."""
-    import time
-
     p = scene.params
     out = {"lift_angle": LIFT_ANGLE, "pulse_duration": PULSE_DURATION, "ramp_time": ramp_time}
     t0 = time.perf_counter()
@@ -318,8 +319,6 @@ def release_restitution(scene: StatueScene, base: dict, settings: SimSettings, c
     """e_L, e_R of an imperfect 3D body (eq. 43 on the first two peaks) from releases at frac delta on
     each pivot, the body seated on that pivot's edge. ``base``: kwargs of :func:`imperfect_scene`.
     Returns {'e_L', 'e_R', 'runs': {side: Statue3DResult}}."""
-    from .contact import effective_e
-
     p = scene.params
     out = {"runs": {}}
     for side, land in (("R", "L"), ("L", "R")):
@@ -365,13 +364,13 @@ def imperfect_cases(scene: StatueScene, settings: SimSettings | None = None, con
                     quick: bool = False, *, alpha: float | tuple = DEFAULT_ALPHA,
                     theta_frac: float | tuple = DEFAULT_THETA_FRAC, pulse_freq: float = 1.5,
                     lift_target: float = 0.005, peak_target: float = 0.10, progress=None
-                    ) -> tuple[list, dict, dict]:
+                    ) -> Comparison:
     """The imperfect model in 3D (module docstring): ``scene`` gets a convex base of ``alpha``
     (alpha_L = alpha_R, or a pair (alpha_L, alpha_R)) and theta_side = ``theta_frac`` delta_side
     (or a pair); alpha, theta and e are identified from 3D tests and the classical and imperfect 2D
     models are compared with the 3D body. Targets: identified alpha within 5 % and theta within
     20 % of the geometry's; lift-off time within ``lift_target`` s; peak rotation within
-    ``peak_target``; overturn the same. Returns (cases, histories, runs) as runs.compare's parts."""
+    ``peak_target``; overturn the same. Returns their Comparison (cases, histories, runs)."""
     say = progress or (lambda msg: None)
     settings = SimSettings() if settings is None else settings
     contact = ContactSettings() if contact is None else contact
@@ -475,15 +474,13 @@ def imperfect_cases(scene: StatueScene, settings: SimSettings | None = None, con
                                       errs["peak"]["imperfect"], "rad", peak_target * _peak(r3)))
         runs[ptag] = r3.to_dict() | {"amp_m_s2": sign * amp, "a_overturn_imperfect_2d": sign * a_ot,
                                      "lift_time_3d": tl3}
-    return cases, hist, runs
+    return Comparison(tuple(cases), hist, runs)
 
 
 def _alpha_spread(case: Case, model: RockingModel, motion, t_end: float, ident: dict, peak3: float) -> Case:
     """``case`` (imperfect 2D peak rotation) with the 2D peak over the identification's own alpha
     range: the pulse estimate and the push-over intercept of each side (the rolling-phase peak is
     very sensitive to alpha: the excess a / a_side - alpha drives it)."""
-    from dataclasses import replace as _replace
-
     lo = {s: min(ident[s]["alpha"], ident[s]["alpha_ramp"]) for s in ("L", "R")}
     hi = {s: max(ident[s]["alpha"], ident[s]["alpha_ramp"]) for s in ("L", "R")}
     vals = {}
@@ -497,4 +494,4 @@ def _alpha_spread(case: Case, model: RockingModel, motion, t_end: float, ident: 
            f"range (pulses vs push-over intercept: L {lo['L']:.3f}-{hi['L']:.3f}, R {lo['R']:.3f}-{hi['R']:.3f}) "
            f"the 2D peak spans {min(v):.4f}-{max(v):.4f} rad; the 3D peak {peak3:.4f} rad lies "
            f"{'inside' if inside else 'outside'} it")
-    return _replace(case, spread=vals | {"2D range": [min(v), max(v)], "3D inside": inside}, why=why)
+    return replace(case, spread=vals | {"2D range": [min(v), max(v)], "3D inside": inside}, why=why)

@@ -22,11 +22,17 @@ True
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from ..hazard import motions
+from ..isolator.coupled import simulate_coupled
+from ..isolator.device import Isolator
+from ..isolator.time_history import simulate as plate_2d
+from .case import Case, Comparison
 from .contact import ContactSettings
+from .isolator_scene import simulate_isolator
 from .world import SimSettings
 
 
@@ -35,13 +41,6 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
     """Free vibration of the top plate (no statue) from u0 (default: 60 % of the balls'
     travel, at most 90 % of the isolator's capacity): period, and per-cycle decay with the
     mapped and with the calibrated rolling friction. Returns (cases, histories, runs, calibration)."""
-    from dataclasses import replace
-
-    from ..isolator.device import Isolator
-    from ..isolator.time_history import simulate as plate_2d
-    from .isolator_scene import simulate_isolator
-    from .compare import Case
-
     sc = replace(iso_scene, statue=None)
     g = settings.g
     T = 2 * math.pi * math.sqrt(sc.R_hat / g)
@@ -154,7 +153,7 @@ def groove_label(sc) -> str:
 def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: ContactSettings,
                           mu_3d: float | None = None, free_time: float = 2.0, cutoff: float = ACC_CUTOFF,
                           mount: str = "rigid", label: str = "isolated statue", model=None
-                          ) -> tuple[list, dict, dict]:
+                          ) -> Comparison:
     """The statue on the isolator under ``motion``: peak absolute plate acceleration and the
     efficiency (peak plate / PGA), 3D against the 2D plate (Coulomb) with the same mu.
 
@@ -176,14 +175,7 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
     does not follow the balls out of their grooves): when it stops there before the 3D body's
     own outcome, a separate overturn or capacity case that misses becomes a diagnostic that
     says so.
-    Case names start with ``label``."""
-    from dataclasses import replace
-
-    from ..isolator.device import Isolator
-    from ..isolator.time_history import simulate as plate_2d
-    from .isolator_scene import simulate_isolator
-    from .compare import Case
-
+    Case names start with ``label``; returns their Comparison (cases, histories, runs)."""
     g = settings.g
     dt = settings.dt
     cap = iso_scene.travel_capacity
@@ -221,8 +213,6 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
     overturn = bool(r3.statue_overturned)
     coupled = None
     if mount == "contact" and model is not None:
-        from ..isolator.coupled import simulate_coupled
-
         coupled = simulate_coupled(iso2, model, motion, t_end=t_end, dt_out=0.01)
     ot2 = bool(coupled.overturned) if coupled is not None else False
     cap2 = coupled if coupled is not None else r2
@@ -262,13 +252,12 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
             f"{label}: plate acceleration (low-passed)": {
                 "t2": r2.t[:a2.size], "y2": lowpass(a2, dt, cutoff), "t3": np.arange(a3.size) * dt,
                 "y3": lowpass(a3, dt, cutoff), "label": f"absolute plate acc., {cutoff:g} Hz low-pass (m/s^2)"}}
-    return cases, hist, {label: r3.to_dict() | {"acc_abs_max_filtered": a3f,
-                                                             "acc_abs_max_window5ms": a3w,
-                                                             "acc_2d_filtered": a2f, "cutoff_hz": cutoff,
-                                                             "capacity_2d": r2.to_dict()["capacity"],
-                                                             "capacity_exceeded_2d": r2.capacity_exceeded,
-                                                             "t_capacity_2d": r2.t_capacity}}
-
+    return Comparison(tuple(cases), hist, {label: r3.to_dict() | {"acc_abs_max_filtered": a3f,
+                                                                  "acc_abs_max_window5ms": a3w,
+                                                                  "acc_2d_filtered": a2f, "cutoff_hz": cutoff,
+                                                                  "capacity_2d": r2.to_dict()["capacity"],
+                                                                  "capacity_exceeded_2d": r2.capacity_exceeded,
+                                                                  "t_capacity_2d": r2.t_capacity}})
 
 
 def plate_at_rest(iso_scene, settings: SimSettings, contact: ContactSettings, *, t_end: float = 3.0,
@@ -277,8 +266,6 @@ def plate_at_rest(iso_scene, settings: SimSettings, contact: ContactSettings, *,
     ``mount``) at rest with no ground motion for ``t_end`` s. Returns the rms and the peak of the
     absolute plate acceleration (m/s^2), raw (every step) and low-passed at ``cutoff`` Hz, after the
     first ``skip`` s (the contacts settling), and the statue's largest rotation (rad)."""
-    from .isolator_scene import simulate_isolator
-
     r = simulate_isolator(iso_scene, motions.free(), t_end=t_end, settings=settings, contact=contact,
                           dt_out=0.01, mount=mount, **kw)
     a = r.acc_step

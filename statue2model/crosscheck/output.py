@@ -1,33 +1,40 @@
-"""The cross-check report: DIR/crosscheck.json (a list ``cases``) and overlay plots.
+"""The cross-check's files and text: DIR/crosscheck.json, the summary counts and the plain-text table.
 
 crosscheck.json: {"cases": [{name, quantity, value_2d, value_3d, rel_error, target,
 met, status, screen, kind, unit, note, why}, ...], "summary": {n_cases, n_met, unmet: [...],
-n_not_applicable, n_diagnostic, not_applicable: [...]}, "runs":
-{3D run details}, "scene", "settings", "contact"}. One PNG per time history,
-2D (line) and 3D (dashed) overlaid; files are written atomically.
+n_not_applicable, n_diagnostic, not_applicable: [...]}, "plots": {history name: PNG file name},
+"runs": {3D run details}, "scene", "settings", "contact"}; written atomically. The overlay plots
+it names (one PNG per time history, :func:`plot_files`) are drawn by the caller
+(statue2model.report.crosscheck_plots, which writes both): this package does not draw.
 
 Example
 -------
->>> from statue2model.crosscheck.compare import Case, Comparison
+>>> from statue2model.crosscheck.case import Case, Comparison
 >>> import tempfile, json, numpy as np, pathlib
 >>> d = pathlib.Path(tempfile.mkdtemp())
 >>> c = Comparison(cases=(Case.relative("q", "s", 1.0, 1.001, 0.01),),
 ...                histories={"q": {"t2": np.arange(3.0), "y2": np.zeros(3), "t3": np.arange(3.0),
 ...                                 "y3": np.zeros(3), "label": "theta (rad)"}})
 >>> paths = write_report(c, d)
->>> json.loads((d / "crosscheck.json").read_text())["cases"][0]["met"]
-True
+>>> data = json.loads((d / "crosscheck.json").read_text())
+>>> data["cases"][0]["met"], data["plots"]
+(True, {'q': 'q.png'})
 """
 from __future__ import annotations
 
 import re
 from pathlib import Path
 
-from ..io.files import atomic_write, prepare_dir, write_json
+from ..io.files import prepare_dir, write_json
 
 
 def _slug(name: str) -> str:
     return re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_")[:60] or "case"
+
+
+def plot_files(histories: dict) -> dict[str, str]:
+    """The PNG file name of each time history's overlay plot: {history name: 'slug.png'}."""
+    return {name: f"{_slug(name)}.png" for name in histories}
 
 
 def summary(cases) -> dict:
@@ -42,41 +49,13 @@ def summary(cases) -> dict:
 
 
 def write_report(comparison, out_dir, extra: dict | None = None) -> dict[str, Path]:
-    """Write crosscheck.json and one overlay PNG per history into ``out_dir``."""
+    """Write crosscheck.json into ``out_dir`` (its ``plots``: :func:`plot_files` of the comparison's
+    histories, which the caller draws). Returns {'json': its path}."""
     out = prepare_dir(out_dir)
-    paths = {}
-    for name, h in comparison.histories.items():
-        paths[name] = plot_overlay(name, h, out / f"{_slug(name)}.png")
     data = {"cases": [c.to_dict() for c in comparison.cases], "summary": summary(comparison.cases),
-            "plots": {k: v.name for k, v in paths.items()}, "runs": comparison.runs}
+            "plots": plot_files(comparison.histories), "runs": comparison.runs}
     data.update(extra or {})
-    paths["json"] = write_json(out / "crosscheck.json", data)
-    return paths
-
-
-def plot_overlay(title: str, h: dict, path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(8, 3.6))
-    ax.plot(h["t2"], h["y2"], lw=1.4, label="2D model")
-    ax.plot(h["t3"], h["y3"], lw=1.1, ls="--", label="3D PyBullet")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(h.get("label", ""))
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="best")
-    fig.tight_layout()
-
-    def save(p):
-        fig.savefig(p, dpi=110, format="png")
-
-    try:
-        return atomic_write(path, save)
-    finally:
-        plt.close(fig)
+    return {"json": write_json(out / "crosscheck.json", data)}
 
 
 def table(cases) -> str:

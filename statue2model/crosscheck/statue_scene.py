@@ -63,7 +63,8 @@ FLIGHT_HEIGHT = 1e-4
 LIFT_HEIGHT = 2e-4
 """Lift-off (geometric): the highest base point - on the non-pivot side - rises above this height, m,
 for LIFT_STEPS steps. 20 x the contact solver's penetration at rest (1e-5 m, measured), so compliance
-never reads as lift-off; the 2D side is read at the same height, (b_L + b_R) sin|theta| (runs.py)."""
+never reads as lift-off; the 2D side is read at the same height, (b_L + b_R) sin|theta|
+(statue_cases.liftoff_time_2d)."""
 LIFT_STEPS = 4
 """Consecutive engine steps a lift-off (or unloading) criterion must hold (2 ms at dt = 0.5 ms)."""
 LAND_HEIGHT = LIFT_HEIGHT / 4
@@ -231,7 +232,7 @@ class Statue3DResult:
     uplift_time       : lift-off read from the contacts, geometrically: the first time (interpolated
                         between steps) the highest base point - the non-pivot side - rises above
                         LIFT_HEIGHT and stays there LIFT_STEPS steps (None if never; 0 for a release
-                        from theta0 != 0). The 2D side is read at the same height (runs.py)
+                        from theta0 != 0). The 2D side is read at the same height (statue_cases.py)
     unload_time       : lift-off read from the contact forces: the first step at which the floor's
                         normal force on the base points away from one pivot (farther than UNLOAD_BAND
                         x (b_L + b_R)) falls below UNLOAD_FRACTION m g and stays there LIFT_STEPS
@@ -251,7 +252,7 @@ class Statue3DResult:
                         x_R and x_L) while on the floor (below LIFT_HEIGHT), from where it touched
                         down (or stood at rest): sliding at the pivot, the body standing or rocking
                         (the 2D model has none). A yaw while the vertex is in the air (about the other
-                        pivot) is not slip: it is the screen's yaw. The validity screen's slip (runs.screen)
+                        pivot) is not slip: it is the screen's yaw. The validity screen's slip (screen.slip_of)
     max_flight        : largest height, m, of the statue's lowest hull point above the floor (> 0: the
                         body left the floor on both pivots); flight_time: time, s, with it > FLIGHT_HEIGHT
     """

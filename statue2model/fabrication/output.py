@@ -3,8 +3,8 @@ leaves a folder that looks complete.
 
     DIR/layers/layer_001.dxf ...  one DXF per layer, in the statue's plan frame
                                   (all layers registered: rods at the same x, y)
-    DIR/sheets/sheet_01.dxf ...   one DXF per panel, parts nested, plus
-           sheet_01.png/.svg      a preview of it
+    DIR/sheets/sheet_01.dxf ...   one DXF per panel, parts nested, plus (with a
+           sheet_01.png/.svg      ``preview`` drawer) a preview of it, written after its DXF
     DIR/bom.csv                   bill of materials and machining time
     DIR/assembly.txt              the order of assembly
     DIR/prototype.stl             the stack as built (boards + glue films), m
@@ -303,12 +303,13 @@ def prototype_dict(res: SliceResult) -> dict:
     return out
 
 
-def write_slice(res: SliceResult, out: Path | OutputDir, previews: bool = True, reuse: bool = False) -> Path:
+def write_slice(res: SliceResult, out: Path | OutputDir, preview=None, reuse: bool = False) -> Path:
     """Write every output of the module docstring into ``out`` (a folder, or one
-    opened with :func:`open_slice_dir`; see the module docstring)."""
+    opened with :func:`open_slice_dir`; see the module docstring). ``preview``: None (no
+    previews) or ``preview(res, sheet, drawings, stem)``, called after each sheet's DXF to draw
+    STEM.png and STEM.svg of sheet ``sheet`` (0-based), e.g.
+    :func:`statue2model.report.fabrication_plots.plot_sheet`."""
     import trimesh
-
-    from ..report.fabrication_plots import plot_sheet
 
     od = out if isinstance(out, OutputDir) else open_slice_dir(Path(out), reuse)
     try:
@@ -331,8 +332,8 @@ def write_slice(res: SliceResult, out: Path | OutputDir, previews: bool = True, 
             placed = res.nesting.parts_on(s)
             drawings = [_drawing(res.parts[p.part], spec.hole, p) for p in placed]
             path = write_dxf(tmp / f"sheet_{s + 1:02d}.dxf", drawings, title=f"sheet {s + 1}")
-            if previews:
-                plot_sheet(res, s, drawings, path.with_suffix(""))
+            if preview is not None:
+                preview(res, s, drawings, path.with_suffix(""))
         swap_in(tmp, d / "sheets")
         atomic_write(d / "bom.csv", lambda p: p.write_text(_csv_text(bom_rows(res))))
         atomic_write(d / "assembly.txt", lambda p: p.write_text(assembly_text(res)))

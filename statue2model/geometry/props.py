@@ -45,14 +45,13 @@ def props_dict(body, params, rose) -> dict:
     return out
 
 
-def write_props(out: Path, body, params, rose) -> tuple[Path, Path, Path]:
-    """Write the props record to ``out`` (JSON), the rose beside it (OUT_rose.csv) and
-    the footprint-and-rose plot (OUT.png), each atomically; returns the three paths."""
+def write_props(out: Path, body, params, rose) -> tuple[Path, Path]:
+    """Write the props record to ``out`` (JSON) and the rose beside it (OUT_rose.csv), each
+    atomically; returns the two paths. The footprint-and-rose figure (OUT.png) is drawn by
+    :func:`statue2model.report.plots.plot_footprint_and_rose`."""
     from ..io.files import atomic_write, write_json
-    from ..report.plots import plot_footprint_and_rose
 
     out = Path(out)
     write_json(out, props_dict(body, params, rose))
     csv = atomic_write(out.with_name(out.stem + "_rose.csv"), lambda p: p.write_text(rose.to_csv()))
-    png = plot_footprint_and_rose(body, params, rose, out.with_suffix(".png"))
-    return out, csv, png
+    return out, csv

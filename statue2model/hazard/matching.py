@@ -55,7 +55,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..quantities import G_STANDARD
 from ..errors import InputError
 from .motions import GroundMotion, record
 from .response_spectra import POINTS_PER_PERIOD, psa
@@ -256,40 +255,6 @@ def match_set(target, n: int = 7, seed: int = 1, duration: float = 20.0, dt: flo
     records = tuple(record(a, dt, label=f"matched seed {s}") for a, s in zip(acc, seeds))
     return RecordSet(records, seeds, T_check, spectra, S_check, (lo, hi), tol, xi, done, info,
                      float(_target_values(target, np.array([0.0]))[0]))
-
-
-def plot_spectra(rs: RecordSet, path, title: str = "spectrum-compatible set"):
-    """Each record's spectrum, the mean, the target and the tolerance band (PNG at ``path``)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ..io.files import atomic_write
-
-    g = G_STANDARD
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for k, sp in enumerate(rs.spectra):
-        ax.plot(rs.periods, sp / g, color="0.7", lw=0.8, label="records" if k == 0 else None)
-    lo, hi = rs.tolerance
-    band = rs.in_band
-    ax.fill_between(rs.periods[band], (1 + lo) * rs.target[band] / g, (1 + hi) * rs.target[band] / g,
-                    color="tab:green", alpha=0.15, label=f"tolerance {lo * 100:+.0f} % / {hi * 100:+.0f} %")
-    ax.plot(rs.periods, rs.target / g, "k--", lw=1.5, label="target")
-    ax.plot(rs.periods, rs.mean / g, color="tab:red", lw=1.8, label=f"mean of {len(rs.records)}")
-    c = rs.check()
-    ax.set_xscale("log")
-    ax.set_xlabel("period T (s)")
-    ax.set_ylabel(f"PSA (g), {rs.xi * 100:g} % damping")
-    ax.set_title(f"{title}: {'met' if c['met'] else 'NOT met'}, worst mean/target {c['worst_ratio']:.3f} "
-                 f"at {c['period_of_worst_s']:.3g} s", fontsize=9)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    try:
-        return atomic_write(path, lambda p: fig.savefig(p, format="png", dpi=110))
-    finally:
-        plt.close(fig)
 
 
 # --- a set on disk: set.json names its records ------------------------------------------------

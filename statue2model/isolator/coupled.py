@@ -244,9 +244,12 @@ def _check(iso, model, motion, u0, v0, theta0, omega0, t_end, dt_out, rtol, rest
 
 def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9, end_stop: str = "stop",
                      e_stop: float = ID.END_STOP_RESTITUTION) -> np.ndarray:
-    """The flat parameter vector of coupled_kernel (indices CK.Q_*)."""
+    """The flat parameter vector of coupled_kernel: the rocking model's kernel vector
+    (:meth:`RockingModel.kernel_vector`, indices of statue2model.rocking.kernel) followed by
+    the plate's entries and the statue's geometry (indices CK.Q_*)."""
     p = model.params
     Q = np.zeros(CK.N_Q)
+    Q[:CK.N_P] = model.kernel_vector(rest_tol)
     Q[CK.Q_OM2] = iso.omega ** 2
     Q[CK.Q_MUG] = iso.mu * iso.g
     Q[CK.Q_BW] = 1.0 if iso.model == "boucwen" else 0.0
@@ -255,17 +258,8 @@ def parameter_vector(iso: Isolator, model: RockingModel, rest_tol: float = 1e-9,
         Q[CK.Q_UY] = iso.mu * iso.g / (iso.q * iso.omega ** 2)
         Q[CK.Q_NBW] = iso.n
     Q[CK.Q_MR] = p.m / iso.M
-    Q[CK.Q_P2L], Q[CK.Q_P2R] = p.p_L ** 2, p.p_R ** 2
-    Q[CK.Q_DL], Q[CK.Q_DR] = p.delta_L, p.delta_R
     Q[CK.Q_RL], Q[CK.Q_RR] = p.d_L, p.d_R
-    aL, aR = model.effective_alpha
-    Q[CK.Q_AL], Q[CK.Q_AR] = aL, aR
-    Q[CK.Q_TL] = model.theta_L if aL < 1.0 else 0.0
-    Q[CK.Q_TR] = model.theta_R if aR < 1.0 else 0.0
-    Q[CK.Q_G] = p.g
-    Q[CK.Q_LIM_UP], Q[CK.Q_LIM_DN] = model.uplift_limits
     Q[CK.Q_H] = p.h
-    Q[CK.Q_REST_TOL] = rest_tol
     Q[CK.Q_CAP] = iso.capacity
     Q[CK.Q_STOP] = 0.0 if end_stop == "stop" else 1.0
     Q[CK.Q_ESTOP] = e_stop

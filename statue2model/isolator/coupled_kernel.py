@@ -5,9 +5,14 @@ State y = (u, u', theta, theta'); discrete mode md = (plate sign, u_r, z_r, rock
 side, region). Method:
 
 * Dormand-Prince 8(5,3) (scipy's DOP853 tableau) on the 4-state system with
-  scipy's error norm; the tableau, error norm, step-size controller, dense output
-  and Illinois iteration are those of dynamics/dop853.py, shared with the rocking
-  kernel. Steps never cross a ground-motion breakpoint (dynamics.kernel.segment).
+  scipy's error norm; the tableau, error norm, step-size controller, dense output,
+  Illinois iteration, the loop's guard (max steps, stall) and the write-out of its
+  counts are those of rocking/dop853.py, shared with the rocking kernel. Steps never
+  cross a ground-motion breakpoint (hazard.motion_kernel.segment).
+* The parameter vector Q is the rocking model's vector P (rocking/kernel.py, indices
+  P2L ... EARLY, packed by RockingModel.kernel_vector) followed by the plate's entries
+  and the statue's geometry (Q_OM2 ... Q_ESTOP); the statue's entries are read at
+  the rocking kernel's indices.
 * Events are located on the 7th-order dense output of each accepted step (sign
   changes sampled at 1/8 of the step, then the Illinois method to ~4 ulp in
   time); the state at the event is recomputed by a fresh step to the event time
@@ -45,19 +50,24 @@ from numba import njit
 from ..rocking import dop853 as D8
 from ..hazard import motion_kernel as MK
 from ..rocking import kernel as K
+from ..rocking.dop853 import STATUS_MAX_STEPS, STATUS_OK, STATUS_STALLED  # noqa: F401  (re-exported)
+from ..rocking.kernel import AL, AR, DL, DR, GRAV, LIM_DN, LIM_UP, N_P, P2L, P2R, REST_TOL, TL, TR
 from . import kernel as IK
 
 _NS = D8.N_STAGES
 _CX = D8.C
 _NX = D8.N_STAGES_EXTENDED
 _NI = D8.INTERPOLATOR_POWER
-_EPS = 2.220446049250313e-16
+_EPS = D8.EPS
 NY = 4
 
 # --- parameter vector Q -------------------------------------------------------
-(Q_OM2, Q_MUG, Q_BW, Q_CZ, Q_UY, Q_NBW, Q_MR, Q_P2L, Q_P2R, Q_DL, Q_DR, Q_RL, Q_RR, Q_AL, Q_AR,
- Q_TL, Q_TR, Q_G, Q_LIM_UP, Q_LIM_DN, Q_H, Q_REST_TOL, Q_CAP, Q_STOP, Q_ESTOP) = range(25)
-N_Q = 25
+# Q[:N_P]: the rocking model's vector P (rocking.kernel indices P2L ... EARLY, packed by
+# RockingModel.kernel_vector; LIN and EARLY are 0 and unused here); then, from N_P on:
+# the plate (omega^2, mu g, Bouc-Wen?, (1 - 1/q) mu g, u_y, n), m / M, the statue's
+# d_L, d_R and h, the capacity, the end stop (0 stop, 1 impact) and its restitution
+(Q_OM2, Q_MUG, Q_BW, Q_CZ, Q_UY, Q_NBW, Q_MR, Q_RL, Q_RR, Q_H, Q_CAP, Q_STOP, Q_ESTOP) = range(N_P, N_P + 13)
+N_Q = N_P + 13
 
 # --- mode vector md -----------------------------------------------------------
 (MD_PS, MD_UR, MD_ZR, MD_ROCK, MD_SIDE, MD_REG, MD_PIN) = range(7)
@@ -72,7 +82,8 @@ N_EV = 8
  S_T_OVERTURN, S_IMP_BEFORE_OT, S_OT_SIDE, S_QMAX_R, S_QMAX_L, S_FULL_UPLIFT, S_N_UPLIFTS,
  S_N_PEAKS, S_N_UPEAKS, S_N_OUT, S_N_ZENO, S_N_RHS, S_T_CAP, S_U_CAP, S_N_HITS, S_CAP_STOP) = range(25)
 N_S = 25
-STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
+STEP_STATS = (S_NSTEPS, S_NREJ, S_STATUS, S_TFINAL, S_N_OUT)
+"""Where dop853.write_stats puts the integrator's counts of a run."""
 
 # impact record columns: t, landing side (-1 left edge, +1 right edge), theta'-, theta'+, u'-, u'+
 N_IMP_COLS = 6
@@ -96,16 +107,16 @@ def _acc_dot(t, seg):
 def _statue_terms(th, side, reg, Q):
     """theta'' = A0 + A1 a (a: absolute plate acceleration) and x_rel'' = c theta'' + d theta'^2."""
     if side > 0:
-        x = Q[Q_DR] - th
-        al = Q[Q_AR] + (1.0 - Q[Q_AR]) * th / Q[Q_TR] if reg == 0 else 1.0
+        x = Q[DR] - th
+        al = Q[AR] + (1.0 - Q[AR]) * th / Q[TR] if reg == 0 else 1.0
         sx = math.sin(x)
         cx = math.cos(x)
-        return -Q[Q_P2R] * al * sx, -Q[Q_P2R] * cx / Q[Q_G], Q[Q_RR] * cx, Q[Q_RR] * sx
-    x = Q[Q_DL] + th
-    al = Q[Q_AL] - (1.0 - Q[Q_AL]) * th / Q[Q_TL] if reg == 0 else 1.0
+        return -Q[P2R] * al * sx, -Q[P2R] * cx / Q[GRAV], Q[Q_RR] * cx, Q[Q_RR] * sx
+    x = Q[DL] + th
+    al = Q[AL] - (1.0 - Q[AL]) * th / Q[TL] if reg == 0 else 1.0
     sx = math.sin(x)
     cx = math.cos(x)
-    return Q[Q_P2L] * al * sx, -Q[Q_P2L] * cx / Q[Q_G], Q[Q_RL] * cx, -Q[Q_RL] * sx
+    return Q[P2L] * al * sx, -Q[P2L] * cx / Q[GRAV], Q[Q_RL] * cx, -Q[Q_RL] * sx
 
 
 @njit(cache=True)
@@ -192,8 +203,8 @@ def _rhs(t, y, md, Q, seg, dy):
 @njit(cache=True)
 def _bounds(side, reg, Q):
     """(lo, hi) of q = side * theta in region reg."""
-    tr = Q[Q_TR] if side > 0 else Q[Q_TL]
-    d = Q[Q_DR] if side > 0 else Q[Q_DL]
+    tr = Q[TR] if side > 0 else Q[TL]
+    d = Q[DR] if side > 0 else Q[DL]
     if tr > 0.0:
         if reg == 0:
             return 0.0, min(tr, d)
@@ -203,7 +214,7 @@ def _bounds(side, reg, Q):
 
 @njit(cache=True)
 def _start_region(side, Q):
-    tr = Q[Q_TR] if side > 0 else Q[Q_TL]
+    tr = Q[TR] if side > 0 else Q[TL]
     return 0.0 if tr > 0.0 else 1.0
 
 
@@ -232,8 +243,8 @@ def _events(t, y, md, Q, seg, g):
         g[EV_CAP] = ps * y[0] - Q[Q_CAP]
     if not rock and not stuck:
         a = -_plate_force(y[0], md, Q)
-        g[EV_UPLIFT_L] = a - Q[Q_LIM_UP]
-        g[EV_UPLIFT_R] = -a - Q[Q_LIM_DN]
+        g[EV_UPLIFT_L] = a - Q[LIM_UP]
+        g[EV_UPLIFT_R] = -a - Q[LIM_DN]
     if rock:
         s = md[MD_SIDE]
         lo, hi = _bounds(s, md[MD_REG], Q)
@@ -242,7 +253,7 @@ def _events(t, y, md, Q, seg, g):
         g[EV_HI] = q - hi
 
 
-# --- DOP853 on 4 states (dynamics/dop853.py) --------------------------------------
+# --- DOP853 on 4 states (rocking/dop853.py) ----------------------------------------
 @njit(cache=True)
 def _stage(i, t, y, h, md, Q, seg, Ks, ytmp, dy):
     D8.stage_state(i, y, h, Ks, ytmp)
@@ -408,7 +419,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         md[MD_ROCK] = 1.0
         md[MD_SIDE] = s
         _, hi0 = _bounds(s, 0.0, Q)
-        tr = Q[Q_TR] if s > 0 else Q[Q_TL]
+        tr = Q[TR] if s > 0 else Q[TL]
         md[MD_REG] = 0.0 if (tr > 0.0 and s * theta0 < hi0) else 1.0
         if md[MD_REG] == 1.0 and tr > 0.0:
             S[S_FULL_UPLIFT] = 1.0
@@ -449,7 +460,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         capstop = True
         _record_output(np.int64(0), 0.0, y, md, Q, seg, out)
         t_end = 0.0
-    pmax = math.sqrt(max(Q[Q_P2L], Q[Q_P2R]))
+    pmax = math.sqrt(max(Q[P2L], Q[P2R]))
     h = min(0.05 / pmax, 0.02 / math.sqrt(om2))
     io = 1 if capstop else 0
     suppress = -1
@@ -457,16 +468,8 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     t_last = -1.0
     stall = 0
     while t < t_end:
-        if t > t_last:
-            t_last = t
-            stall = 0
-        else:
-            stall += 1
-            if stall > 10000:
-                status = STATUS_STALLED
-                break
-        if nsteps + nrej >= max_steps:
-            status = STATUS_MAX_STEPS
+        status, t_last, stall = D8.guard(t, t_last, stall, nsteps + nrej, max_steps)
+        if status != STATUS_OK:
             break
         seg_end = MK.segment(t, kind, M, samples, seg)
         t_lim = min(seg_end, t_end)
@@ -475,7 +478,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
         if not rock and _stuck(md, Q):
             up, dn = _hold_bounds(y[0], md, Q)
             te_p, side_p = K._first_exceedance(t, t_lim, seg, up, dn)
-            te_s, side_s = K._first_exceedance(t, t_lim, seg, Q[Q_LIM_UP], Q[Q_LIM_DN])
+            te_s, side_s = K._first_exceedance(t, t_lim, seg, Q[LIM_UP], Q[LIM_DN])
             t_stop = min(te_p, te_s, t_lim)
             while io < n_out and io * dt_out < t_stop:
                 _record_output(io, io * dt_out, y, md, Q, seg, out)
@@ -514,7 +517,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 if S[S_N_UPLIFTS] == 0.0:
                     S[S_T_UPLIFT] = t
                 S[S_N_UPLIFTS] += 1.0
-                if reg == 1.0 and (Q[Q_TR] if s > 0 else Q[Q_TL]) > 0.0:
+                if reg == 1.0 and (Q[TR] if s > 0 else Q[TL]) > 0.0:
                     S[S_FULL_UPLIFT] = 1.0
                 continue
             t = t_lim
@@ -563,11 +566,8 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             h = hh * D8.factor_reject(err) if err == err else 0.25 * hh
             nrej += 1
             continue
-        fac = D8.factor_accept(err)
-        h_next = hh * fac
-        if hits and h_next < h:
-            h_next = h
-        floor = hh <= 1e-12 * max(1.0, abs(t))
+        h_next = D8.next_step(hh, err, hits, h)
+        floor = D8.shortest(hh, t)
         _dense_coeffs(t, y, yn, hh, md, Q, seg, Ks, F, ytmp, dy)
         # sample events and the statue's angular velocity at x = j / 8
         for k in range(N_EV):
@@ -580,7 +580,7 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
                 _events(tn, yn, md, Q, seg, g)
             for k in range(N_EV):
                 gp[j, k] = g[k]
-        xtol = 4.0 * _EPS * max(1.0, abs(t)) / hh
+        xtol = D8.event_xtol(t, hh)
         x_ev = 2.0
         k_ev = np.int64(-1)
         for k in range(N_EV):
@@ -703,9 +703,9 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
     if capstop or overturned:           # the run ended early: samples after it are nan, phase 4 or 3
         if not capstop:
             if md[MD_SIDE] > 0:
-                qmax_r = Q[Q_DR]
+                qmax_r = Q[DR]
             else:
-                qmax_l = Q[Q_DL]
+                qmax_l = Q[DL]
         while io < n_out and io * dt_out < t:
             io += 1
         phase = 4.0 if capstop else 3.0
@@ -721,15 +721,11 @@ def simulate_kernel(Q, eLw, eLe, eRw, eRe, kind, M, samples, u0, v0, theta0, ome
             io += 1
     S[S_UMAX] = umax
     S[S_AMAX] = amax
-    S[S_NSTEPS] = nsteps
-    S[S_NREJ] = nrej
-    S[S_TFINAL] = t
-    S[S_STATUS] = status
     S[S_QMAX_R] = qmax_r
     S[S_QMAX_L] = qmax_l
     S[S_N_PEAKS] = n_pk
-    S[S_N_OUT] = io
     S[S_CAP_STOP] = 1.0 if capstop else 0.0
+    D8.write_stats(S, STEP_STATS, nsteps, nrej, status, t, io)
     return io
 
 
@@ -776,13 +772,13 @@ def _apply(k, t, y, md, Q, seg, eLw, eLe, eRw, eRe, imp, upeaks, S, n_imp, n_upk
         if S[S_N_UPLIFTS] == 0.0:
             S[S_T_UPLIFT] = t
         S[S_N_UPLIFTS] += 1.0
-        if md[MD_REG] == 1.0 and (Q[Q_TR] if s > 0 else Q[Q_TL]) > 0.0:
+        if md[MD_REG] == 1.0 and (Q[TR] if s > 0 else Q[TL]) > 0.0:
             S[S_FULL_UPLIFT] = 1.0
         return 1
     s = md[MD_SIDE]
     lo, hi = _bounds(s, md[MD_REG], Q)
     if k == EV_HI:
-        dside = Q[Q_DR] if s > 0 else Q[Q_DL]
+        dside = Q[DR] if s > 0 else Q[DL]
         if md[MD_REG] == 0.0 and hi < dside:
             md[MD_REG] = 1.0
             y[2] = s * hi
@@ -820,8 +816,8 @@ def _apply(k, t, y, md, Q, seg, eLw, eLe, eRw, eRe, imp, upeaks, S, n_imp, n_upk
     # Zeno: the next excursions would peak below rest_tol * delta -> a plastic impact (e = 0)
     _, thdd, _ = _accs(t, y[0], 0.0, w_p, md, Q, seg)
     c = -s * thdd
-    dside = Q[Q_DR] if s > 0 else Q[Q_DL]
-    zeno = c > 0.0 and (w_p == 0.0 or w_p * w_p / (2.0 * c) < Q[Q_REST_TOL] * dside)
+    dside = Q[DR] if s > 0 else Q[DL]
+    zeno = c > 0.0 and (w_p == 0.0 or w_p * w_p / (2.0 * c) < Q[REST_TOL] * dside)
     if zeno:
         w_p = 0.0
         v_p = v_m + mr * Q[Q_H] * w_m
@@ -884,8 +880,8 @@ def _end_stop(t, y, md, Q, seg, S):
         _, thdd, _ = _accs(t, y[0], 0.0, w, md, Q, seg)
         md[MD_PS] = ps_keep
         c = -s * thdd
-        dside = Q[Q_DR] if s > 0 else Q[Q_DL]
-        if c > 0.0 and w * w / (2.0 * c) < Q[Q_REST_TOL] * dside:
+        dside = Q[DR] if s > 0 else Q[DL]
+        if c > 0.0 and w * w / (2.0 * c) < Q[REST_TOL] * dside:
             md[MD_ROCK] = 0.0          # too small to count: the statue moves with the plate
         else:
             y[2] = 0.0
@@ -893,7 +889,7 @@ def _end_stop(t, y, md, Q, seg, S):
             if S[S_N_UPLIFTS] == 0.0:
                 S[S_T_UPLIFT] = t
             S[S_N_UPLIFTS] += 1.0
-            if reg == 1.0 and (Q[Q_TR] if s > 0 else Q[Q_TL]) > 0.0:
+            if reg == 1.0 and (Q[TR] if s > 0 else Q[TL]) > 0.0:
                 S[S_FULL_UPLIFT] = 1.0
     # the plate: a new branch moving back (Bouc-Wen z from here), or resting on the stop
     if bw:
@@ -913,5 +909,5 @@ SIGNATURES = {
     "simulate_kernel": (K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.I8, K.VEC, MK.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8,
                         K.F8, K.F8, K.VEC, K.I8, K.MAT, K.MAT, K.MAT, K.MAT, K.VEC),
 }
-"""The one argument-type signature of the entry point (types of dynamics.kernel; see
+"""The one argument-type signature of the entry point (types of rocking.kernel; see
 statue2model.compute.compile)."""

@@ -2,7 +2,7 @@
 
 Input: the statue's rocking parameters (m, h, b_L, b_R, a_L, a_R; the uplift limits
 reduced by alpha when the base is imperfect), a rolling friction coefficient mu and a
-design input: an elastic response spectrum (EC8 / NTC 2018, design_spectrum.py) or a
+design input: an elastic response spectrum (EC8 / NTC 2018, hazard/code_spectra.py) or a
 ground motion simulated on every candidate. Optionally a stricter target for the plate's
 absolute acceleration, and a fuse (release mechanism, eq. 52). SI units throughout.
 

@@ -1,4 +1,4 @@
-"""The two wooden plates of the rolling-ball isolator: solids, CNC files, section drawing.
+"""The two wooden plates of the rolling-ball isolator: solids, CNC files, the section's shapes.
 
 Each plate is a square board (``side`` x ``side`` x ``thickness``) carved with n
 spherical grooves: caps of a sphere of radius R, ``depth`` deep, whose opening
@@ -428,9 +428,10 @@ def _write_dxf(geom: PlateGeometry, which: str, path: Path) -> Path:
     return atomic_write(path, lambda p: doc.saveas(p))
 
 
-def _section_shapes(geom: PlateGeometry, y0: float):
+def section_shapes(geom: PlateGeometry, y0: float):
     """Sections (x, z) in m at the plane y = y0 of the assembly: bottom plate, top plate,
-    ball discs (main and fuse), as shapely geometries."""
+    ball discs (main and fuse), as shapely geometries (drawn by
+    :func:`statue2model.report.isolator_plots.plot_plates_section`)."""
     from shapely.geometry import Point, box
     from shapely.ops import unary_union
 
@@ -466,81 +467,6 @@ def _section_shapes(geom: PlateGeometry, y0: float):
     return bottom, top, balls, fuse
 
 
-def _plot_section(geom: PlateGeometry, png: Path, svg: Path) -> tuple[Path, Path]:
-    """Section of both plates with the balls in place, through the first groove's
-    centre along x; the lower panel details that groove with its dimensions."""
-    import shapely
-
-    from ..report.plots import _pyplot
-
-    plt = _pyplot()
-    x0, y0 = geom.groove_centres[0]
-    bottom, top, balls, fuse = _section_shapes(geom, y0)
-    t, d, a, R, r, gap = geom.thickness, geom.depth, geom.opening_radius, geom.R, geom.ball_radius, geom.gap
-    fig, axes = plt.subplots(2, 1, figsize=(12, 9), gridspec_kw={"height_ratios": [1, 1.6]})
-
-    def draw(ax):
-        for geom_, fc in ((bottom, "burlywood"), (top, "tan")):
-            for poly in shapely.get_parts(geom_):
-                xy = np.asarray(poly.exterior.coords) * MM
-                ax.fill(xy[:, 0], xy[:, 1], fc=fc, ec="k", lw=0.8)
-        for disc, fc in [(b, "0.6") for b in balls] + [(f, "steelblue") for f in fuse]:
-            xy = np.asarray(disc.exterior.coords) * MM
-            ax.fill(xy[:, 0], xy[:, 1], fc=fc, ec="k", lw=0.6, alpha=0.7)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("z (mm)")
-
-    ax = axes[0]
-    draw(ax)
-    ax.set_title(f"Section y = {y0 * MM:.1f} mm through groove 1: bottom plate, balls (r = {r * MM:.1f} mm), "
-                 f"top plate; side {geom.side * MM:.0f} mm, gap {gap * MM:.1f} mm", fontsize=10)
-
-    ax = axes[1]
-    draw(ax)
-    pad = 0.02
-    sd = 1.0 if x0 <= 0 else -1.0                   # towards the plate centre: the side with wood
-    lo, hi = sorted(((x0 - sd * (a + pad)) * MM, (x0 + sd * (a + 3 * pad)) * MM))
-    ax.set_xlim(lo, hi)
-    ax.set_ylim(-0.008 * MM, (2 * t + gap + 0.008) * MM)
-    arrow = {"arrowstyle": "<->", "color": "darkred", "lw": 1.0, "shrinkA": 0, "shrinkB": 0}
-    text = {"color": "darkred", "fontsize": 9, "bbox": {"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.0}}
-    ha = "left" if sd > 0 else "right"
-    # depth, beside the groove, with an extension line from its deepest point
-    xd = (x0 + sd * (a + 0.5 * pad)) * MM
-    ax.plot([x0 * MM, xd + 2 * sd], [(t - d) * MM] * 2, color="darkred", lw=0.6, ls="--")
-    ax.annotate("", xy=(xd, (t - d) * MM), xytext=(xd, t * MM), arrowprops=arrow)
-    ax.text(xd + sd, (t - 0.5 * d) * MM, f"depth = {d * MM:.1f} mm", ha=ha, va="center", **text)
-    # thickness, just beyond it
-    xt = xd + 22 * sd
-    ax.annotate("", xy=(xt, 0), xytext=(xt, t * MM), arrowprops=arrow)
-    ax.text(xt + sd, 0.35 * t * MM, f"t = {t * MM:.1f} mm", ha=ha, va="center", rotation=90, **text)
-    # opening radius, in the gap above the bottom plate
-    za = (t + 0.35 * gap) * MM
-    ax.annotate("", xy=(x0 * MM, za), xytext=((x0 + sd * a) * MM, za), arrowprops=arrow)
-    ax.plot([x0 * MM] * 2, [(t - d) * MM, za], color="darkred", lw=0.6, ls=":")
-    ax.text((x0 + 0.5 * sd * a) * MM, za + 0.8, f"a = {a * MM:.1f} mm", ha="center", va="bottom", **text)
-    # R: a leader along the radius to a point of the groove's surface, on the other side
-    th = -sd * 0.55 * math.asin(a / R)
-    px, pz = x0 + R * math.sin(th), t - d + R - R * math.cos(th)
-    ux, uz = -math.sin(th), math.cos(th)           # towards the sphere centre (far above)
-    L = 0.6 * (t + gap)
-    ax.annotate("", xy=(px * MM, pz * MM), xytext=((px + L * ux) * MM, (pz + L * uz) * MM),
-                arrowprops={"arrowstyle": "->", "color": "darkred", "lw": 1.0})
-    ax.text((px + L * ux) * MM, (pz + L * uz) * MM + 0.8,
-            f"R = {R * MM:.0f} mm\n(centre {(R - d) * MM:.0f} mm above the face)", ha="center", va="bottom", **text)
-    ax.set_title(f"Groove 1 at ({x0 * MM:.1f}, {y0 * MM:.1f}) mm: t = {t * MM:.1f} mm, R = {R * MM:.0f} mm, "
-                 f"depth = {d * MM:.1f} mm, a = {a * MM:.1f} mm, ball r = {r * MM:.1f} mm "
-                 "(top plate: the mirror)", fontsize=10)
-    fig.tight_layout()
-    try:
-        atomic_write(png, lambda p: fig.savefig(p, format="png", dpi=150))
-        atomic_write(svg, lambda p: fig.savefig(p, format="svg"))
-    finally:
-        plt.close(fig)
-    return png, svg
-
-
 def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str, Path]:
     """Write the plates' fabrication files to ``out_dir`` and return their paths:
 
@@ -550,7 +476,9 @@ def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str,
     bottom_dxf, top_dxf   bottom_plate.dxf, top_plate.dxf (mm, origin at the plate centre):
                           outline CUT_OUTSIDE; groove and seat opening circles POCKET;
                           groove centres DRILL points; drop holes DRILL circles
-    section_png, section_svg  plates_section.png / .svg, the dimensioned section
+
+    The dimensioned section (plates_section.png / .svg) is drawn by
+    :func:`statue2model.report.isolator_plots.plot_plates_section`.
     """
     out = prepare_dir(out_dir)
     can_3mf = importlib.util.find_spec("lxml") is not None
@@ -566,8 +494,6 @@ def write_plates(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str,
             paths[f"{which}_3mf"] = atomic_write(out / f"{which}_plate.3mf",
                                                  lambda p, m=mesh: m.export(p, file_type="3mf"))
         paths[f"{which}_dxf"] = _write_dxf(geom, which, out / f"{which}_plate.dxf")
-    paths["section_png"], paths["section_svg"] = _plot_section(
-        geom, out / "plates_section.png", out / "plates_section.svg")
     return paths
 
 

@@ -15,7 +15,7 @@ The variability runs its PGAs in increasing order and stops at the first one tha
 exceeds the capacity: the higher PGAs are not run (``run`` False, code CAPACITY,
 responses nan; the JSON lists them as ``not_run_pga_m_s2``).
 
-With ``end_stop="impact"`` (see isolator/dynamics.py) the runs go on after the
+With ``end_stop="impact"`` (see isolator/time_history.py) the runs go on after the
 capacity with an end-stop impact: the codes are then the statue's outcomes and the
 variability does not stop.
 

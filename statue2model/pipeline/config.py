@@ -414,39 +414,13 @@ def motion_files(cfg: ProjectConfig, sections) -> dict:
     return out
 
 
-def grid(text: str, what: str, accel: bool = False) -> np.ndarray:
-    """'START:STOP:N' (or 'a,b,c') -> the values (accelerations may carry a g suffix)."""
-    from ..rocking.sweeps import linspace_spec
-
-    return linspace_spec(text, what, accel)
-
-
-def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np.ndarray:
-    """The PGA levels (m/s^2) of a fragility_levels grid ('START:STOP:N' or 'a,b,c', with units),
-    refused in one line naming ``what`` unless there are at least 3, all > 0 and strictly
-    increasing (a reversed grid would otherwise fail only after the study's records are built).
-
-    >>> fragility_levels("0.1g:0.5g:3") / 9.81
-    array([0.1, 0.3, 0.5])
-    >>> fragility_levels("1g:0.1g:5")
-    Traceback (most recent call last):
-    ...
-    statue2model.errors.InputError: [dynamics] fragility_levels must increase from START to STOP ...
-    """
-    lv = grid(text, what, accel=True)
-    if lv.size < 3 or np.any(lv <= 0):
-        raise InputError(f"{what} needs at least 3 PGAs > 0, got {text!r}")
-    if np.any(np.diff(lv) <= 0):
-        raise InputError(f"{what} must increase from START to STOP (each level above the one before), "
-                         f"got {text!r}")
-    return lv
-
-
 def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     """Check what can be checked before any work starts (grids, motions, spectra,
     ranges), so a typo fails in a second, not after minutes."""
-    from ..hazard.motions import parse_spec
+    from ..assessment.study import fragility_levels
     from ..hazard.code_spectra import parse_spectrum
+    from ..hazard.motions import parse_spec
+    from ..rocking.sweeps import linspace_spec
 
     def bad(msg):
         raise InputError(f"{where}: {msg}")
@@ -517,9 +491,9 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
     if not 16 <= i.segments <= 4096:
         bad(f"[isolator] segments must be in 16..4096, got {i.segments}")
-    freqs = grid(d.freq, f"{where}: [dynamics] freq")
-    amps = grid(d.amp, f"{where}: [dynamics] amp", accel=True)
-    pgas = grid(d.pga, f"{where}: [dynamics] pga", accel=True)
+    freqs = linspace_spec(d.freq, f"{where}: [dynamics] freq")
+    amps = linspace_spec(d.amp, f"{where}: [dynamics] amp", accel=True)
+    pgas = linspace_spec(d.pga, f"{where}: [dynamics] pga", accel=True)
     if np.any(freqs <= 0) or np.any(amps < 0) or np.any(pgas < 0):
         bad("[dynamics] frequencies must be > 0 and amplitudes, PGAs >= 0")
     if d.fragility:
@@ -557,13 +531,24 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[run] stages = {r.stages!r}: {exc}")
 
 
+STAGE_NAMES = ("params", "prototype", "isolator", "dynamics", "crosscheck")
+"""The stages of a run in their order (:data:`statue2model.pipeline.stages.STAGES` runs them)."""
+
+
+def check_stage_names(names) -> list[str]:
+    """``names`` as a list, or an :class:`InputError` naming the unknown ones and the known."""
+    bad = [n for n in names if n not in STAGE_NAMES]
+    if bad:
+        raise InputError(f"unknown stage(s) {', '.join(bad)}; stages are {', '.join(STAGE_NAMES)}")
+    return list(names)
+
+
 def stage_list(text: str) -> list[str]:
     """The stage names of a comma list (``"params, dynamics"``), or every stage for
     ``"all"``; an unknown name is an :class:`InputError` naming the known ones."""
-    from .stages import STAGES, check_stage_names
     names = [n.strip() for n in str(text).split(",") if n.strip()]
     if names == ["all"]:
-        return list(STAGES)
+        return list(STAGE_NAMES)
     if not names:
         raise InputError("no stage named")
     return check_stage_names(names)

@@ -3,7 +3,7 @@
     OUT/config.toml        the resolved configuration (every key; repeat the run with it)
     OUT/params/ OUT/prototype/ OUT/isolator/ OUT/dynamics/ OUT/crosscheck/
                            one folder per stage, each with its manifest stage.json
-    OUT/run.json           the verdict (hazard, fixed base, isolator, recommendation: pipeline/verdict.py),
+    OUT/run.json           the verdict (hazard, fixed base, isolator, recommendation: assessment/verdict.py),
                            stages (status, seconds, cached, key, warnings) and their headline numbers;
                            ``warnings``: every stage's warnings, [{stage, text}]
     OUT/report.html        the self-contained report
@@ -44,8 +44,8 @@ from ..io.csvsafe import write_csv
 from ..errors import InputError
 from ..io.files import atomic_write, open_output, write_json
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
-from .config import ProjectConfig, motion_files, stage_list
-from .stages import DEPENDS, STAGES, Context, check_stage_names, enabled
+from .config import ProjectConfig, check_stage_names, motion_files, stage_list
+from .stages import DEPENDS, STAGES, Context, enabled
 from ..assessment.verdict import assess
 from ..geometry.scan import SCAN_SUFFIXES
 

@@ -97,6 +97,19 @@ def plot_spectrum(sp, path, title: str | None = None) -> Path:
     return _save(fig, path)
 
 
+def plot_spectrum_not_applicable(sp, path) -> Path:
+    """:func:`plot_spectrum` with the points where the model does not apply (``sp.applicable``
+    false: the body slides before it rocks) masked, grey (the axes' background)."""
+    import dataclasses
+
+    import matplotlib
+
+    shown = dataclasses.replace(sp, codes=np.ma.masked_array(sp.codes, mask=~sp.applicable))
+    with matplotlib.rc_context({"axes.facecolor": "0.55"}):
+        return plot_spectrum(shown, path, f"stability spectrum, one-{sp.pulse} pulse ({sp.codes.size} runs; grey: "
+                                          f"not applicable, slides before it rocks)")
+
+
 def plot_sweep(sw, path) -> Path:
     """Response against the swept value, and its distribution."""
     plt = _pyplot()

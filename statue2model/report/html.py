@@ -39,7 +39,7 @@ Rules:
 * A figure may carry ``"root"``: a folder its file must resolve inside (symlinks
   followed), else it is not read and the page shows "figure refused: path outside
   the stage folder: name"; a figure with ``"refused": reason`` (set by the caller,
-  e.g. :func:`statue2model.pipeline.cache.safe_figures`) is never read either.
+  e.g. :func:`statue2model.report.figure_paths.safe_figures`) is never read either.
   Refused figures are listed at the top and counted in ``data-figures-refused``
   (and in ``data-figures-missing``: they have no ``<img>``).
 * Figure paths are absolute or relative to ``base_dir`` (default: the directory

@@ -15,7 +15,7 @@ False
 
 A manifest (stage.json) is input too: it may have been edited. Its figures are
 embedded only when they resolve inside the stage's own folder under OUT
-(:func:`statue2model.pipeline.cache.safe_figures`), else the page says "figure
+(:func:`statue2model.report.figure_paths.safe_figures`), else the page says "figure
 refused"; a malformed table is left out with a note, never an exception.
 """
 from __future__ import annotations
@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 from ..version import __version__
-from ..pipeline.cache import safe_figures
+from .figure_paths import safe_figures
 
 TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sheets",
           "isolator": "Rolling-ball isolator", "dynamics": "2D analyses: fixed base and isolator",

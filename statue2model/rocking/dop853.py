@@ -15,7 +15,13 @@ depend on them:
 * :func:`error_norm` (scipy's), :func:`factor_reject` / :func:`factor_accept`
   (the step-size controller);
 * :func:`dense_coeffs`, :func:`dense_eval`, :func:`dense`: the dense output;
-* :func:`secant` / :func:`illinois`: one Illinois iteration on a bracket.
+* :func:`secant` / :func:`illinois`: one Illinois iteration on a bracket;
+* the guard of the integration loop and its statistics: :func:`guard` (the
+  max-steps and stall checks, status :data:`STATUS_OK` / :data:`STATUS_MAX_STEPS`
+  / :data:`STATUS_STALLED`), :func:`next_step` (the step after an accepted one),
+  :func:`shortest` (a step too short to retry), :func:`event_xtol` (the tolerance
+  of an event's location), :func:`write_stats` (the counts of a run into its
+  statistics vector, at the kernel's own indices).
 
 Arrays: stages ``Ks`` (N_STAGES_EXTENDED, ny), rows 0..N_STAGES-1 the stages of a
 step, row N_STAGES the slope at its end, the 3 rows after it the dense-output
@@ -45,6 +51,14 @@ C = np.ascontiguousarray(_dop.C, dtype=np.float64)
 E3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
 E5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
 D = np.ascontiguousarray(_dop.D, dtype=np.float64)
+
+EPS = 2.220446049250313e-16
+"""Machine epsilon of float64."""
+STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
+"""How a run ended: it reached its end (or an event ended it), it took ``max_steps``
+steps (accepted + rejected), or its time stood still for :data:`MAX_STALL` passes."""
+MAX_STALL = 10000
+"""Passes of the integration loop without progress in time after which a run has stalled."""
 
 
 @njit(cache=True, inline="always")
@@ -169,3 +183,59 @@ def illinois(xa, fa, xb, fb, side, x, fx, to_b):
             fb *= 0.5
         side = 1
     return xa, fa, xb, fb, side
+
+
+@njit(cache=True, inline="always")
+def guard(t, t_last, stall, n_tries, max_steps):
+    """The check at the top of each pass of an integration loop at time t: t_last, the
+    latest time reached, and stall, the passes since it was reached, are updated;
+    n_tries = steps accepted + rejected so far. Returns (status, t_last, stall): the
+    loop goes on while status is STATUS_OK; STATUS_STALLED after more than MAX_STALL
+    passes at one time, STATUS_MAX_STEPS once n_tries reaches max_steps."""
+    if t > t_last:
+        t_last = t
+        stall = 0
+    else:
+        stall += 1
+        if stall > MAX_STALL:
+            return STATUS_STALLED, t_last, stall
+    if n_tries >= max_steps:
+        return STATUS_MAX_STEPS, t_last, stall
+    return STATUS_OK, t_last, stall
+
+
+@njit(cache=True, inline="always")
+def next_step(h, err, hits, h_try):
+    """Length of the step after an accepted step of length h with error norm err (<= 1):
+    h factor_accept(err), but not shorter than the proposed length h_try when the step was
+    cut short to end on a breakpoint (hits)."""
+    h_next = h * factor_accept(err)
+    if hits and h_next < h_try:
+        h_next = h_try
+    return h_next
+
+
+@njit(cache=True, inline="always")
+def shortest(h, t):
+    """True if a step of length h at time t is the shortest taken (1e-12 max(1, |t|)): it
+    is not retried shorter."""
+    return h <= 1e-12 * max(1.0, abs(t))
+
+
+@njit(cache=True, inline="always")
+def event_xtol(t, h):
+    """Tolerance, as a fraction of a step of length h at time t, of an event located on
+    its dense output: 4 ulp of max(1, |t|) in time."""
+    return 4.0 * EPS * max(1.0, abs(t)) / h
+
+
+@njit(cache=True, inline="always")
+def write_stats(S, slots, n_steps, n_rejected, status, t_final, n_out):
+    """The integrator's counts of a run into its statistics vector S: ``slots`` = the
+    kernel's indices of (steps accepted, steps rejected, status, final time (s), output
+    samples written)."""
+    S[slots[0]] = n_steps
+    S[slots[1]] = n_rejected
+    S[slots[2]] = status
+    S[slots[3]] = t_final
+    S[slots[4]] = n_out

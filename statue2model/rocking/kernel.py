@@ -7,9 +7,12 @@ Method
 ------
 * Dormand-Prince 8(5,3) (the DOP853 tableau of scipy, read from scipy so the
   coefficients are not re-typed) with its own step-size control, on the state
-  ``(theta, theta')``; the tableau, error norm, step-size controller, dense output
-  and Illinois iteration are those of :mod:`statue2model.rocking.dop853`, shared
-  with the coupled plate + statue kernel.
+  ``(theta, theta')``; the tableau, error norm, step-size controller, dense output,
+  Illinois iteration, the loop's guard (max steps, stall) and the write-out of its
+  counts are those of :mod:`statue2model.rocking.dop853`, shared with the coupled
+  plate + statue kernel. The model vector P is packed by
+  :meth:`statue2model.rocking.model.RockingModel.kernel_vector` (indices ``P2L`` ...
+  ``EARLY`` below); the coupled kernel's vector starts with it.
 * The right-hand side is smooth inside a *segment*: one side (pivot), one
   region of the rolling transition (|theta| below or above theta_L / theta_R)
   and one smooth piece of the ground motion (pulse on/off, one sample interval
@@ -44,6 +47,7 @@ from ..hazard.motion_kernel import (  # noqa: F401  (re-exported: the motion enc
     segment)
 from ..hazard.motion_kernel import seg_acc as _acc
 from . import dop853 as D8
+from .dop853 import STATUS_MAX_STEPS, STATUS_OK, STATUS_STALLED  # noqa: F401  (re-exported)
 
 _NS = D8.N_STAGES
 _CX = D8.C
@@ -53,6 +57,8 @@ _NX = D8.N_STAGES_EXTENDED
 _NI = D8.INTERPOLATOR_POWER
 
 # --- model vector P --------------------------------------------------------
+# packed by RockingModel.kernel_vector (statue2model.rocking.model), the one place that
+# fills it; the coupled plate + statue kernel's vector starts with it (isolator.coupled_kernel)
 P2L, P2R, DL, DR, AL, AR, TL, TR, GRAV, LIN, LIM_UP, LIM_DN, REST_TOL, EARLY = range(14)
 N_P = 14
 
@@ -62,9 +68,10 @@ N_P = 14
  S_T_REST, S_N_STEPS, S_N_REJECT, S_N_RHS, S_STATUS, S_FULL_UPLIFT, S_N_PEAKS, S_T_FINAL,
  S_OT_SIDE, S_N_OUT, S_N_UPLIFTS, S_MOVED, S_DECIDED) = range(20)
 N_S = 20
-STATUS_OK, STATUS_MAX_STEPS, STATUS_STALLED = 0, 1, 2
+STEP_STATS = (S_N_STEPS, S_N_REJECT, S_STATUS, S_T_FINAL, S_N_OUT)
+"""Where dop853.write_stats puts the integrator's counts of a run."""
 
-_EPS = 2.220446049250313e-16
+_EPS = D8.EPS
 
 # --- argument types -------------------------------------------------------------
 # Each entry point called from Python is compiled for one signature only (SIGNATURES
@@ -449,16 +456,8 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     t_last = t
     stall = 0
     while t < t_end:
-        if t > t_last:
-            t_last = t
-            stall = 0
-        else:
-            stall += 1
-            if stall > 10000:
-                status = STATUS_STALLED
-                break
-        if nsteps + nrej >= max_steps:
-            status = STATUS_MAX_STEPS
+        status, t_last, stall = D8.guard(t, t_last, stall, nsteps + nrej, max_steps)
+        if status != STATUS_OK:
             break
         if not moving:
             # stick: find the next uplift without integrating
@@ -527,13 +526,10 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             if h < 1e-14 * max(1.0, abs(t)):
                 h = 1e-14 * max(1.0, abs(t))
             continue
-        fac = D8.factor_accept(err)
-        h_next = h * fac
-        if hits and h_next < h_try:
-            h_next = h_try
+        h_next = D8.next_step(h, err, hits, h_try)
         dense = False
-        xtol = 4.0 * _EPS * max(1.0, abs(t)) / h
-        floor = h <= 1e-12 * max(1.0, abs(t))  # shortest step: no more retries
+        xtol = D8.event_xtol(t, h)
+        floor = D8.shortest(h, t)  # shortest step: no more retries
         nsteps += 1
         q0 = s * th
         qn = s * thn
@@ -850,13 +846,9 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     S[S_QMAX_R] = qmax_r
     S[S_QMAX_L] = qmax_l
     S[S_N_IMP] = n_imp
-    S[S_N_STEPS] = nsteps
-    S[S_N_REJECT] = nrej
     S[S_N_RHS] = nrhs
-    S[S_STATUS] = status
     S[S_N_PEAKS] = n_pk
-    S[S_T_FINAL] = t
-    S[S_N_OUT] = io
+    D8.write_stats(S, STEP_STATS, nsteps, nrej, status, t, io)
     return io
 
 

@@ -291,7 +291,10 @@ class RockingModel:
             max(self.e_R.values) ** 2 * p.I_R / p.I_L > 1 + 1e-12
 
     def kernel_vector(self, rest_tol: float = 1e-9, early_exit: bool | str = False) -> np.ndarray:
-        """The flat parameter vector of :mod:`statue2model.rocking.kernel`. ``early_exit``:
+        """The flat parameter vector P of :mod:`statue2model.rocking.kernel` (indices
+        ``kernel.P2L`` ... ``kernel.EARLY``): the one packing of the model for the compiled
+        kernels, the fixed-base engine's and the coupled plate + statue kernel's, whose
+        vector starts with it (:func:`statue2model.isolator.coupled.parameter_vector`). ``early_exit``:
         True - stop once the ground is still, a peak has been seen on each side and no impact
         can add energy (the maxima and the outcome are then final; for sweeps); "outcome" -
         also stop a record's run as soon as its energy plus all the energy the rest of the
