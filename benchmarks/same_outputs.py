@@ -21,10 +21,11 @@ import re
 import sys
 from pathlib import Path
 
-VOLATILE_KEYS = {"seconds", "mesh", "timings", "files", "key"}
+VOLATILE_KEYS = {"seconds", "mesh", "timings", "files", "key", "real_time_factor"}
 """JSON keys whose values are wall-clock times, the scan's path, the hashes of files (each
-file is compared itself) or a stage's cache key (it hashes the code, which a refactor
-changes): left out, as is every key with 'wall' or 'cpu' in its name."""
+file is compared itself), a stage's cache key (it hashes the code, which a refactor
+changes) or a measured speed (the 3D scenes' real-time factor): left out, as is every key
+with 'wall' or 'cpu' in its name."""
 
 VOLATILE_TEXT = [
     re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(\+\d\d:\d\d)?"),   # time stamps
@@ -75,11 +76,35 @@ def _first_difference(a, b, where="") -> str:
 TEXT = (".toml", ".txt", ".csv", ".html", ".md", ".dxf", ".svg")
 
 
-def _text_difference(ba: bytes, bb: bytes, folders=()) -> str:
+def _dxf_classes_sorted(s: str) -> str:
+    """The DXF's CLASSES section with its entries in sorted order: ezdxf writes them in the
+    order of a set, which changes with PYTHONHASHSEED from one process to the next."""
+    lines = s.splitlines()
+    try:
+        i = [x.strip() for x in lines].index("CLASSES")
+    except ValueError:
+        return s
+    j = next(k for k in range(i, len(lines)) if lines[k].strip() == "ENDSEC")
+    blocks, cur = [], []
+    for k in range(i + 1, j - 1):          # entries start at a '  0' / 'CLASS' pair
+        if lines[k].strip() == "0" and lines[k + 1].strip() == "CLASS" and cur:
+            blocks.append(cur)
+            cur = []
+        cur.append(lines[k])
+    blocks.append(cur + [lines[j - 1]])
+    tail = blocks[-1].pop()
+    return "\n".join(lines[: i + 1] + [x for b in sorted(blocks) for x in b] + [tail] + lines[j:])
+
+
+def _text_difference(ba: bytes, bb: bytes, folders=(), dxf: bool = False) -> str:
     def lines(b):
         s = b.decode("utf-8", "replace")
+        if dxf:
+            s = _dxf_classes_sorted(s.replace("\r\n", "\n"))
         for f in folders:                      # the run's own folder, wherever it was
-            s = s.replace(str(f.resolve()), "OUT").replace(f.name, "OUT")
+            s = s.replace(str(f.resolve()), "OUT")
+        for f in folders:
+            s = s.replace(f.name, "OUT")
         return [_strip(x) for x in s.splitlines()]
 
     la, lb = lines(ba), lines(bb)
@@ -101,13 +126,17 @@ def _zip_difference(ba: bytes, bb: bytes, folders=()) -> str:
     return ""
 
 
-def compare(old: Path, new: Path) -> list[tuple[str, str, str]]:
-    """(relative path, verdict, detail) for every file of either folder."""
+def compare(old: Path, new: Path, expect_new=()) -> list[tuple[str, str, str]]:
+    """(relative path, verdict, detail) for every file of either folder; a file only in ``new``
+    whose name is in ``expect_new`` is 'new (expected)'."""
     names = sorted({p.relative_to(old).as_posix() for p in old.rglob("*") if p.is_file()}
                    | {p.relative_to(new).as_posix() for p in new.rglob("*") if p.is_file()})
     rows = []
     for name in names:
         a, b = old / name, new / name
+        if not a.exists() and Path(name).name in expect_new:
+            rows.append((name, "new (expected)", ""))
+            continue
         if not a.exists() or not b.exists():
             rows.append((name, "DIFFERS", f"only in {'new' if not a.exists() else 'old'}"))
             continue
@@ -119,7 +148,7 @@ def compare(old: Path, new: Path) -> list[tuple[str, str, str]]:
             d = _first_difference(_strip(json.loads(ba)), _strip(json.loads(bb)))
             rows.append((name, "DIFFERS", d) if d else (name, "same numbers", ""))
         elif name.endswith(TEXT):
-            diff = _text_difference(ba, bb, (old, new))
+            diff = _text_difference(ba, bb, (old, new), dxf=name.endswith(".dxf"))
             rows.append((name, "DIFFERS", diff[:200]) if diff else (name, "same content", ""))
         elif name.endswith(".3mf"):
             diff = _zip_difference(ba, bb, (old, new))
@@ -134,8 +163,10 @@ def main(argv=None) -> int:
     ap.add_argument("old", type=Path)
     ap.add_argument("new", type=Path)
     ap.add_argument("--all", action="store_true", help="list identical files too")
+    ap.add_argument("--expect-new", nargs="*", default=(), metavar="NAME",
+                    help="file names the new code adds on purpose (e.g. body.npz)")
     args = ap.parse_args(argv)
-    rows = compare(args.old, args.new)
+    rows = compare(args.old, args.new, set(args.expect_new))
     counts: dict[str, int] = {}
     for name, verdict, detail in rows:
         counts[verdict] = counts.get(verdict, 0) + 1
