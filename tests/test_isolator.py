@@ -22,7 +22,8 @@ from statue2model.isolator.device import (
     fuse_seat_depth,
     lever_arm,
 )
-from statue2model.isolator.time_history import simulate, statue_on_plate
+from statue2model.isolator.statue_on_plate import statue_on_plate
+from statue2model.isolator.time_history import simulate
 from statue2model.isolator.friction import (
     TABLE_25,
     friction_from_record,

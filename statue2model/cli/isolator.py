@@ -201,7 +201,8 @@ def _cmd_simulate(args) -> int:
     from ..rocking.model import RockingModel
     from ..hazard.motions import parse_spec
     from ..io.files import OutputGroup, write_json
-    from ..isolator.time_history import simulate, statue_on_plate
+    from ..isolator.statue_on_plate import statue_on_plate
+    from ..isolator.time_history import simulate
 
     spec = args.motion.strip()
     u0 = v0 = 0.0

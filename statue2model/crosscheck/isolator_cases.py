@@ -6,7 +6,7 @@
   calibrated (the faceted grooves and inelastic ball contacts dissipate by
   themselves: measured at mu = 0 and taken off);
 * the isolated statue under the user's motion: peak absolute plate acceleration
-  3D vs the 2D plate (isolator/dynamics.py), and the efficiency; and whether the plate
+  3D vs the 2D plate (isolator/time_history.py), and the efficiency; and whether the plate
   passes the isolator's capacity (the design's) in 2D and in 3D (must agree).
 
 Example
