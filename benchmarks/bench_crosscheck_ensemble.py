@@ -40,7 +40,8 @@ def main() -> None:
         from statue2model.crosscheck.imperfect import imperfect_cases
 
         t = time.perf_counter()
-        cases, _, runs = imperfect_cases(sc, quick=a.quick)
+        part = imperfect_cases(sc, quick=a.quick)
+        cases, runs = part.cases, part.runs
         print(table(cases))
         ident = runs["imperfect base: identification"]
         for s in ("L", "R"):
@@ -51,15 +52,17 @@ def main() -> None:
         print(f"  e from 3D free rocking: {runs['imperfect base: restitution']}")
         print(f"imperfect base: wall time {time.perf_counter() - t:.1f} s\n")
     t = time.perf_counter()
-    cases, res = ens.ensemble_cases(sc, n_records=a.records, quick=a.quick, workers=a.workers,
-                                    progress=lambda m: print(f"  {m}", flush=True))
+    ok = ens.ensemble_cases(sc, n_records=a.records, quick=a.quick, workers=a.workers,
+                            progress=lambda m: print(f"  {m}", flush=True))
+    cases, res = ok.comparison.cases, ok.results
     print(ens.level_table(res))
     print(f"ensemble: wall time {res['wall_time_s']:.1f} s (2D {res['wall_time_2d_s']:.1f} s, 3D "
           f"{res['wall_time_3d_s']:.1f} s on {res['executor']}; 3D {res['sim_time_3d_s']:.0f} s simulated, "
           f"{res['real_time_factor_3d']:.1f} x real time per worker)")
     wrong = model_2d(sc, scale=0.6)
-    bad, res2 = ens.ensemble_cases(sc, n_records=a.records, quick=a.quick, model=wrong, pga_ref=res["pga_ref"],
-                                   runs_3d=res["runs_3d"])
+    wrong_e = ens.ensemble_cases(sc, n_records=a.records, quick=a.quick, model=wrong, pga_ref=res["pga_ref"],
+                                 runs_3d=res["runs_3d"])
+    bad, res2 = wrong_e.comparison.cases, wrong_e.results
     print("\nthe same 3D runs against a 2D model with e x 0.6 (must fail):")
     print(ens.level_table(res2))
     print(f"{sum(c.met for c in bad)} of {len(bad)} cases met (correct 2D: {sum(c.met for c in cases)} of "

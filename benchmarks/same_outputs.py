@@ -21,11 +21,11 @@ import re
 import sys
 from pathlib import Path
 
-VOLATILE_KEYS = {"seconds", "mesh", "timings", "files", "key", "real_time_factor"}
+VOLATILE_KEYS = {"seconds", "mesh", "timings", "files", "key"}
 """JSON keys whose values are wall-clock times, the scan's path, the hashes of files (each
 file is compared itself), a stage's cache key (it hashes the code, which a refactor
-changes) or a measured speed (the 3D scenes' real-time factor): left out, as is every key
-with 'wall' or 'cpu' in its name."""
+changes): left out, as is every key with 'wall', 'cpu' or 'real_time' in its name (measured
+times and speeds, e.g. the 3D scenes' real-time factors)."""
 
 VOLATILE_TEXT = [
     re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(\+\d\d:\d\d)?"),   # time stamps
@@ -42,7 +42,7 @@ VOLATILE_TEXT = [
 def _strip(x):
     if isinstance(x, dict):
         return {k: _strip(v) for k, v in x.items()
-                if k not in VOLATILE_KEYS and "wall" not in k and "cpu" not in k}
+                if k not in VOLATILE_KEYS and not any(w in k for w in ("wall", "cpu", "real_time"))}
     if isinstance(x, list):
         return [_strip(v) for v in x]
     if isinstance(x, str):

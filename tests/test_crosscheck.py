@@ -61,7 +61,8 @@ def test_step_mean_acc_is_exact_for_cubics():
 
 
 def test_free_rocking_statue_agreement(statue):
-    cases, _hist, runs = free_rocking_cases(statue, SET, ContactSettings(), t_end=1.0)
+    part = free_rocking_cases(statue, SET, ContactSettings(), t_end=1.0)
+    cases, runs = part.cases, part.runs
     by = {c.quantity: c for c in cases}
     # targets: quarter period 1 % (measured 0.04 %), first rebound 5 % (measured 0.75 %); the statue's
     # pivot slips a few mm in 3D, so the screen may class them not applicable: the values still count here
@@ -72,7 +73,7 @@ def test_free_rocking_statue_agreement(statue):
 
 
 def test_pulses_statue_agreement(statue):
-    cases, _hist, _runs = pulse_cases(statue, SET, ContactSettings(), freq=1.5, factors=(0.8, 1.25), free_time=1.0)
+    cases = pulse_cases(statue, SET, ContactSettings(), freq=1.5, factors=(0.8, 1.25), free_time=1.0).cases
     by = {c.name: c for c in cases}
     assert by["one-sine 1.5 Hz x0.8: overturn"].met and by["one-sine 1.5 Hz x0.8: overturn"].value_3d == 0.0
     assert by["one-sine 1.5 Hz x1.25: overturn"].met and by["one-sine 1.5 Hz x1.25: overturn"].value_3d == 1.0
@@ -217,8 +218,8 @@ def test_record_peak_rotation_inside_the_models_spread(statue):
     (2.2 %, spread 8 %) after (a_R +0.25 %)."""
     cal = calibrate_restitution(statue, SET, ContactSettings())
     m = motions.synthetic_record(duration=8.0, pga=0.5 * 9.81, seed=1)
-    cases, _h, _r = motion_cases(statue, m, SET, ContactSettings(), model=model_2d(statue, cal), calib=cal,
-                                 spread=True)
+    cases = motion_cases(statue, m, SET, ContactSettings(), model=model_2d(statue, cal), calib=cal,
+                         spread=True).cases
     pk = next(c for c in cases if c.quantity == "peak rotation" and c.spread)
     # a single chaotic history: its level is not pinned; the check is reported with both spreads
     # (agreement over records: the ensemble cases, issue [11] item 6)
@@ -250,7 +251,8 @@ def test_isolated_statue_levels(statue):
 
     iso = _design_isolator(statue)
     m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)
-    cases, hist, runs = isolated_statue_cases(iso, m, SET, ContactSettings(), free_time=0.5)
+    part = isolated_statue_cases(iso, m, SET, ContactSettings(), free_time=0.5)
+    cases, hist, runs = part.cases, part.histories, part.runs
     by = {c.name: c for c in cases}
     acc = by["isolated statue: peak plate acceleration"]
     assert acc.value_2d == pytest.approx(0.334, rel=0.02) and acc.value_3d < 1.4
@@ -329,7 +331,8 @@ def test_isolator_free_vibration_levels():
     from statue2model.crosscheck.isolator_cases import isolator_free_cases
 
     sc = IsolatorScene.simple(R=0.3, r=0.0095, mu=0.01, m_o=50.0, travel=0.05)
-    cases, _hist, runs, cal = isolator_free_cases(sc, SET, ContactSettings(), cycles=2.2)
+    free = isolator_free_cases(sc, SET, ContactSettings(), cycles=2.2)
+    cases, runs, cal = free.comparison.cases, free.comparison.runs, free.calibration
     by = {c.name: c for c in cases}
     period = by["isolator free vibration: period"]
     assert period.met and period.rel_error < 0.01                    # measured 0.1 %
@@ -416,8 +419,8 @@ def test_free_standing_statue_checked_against_the_coupled_model(statue):
 
     iso = replace(_design_isolator(statue, groove="tiles"), capacity=0.01)
     m = motions.synthetic_record(duration=4.0, pga=0.2 * 9.81, seed=1)
-    cases, _, _ = isolated_statue_cases(iso, m, SimSettings(maximal_coordinates=True), ContactSettings(),
-                                        free_time=0.5, mount="contact", label="free", model=user_model(statue))
+    cases = isolated_statue_cases(iso, m, SimSettings(maximal_coordinates=True), ContactSettings(),
+                                  free_time=0.5, mount="contact", label="free", model=user_model(statue)).cases
     by = {c.name: c for c in cases}
     fails = by["free: fails (overturns or capacity exceeded)"]
     assert fails.counted and fails.met and fails.value_2d == 1.0 and fails.value_3d == 1.0

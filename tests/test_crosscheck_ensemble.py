@@ -48,13 +48,15 @@ def test_small_ensemble_agrees_and_a_wrong_e_fails():
 
     sc = StatueScene.block(b=0.1, h=0.5, m=100.0)
     kw = dict(n_records=20, levels=(0.8,), durations=(2.0, 3.0), free_time=1.0)
-    cases, res = ens.ensemble_cases(sc, **kw)
+    ok = ens.ensemble_cases(sc, **kw)
+    cases, res = ok.comparison.cases, ok.results
     lev = res["levels"][0]
     assert 0.0 <= lev["p_2d"] <= 1.0 and 0.0 <= lev["p_3d"] <= 1.0 and len(cases) == 2
     assert lev["ci_2d"][0] <= lev["p_2d"] <= lev["ci_2d"][1]
     # the same 3D runs judged against a 2D model with a wrong restitution (e x 0.6): the target fails
     wrong = model_2d(sc, scale=0.6)
-    bad, res2 = ens.ensemble_cases(sc, model=wrong, pga_ref=res["pga_ref"], runs_3d=res["runs_3d"], **kw)
+    wrong_e = ens.ensemble_cases(sc, model=wrong, pga_ref=res["pga_ref"], runs_3d=res["runs_3d"], **kw)
+    bad, res2 = wrong_e.comparison.cases, wrong_e.results
     assert not all(c.met for c in bad)
     assert res2["levels"][0]["why"]
 
@@ -68,7 +70,8 @@ def test_ensemble_uses_the_standard_screen_a_squat_block_is_not_applicable():
     from statue2model.crosscheck.statue_scene import StatueScene
 
     sc = StatueScene.block(b=0.3, h=0.3, m=100.0)
-    cases, res = ens.ensemble_cases(sc, n_records=3, levels=(1.0,), durations=(1.5,), free_time=0.5, workers=1)
+    squat = ens.ensemble_cases(sc, n_records=3, levels=(1.0,), durations=(1.5,), free_time=0.5, workers=1)
+    cases, res = squat.comparison.cases, squat.results
     assert [c.status for c in cases] == ["not applicable", "not applicable"]
     lev = res["levels"][0]
     assert not lev["applicable"] and len(lev["screened"]) >= 2 and "friction" in lev["why"]

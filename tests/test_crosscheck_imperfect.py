@@ -79,7 +79,7 @@ def test_flat_block_lifts_at_west_and_convex_block_at_alpha():
 
 
 def test_imperfect_2d_beats_classical_on_the_3d_convex_block():
-    cases, hist, runs = imp.imperfect_cases(BLOCK, SimSettings(), quick=True)
+    cases = imp.imperfect_cases(BLOCK, SimSettings(), quick=True).cases
     by = {c.name: c for c in cases}
     assert all(by[n].met for n in by if "identified" in n)
     # the classical model does not lift at 0.9 a (West); the imperfect one lifts within 5 ms of 3D

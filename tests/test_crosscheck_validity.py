@@ -81,7 +81,8 @@ def test_liftoff_under_a_sine_pulse_first_reaches_g_b_over_h():
 def test_slender_block_agrees():
     """Slender block: every check of the pulses is met (lift-off within 5 ms, peaks within 5 %), none
     is screened out, and the peak before the first impact is read before the impact in both."""
-    cases, _h, runs = pulse_cases(SLENDER, SET, ContactSettings(), freq=2.0, free_time=1.0)
+    part = pulse_cases(SLENDER, SET, ContactSettings(), freq=2.0, free_time=1.0)
+    cases, runs = part.cases, part.runs
     checks = [c for c in cases if c.counted]
     assert checks and all(c.status == "met" for c in checks), table(cases)
     assert not any(c.status == "not applicable" for c in cases)
@@ -137,8 +138,9 @@ def test_restitution_cases_of_a_block_against_eq15():
 
 def test_overturning_boundary_ratio_of_a_slender_block():
     """The lowest one-sine overturning amplitude at 1 Hz in 2D and 3D: ratio within 10 %."""
-    cases, runs = boundary_cases(SLENDER, user_model(SLENDER), (1.0,), SET, ContactSettings(), n3=4,
-                                 free_time=1.5, max_edges=1)
+    part = boundary_cases(SLENDER, user_model(SLENDER), (1.0,), SET, ContactSettings(), n3=4,
+                          free_time=1.5, max_edges=1)
+    cases, runs = part.cases, part.runs["overturning boundaries"]
     c = cases[0]
     assert c.name == "overturning boundary 1 Hz" and c.status == "met" and c.rel_error < BOUNDARY_TARGET
     assert c.value_2d > SLENDER.params.a_L / 9.81                # above the static uplift (0.2 g)

@@ -4,7 +4,8 @@
   overturns the 2D model;
 * :func:`boundary_cases`: the overturning boundary of one-sine pulses at each frequency of a small
   grid, every band edge found by a fine 2D amplitude scan and bisection, the 3D edge bisected near
-  it: ratio 3D / 2D within BOUNDARY_TARGET (10 %);
+  it: ratio 3D / 2D within BOUNDARY_TARGET (10 %); a Comparison, its runs under
+  ``runs['overturning boundaries']``;
 * :func:`overturn_grid`: overturn / no-overturn of both on a one-cosine grid (the benchmark's).
 
 Every search narrows its bracket with the one :func:`bisect` (the record ensemble's median
@@ -25,7 +26,7 @@ import numpy as np
 from ..hazard import motions
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
-from .case import Case
+from .case import Case, Comparison
 from .contact import ContactSettings
 from .screen import contact_demand_2d, slip_of, validity_screen
 from .statue_scene import StatueScene, simulate_statue
@@ -140,7 +141,7 @@ def overturn_edges_2d(model: RockingModel, freq: float, lo: float, hi: float, n:
 
 def boundary_cases(scene: StatueScene, model: RockingModel, freqs, settings: SimSettings,
                    contact: ContactSettings, *, n3: int = 6, n2: int = 120, span=(0.6, 1.8), max_edges: int = 4,
-                   free_time: float = 2.0, rtol: float = 0.01, progress=None) -> tuple[list, dict]:
+                   free_time: float = 2.0, rtol: float = 0.01, progress=None) -> Comparison:
     """The overturning boundary of one-sine pulses in 2D and 3D at each frequency of ``freqs`` (Hz).
 
     2D: the lowest overturning amplitude a1 (geometric scan from the uplift acceleration to 20 x it),
@@ -149,7 +150,8 @@ def boundary_cases(scene: StatueScene, model: RockingModel, freqs, settings: Sim
     ``max_edges`` 2D edges a bracket at (1 -+ BOUNDARY_TARGET) x the edge, bisected (``rtol``) when the
     3D outcome changes the same way inside it; else the nearest 3D edge of the coarse scan, if any.
     One case per 2D edge: the ratio 3D / 2D (target BOUNDARY_TARGET), screened with the 2D demand just
-    below and above the edge and the 3D runs of the bracket. Returns (cases, runs)."""
+    below and above the edge and the 3D runs of the bracket. Returns their Comparison (no histories;
+    runs['overturning boundaries'][f'{f:g} Hz']: the edges, scans and 3D run count of each frequency)."""
     p = model.params
     cases, out = [], {}
     a_up = min(p.a_L, p.a_R)
@@ -213,4 +215,4 @@ def boundary_cases(scene: StatueScene, model: RockingModel, freqs, settings: Sim
                             "wall_time_3d_s": sum(r.wall_time for r in cache.values())}
         if progress:
             progress(f)
-    return cases, out
+    return Comparison(tuple(cases), runs={"overturning boundaries": out})

@@ -14,8 +14,10 @@ A :class:`Case` holds name, quantity, value_2d, value_3d, rel_error, target, met
   applicable"), the numbers are in the case's ``screen``.
 
 A :class:`Comparison` is what every case family returns (its cases, the time histories for the
-overlay plots, the 3D run details) and what :func:`statue2model.crosscheck.compare.compare` returns:
-:meth:`Comparison.join` puts the families' parts together.
+overlay plots, the 3D run details; the isolator's free vibration and the record ensemble return a
+record that holds one, with their calibration or statistics beside it) and what
+:func:`statue2model.crosscheck.compare.compare` returns: :meth:`Comparison.join` puts the families'
+parts together.
 
 Example
 -------
@@ -23,9 +25,9 @@ Example
 >>> c.met, c.status, c.as_diagnostic().status
 (True, 'met', 'diagnostic')
 >>> part = Comparison((c,), runs={"free rocking": {}})
->>> cases, histories, runs = part          # unpacks like the tuple the families returned before
->>> len(Comparison.join([part, Comparison((c.as_diagnostic(),))]).cases)
-2
+>>> both = Comparison.join([part, Comparison((c.as_diagnostic(),))])
+>>> len(both.cases), list(both.runs)
+(2, ['free rocking'])
 """
 from __future__ import annotations
 
@@ -120,15 +122,11 @@ def _f(x):
 class Comparison:
     """Cases plus the time histories behind them: histories[name] = {'t2', 'y2', 't3', 'y3', 'label'}
     (arrays, s and the plotted quantity), and the 3D run details ``runs`` (for crosscheck.json).
-
-    A case family returns one; it unpacks as ``cases, histories, runs`` (the tuple it replaces)."""
+    A case family returns one (or a record holding one)."""
 
     cases: tuple
     histories: dict = field(default_factory=dict)
     runs: dict = field(default_factory=dict)
-
-    def __iter__(self):
-        return iter((self.cases, self.histories, self.runs))
 
     @classmethod
     def join(cls, parts) -> Comparison:

@@ -3,7 +3,8 @@
 Each case (:class:`~statue2model.crosscheck.case.Case`: name, quantity, value_2d, value_3d,
 rel_error, target, met, status) compares one quantity; the case families below each return a
 :class:`~statue2model.crosscheck.case.Comparison` (cases, time histories for the overlay plots,
-3D run details) and :func:`compare` joins them, in this order:
+3D run details; the isolator's free vibration and the record ensemble a record holding one, beside
+the calibration or the statistics) and :func:`compare` joins them, in this order:
 
 * restitution (:mod:`~statue2model.crosscheck.restitution`): every calibrated e (e_L and e_R, per
   release 0.1-0.7 delta, i.e. per impact speed) against eq. 15 (target 5 %);
@@ -64,10 +65,9 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
                              diag_model=diag))
     say("overturning boundaries")
     freqs = BOUNDARY_FREQS[bool(quick)] if boundary_freqs is None else boundary_freqs
-    c, r = boundary_cases(scene, user, freqs, settings, contact, n3=5 if quick else 10,
-                          free_time=1.5 if quick else 2.0, max_edges=2 if quick else 4,
-                          progress=lambda f: say(f"  boundary at {f:g} Hz done"))
-    parts.append(Comparison(tuple(c), runs={"overturning boundaries": r}))
+    parts.append(boundary_cases(scene, user, freqs, settings, contact, n3=5 if quick else 10,
+                                free_time=1.5 if quick else 2.0, max_edges=2 if quick else 4,
+                                progress=lambda f: say(f"  boundary at {f:g} Hz done")))
     if motion is not None and motion.kind != "none":
         say(f"motion {motion.label}")
         parts.append(motion_cases(scene, motion, settings, contact, free_time=1.0 if quick else 3.0, model=user,
@@ -75,14 +75,13 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
     if iso_scene is not None:
         parts += _isolator_parts(iso_scene, motion, iso_settings, contact, quick, user, say)
     if imperfect:
-        c, h, r = imperfect_cases(scene, iso_settings, contact, bool(quick), pulse_freq=pulse_freq,
-                                  progress=progress)
-        parts.append(Comparison(tuple(c), h, json_safe(r)))
+        imp = imperfect_cases(scene, iso_settings, contact, bool(quick), pulse_freq=pulse_freq,
+                              progress=progress)
+        parts.append(Comparison(imp.cases, imp.histories, json_safe(imp.runs)))
     if records:
-        c, res = ensemble_cases(scene, iso_settings, contact, n_records=records,
-                                levels=LEVELS if levels is None else levels, quick=bool(quick),
-                                workers=workers, progress=progress)
-        parts.append(Comparison(tuple(c), runs={"records": json_safe(res)}))   # an overturned run's peak (inf) -> None
+        parts.append(ensemble_cases(scene, iso_settings, contact, n_records=records,
+                                    levels=LEVELS if levels is None else levels, quick=bool(quick),
+                                    workers=workers, progress=progress).comparison)
     return Comparison.join(parts)
 
 
@@ -92,8 +91,9 @@ def _isolator_parts(iso_scene, motion, settings: SimSettings, contact: ContactSe
     isolated statue fixed to the plate under ``motion`` and, without ``quick``, free-standing
     (against the coupled 2D model ``user``); the calibration last (``runs['calibration']``)."""
     say("isolator free vibration")
-    c, h, r, calib = isolator_free_cases(iso_scene, settings, contact, cycles=1.2 if quick else 2.2)
-    parts = [Comparison(tuple(c), h, r)]
+    free = isolator_free_cases(iso_scene, settings, contact, cycles=1.2 if quick else 2.2)
+    calib = free.calibration
+    parts = [free.comparison]
     if motion is not None and motion.kind != "none":
         say("isolated statue")
         parts.append(isolated_statue_cases(iso_scene, motion, settings, contact, mu_3d=calib.get("mu_3d"),

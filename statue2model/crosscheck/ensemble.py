@@ -28,6 +28,10 @@ geometric midpoint), so the
 levels sit around the 2D overturning level whatever the body. 2D runs are cheap; the 3D runs go
 through an executor (statue2model.compute.executors; default two local processes).
 
+:func:`ensemble_cases` returns an :class:`Ensemble`: the Comparison (two cases per level, the
+statistics under ``runs['records']`` with non-finite numbers as null, for crosscheck.json) and the
+statistics themselves (``results``, an overturned run's peak +inf, for :func:`level_table`).
+
 Example
 -------
 >>> lo, hi = wilson(8, 20)
@@ -40,7 +44,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -50,7 +54,7 @@ from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from ..errors import InputError
 from .boundary import bisect
-from .case import NOT_APPLICABLE, Case
+from .case import NOT_APPLICABLE, Case, Comparison
 from .contact import ContactSettings
 from .restitution import model_2d
 from .screen import SLIP_LIMIT, YAW_LIMIT, screen_values, slip_of
@@ -62,6 +66,16 @@ LEVELS = (0.5, 0.8, 1.2)
 """Default PGA levels, multiples of the 2D ensemble's median overturning PGA."""
 DURATIONS = (6.0, 8.0, 10.0)
 """Default record durations, s (cycled over the seeds)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Ensemble:
+    """What :func:`ensemble_cases` returns: ``comparison`` (its cases; runs = {'records':
+    json_safe(results)}) and ``results`` ({'levels': [...], 'pga_ref' (m/s^2), 'runs_3d',
+    'wall_time_s', ...}, non-finite numbers kept)."""
+
+    comparison: Comparison
+    results: dict
 
 
 def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
@@ -189,11 +203,12 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
                    n_records: int = 20, levels=LEVELS, quick: bool = False, *, model: RockingModel | None = None,
                    durations=None, free_time: float | None = None, prob_target: float = 0.15,
                    median_target: float = 0.20, executor=None, workers: int = 2, progress=None,
-                   pga_ref: float | None = None, runs_3d: list | None = None) -> tuple[list, dict]:
+                   pga_ref: float | None = None, runs_3d: list | None = None) -> Ensemble:
     """The ensemble comparison of the module docstring. ``levels``: multiples of the 2D median
     overturning PGA; ``model``: the 2D model (default: eq. 15's e, restitution.model_2d - the 2D model
-    as the user runs it); ``quick``: shorter records (3-5 s) and 1 s of free motion. Returns
-    (cases: two per level, results: {'levels': [...], 'pga_ref', 'runs_3d', 'wall_time_s', ...}).
+    as the user runs it); ``quick``: shorter records (3-5 s) and 1 s of free motion. Returns its
+    :class:`Ensemble` (cases: two per level; results: {'levels': [...], 'pga_ref', 'runs_3d',
+    'wall_time_s', ...}).
     ``pga_ref`` (m/s^2) and ``runs_3d`` (an earlier results['runs_3d'], same records, levels and
     pga_ref) reuse an earlier ensemble's 3D runs to judge another 2D model against them."""
     say = progress or (lambda msg: None)
@@ -290,7 +305,8 @@ def ensemble_cases(scene: StatueScene, settings: SimSettings | None = None, cont
                "executor": where, "runs_3d": three,
                "wall_time_s": time.perf_counter() - t0, "wall_time_2d_s": t2d, "wall_time_3d_s": t3d,
                "sim_time_3d_s": sim, "real_time_factor_3d": sim / wall3 if wall3 > 0 else math.inf}
-    return cases, results
+    # an overturned run's peak (inf) -> None in crosscheck.json
+    return Ensemble(Comparison(tuple(cases), runs={"records": json_safe(results)}), results)
 
 
 def _num(x):

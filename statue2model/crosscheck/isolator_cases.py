@@ -4,7 +4,8 @@
 * isolator free vibration: period vs 2 pi sqrt(R_hat / g) (2 %), per-cycle decay
   vs 4 mu R_hat (10 %), with the rolling friction mapped (c = mu r) and then
   calibrated (the faceted grooves and inelastic ball contacts dissipate by
-  themselves: measured at mu = 0 and taken off);
+  themselves: measured at mu = 0 and taken off): a :class:`FreeVibration`, the Comparison and the
+  calibration (the 3D rolling friction ``mu_3d`` the isolated statue then runs with);
 * the isolated statue under the user's motion: peak absolute plate acceleration
   3D vs the 2D plate (isolator/time_history.py), and the efficiency; and whether the plate
   passes the isolator's capacity (the design's) in 2D and in 3D (must agree).
@@ -22,7 +23,7 @@ True
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -36,11 +37,22 @@ from .isolator_scene import simulate_isolator
 from .world import SimSettings
 
 
+@dataclass(frozen=True, eq=False)
+class FreeVibration:
+    """What :func:`isolator_free_cases` returns: ``comparison`` (its cases, the plate's time history,
+    the 3D runs) and ``calibration`` ({'mu', 'rolling_mapped', 'decay_mapped', ...; 'mu_3d': the
+    3D rolling friction the isolated statue runs with, with ``calibrate`` and mu > 0}, mu
+    dimensionless, decays in m)."""
+
+    comparison: Comparison
+    calibration: dict
+
+
 def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettings, u0: float | None = None,
-                        cycles: float = 2.2, calibrate: bool = True) -> tuple[list, dict, dict, dict]:
+                        cycles: float = 2.2, calibrate: bool = True) -> FreeVibration:
     """Free vibration of the top plate (no statue) from u0 (default: 60 % of the balls'
     travel, at most 90 % of the isolator's capacity): period, and per-cycle decay with the
-    mapped and with the calibrated rolling friction. Returns (cases, histories, runs, calibration)."""
+    mapped and with the calibrated rolling friction. Returns its :class:`FreeVibration`."""
     sc = replace(iso_scene, statue=None)
     g = settings.g
     T = 2 * math.pi * math.sqrt(sc.R_hat / g)
@@ -85,7 +97,7 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
         calib["period_mu0"] = _first_period(r0, u0)
         if cases[1].met:          # the mapping c = mu r already gives 4 mu R_hat: keep it
             calib["mu_3d"] = sc.mu
-            return cases, hist, runs, calib
+            return FreeVibration(Comparison(tuple(cases), hist, runs), calib)
         mu_cal = sc.mu * (target_decay - d0) / (d1 - d0) if d1 > d0 else sc.mu
         mu_cal = max(mu_cal, 0.0)
         r_cal = run(mu_cal, "isolator free vibration (mu calibrated)")
@@ -97,7 +109,7 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
         hist["isolator free vibration"]["t3"], hist["isolator free vibration"]["y3"] = r_cal.t, r_cal.u
         cases[0] = Case.relative("isolator free vibration: period", "s", T, _first_period(r_cal, u0), 0.02,
                                  note=cases[0].note, quantity="isolator period")
-    return cases, hist, runs, calib
+    return FreeVibration(Comparison(tuple(cases), hist, runs), calib)
 
 
 def _first_period(r, u0) -> float:
