@@ -14,7 +14,6 @@ import pytest
 from statue2model.geometry import body as geometry_body
 from statue2model.geometry.body_store import body_arrays, read_body, write_body
 from statue2model.io.paths import default_scan
-from statue2model.pipeline import body_cache
 from statue2model.pipeline.body_cache import BODY_FILE, body_key
 from statue2model.pipeline.cache import file_hash
 from statue2model.pipeline.config import load_config_text
@@ -77,22 +76,13 @@ def quiet(msg):
     pass
 
 
-@pytest.fixture(autouse=True)
-def no_body_in_memory():
-    body_cache.forget()
-    yield
-    body_cache.forget()
-
-
 @pytest.fixture(scope="module")
 def first(tmp_path_factory) -> Path:
     """A complete params + prototype run of the default scan; its Body was built once."""
     out = tmp_path_factory.mktemp("first") / "run"
-    body_cache.forget()
     with pytest.MonkeyPatch.context() as mp:
         n = Counter(mp)
         res = run_project(default_scan(), out, config(), stages=["params", "prototype"], report=False, say=quiet)
-    body_cache.forget()
     assert [res.stages[s]["status"] for s in ("params", "prototype")] == ["done", "done"]
     assert (n.built, n.read) == (1, 1)                      # params and prototype: one Body
     return out
@@ -115,6 +105,12 @@ def rerun_prototype(out: Path, cfg=None):
     return res
 
 
+def stage_context(cfg, params: Path) -> Context:
+    """The Context a later stage of a run gets: the params stage's folder and its manifest."""
+    man = json.loads((params / "stage.json").read_text()) if (params / "stage.json").is_file() else {}
+    return Context(mesh=default_scan(), config=cfg, dirs={"params": params}, manifests={"params": man})
+
+
 def restamp(out: Path) -> None:
     """Record body.npz's new bytes in the params stage's manifest, as one who edits a
     folder on purpose would: the stage still looks complete, so the file is read."""
@@ -132,7 +128,7 @@ def test_the_stored_body_equals_a_fresh_one_field_by_field(first, monkeypatch):
     assert stored is not None
     assert_same(fresh, stored)
     n = Counter(monkeypatch)
-    via_stage = Context(mesh=default_scan(), config=cfg, dirs={"params": first / "params"}).load_body()
+    via_stage = stage_context(cfg, first / "params").load_body()
     assert (n.built, n.read) == (0, 0)
     assert_same(fresh, via_stage)
     assert fresh.rocking().to_dict() == stored.rocking().to_dict()
@@ -152,7 +148,7 @@ def test_a_stage_computed_again_replaces_the_file_as_its_own(first, tmp_path):
 
 
 def test_each_stage_gets_its_own_copy(first):
-    ctx = Context(mesh=default_scan(), config=config(), dirs={"params": first / "params"})
+    ctx = stage_context(config(), first / "params")
     a = ctx.load_body()
     a.vertices[:] = 0.0                                       # a stage that writes into its Body ...
     assert ctx.load_body().vertices[:, 2].max() > 1.0         # ... does not change the next stage's
@@ -256,8 +252,32 @@ def test_a_tampered_file_is_ignored_and_the_outputs_do_not_change(first, tmp_pat
 
 def test_a_missing_file_is_built_again(tmp_path, monkeypatch):
     n = Counter(monkeypatch)
-    body = Context(mesh=default_scan(), config=config(), dirs={"params": tmp_path / "nowhere"}).load_body()
+    body = stage_context(config(), tmp_path / "nowhere").load_body()
     assert (n.built, n.read, body.mass.density) == (1, 1, 2650.0)
+
+
+def test_a_file_the_manifest_does_not_list_is_not_read(first, tmp_path, monkeypatch):
+    """A body.npz with the right key that the params stage did not write (not in its manifest,
+    or with other bytes than it lists) is never used: the Body is built from the scan."""
+    params = copy_of(first, tmp_path) / "params"
+    man = json.loads((params / "stage.json").read_text())
+    n = Counter(monkeypatch)
+    unlisted = Context(mesh=default_scan(), config=config(), dirs={"params": params},
+                       manifests={"params": {k: v for k, v in man.items() if k != "files"}})
+    assert_same(unlisted.load_body(), geometry_body.load_body(default_scan(), **options(config())))
+    assert (n.built, n.read) == (2, 2)                    # the stage's Body and the reference
+    man["files"][BODY_FILE] = "0" * 64
+    other = Context(mesh=default_scan(), config=config(), dirs={"params": params}, manifests={"params": man})
+    other.load_body()
+    assert (n.built, n.read) == (3, 3)
+
+
+def test_the_body_lives_with_the_run(first, monkeypatch):
+    """Two Contexts (two runs) share nothing: each builds or reads its own Body."""
+    n = Counter(monkeypatch)
+    Context(mesh=default_scan(), config=config()).load_body()
+    Context(mesh=default_scan(), config=config()).load_body()
+    assert (n.built, n.read) == (2, 2)
 
 
 # --- the key --------------------------------------------------------------------------------------
@@ -272,7 +292,7 @@ def test_a_changed_density_builds_the_body_again(first, monkeypatch):
     cfg = config("[scan]\ndensity = 2400.0\n")
     assert read_body(first / "params" / BODY_FILE, body_key(default_scan(), options(cfg))) is None
     n = Counter(monkeypatch)
-    body = Context(mesh=default_scan(), config=cfg, dirs={"params": first / "params"}).load_body()
+    body = stage_context(cfg, first / "params").load_body()
     assert (n.built, n.read) == (1, 1) and body.mass.density == 2400.0
     assert_same(body, geometry_body.load_body(default_scan(), **options(cfg)))
 

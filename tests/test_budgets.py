@@ -5,7 +5,7 @@
   --duration 600 --dt 0.001` passed the check, grew to 4.8 GB and ran 20 min; a refused
   fragility study of 100000 synthetic records made them all first: 65 s and 1.8 GB).
 * The estimates cover the real peak: compute/budget.record_set_bytes and
-  dynamics/fragility.study_bytes against the peak traced by tracemalloc (numpy's arrays
+  assessment/fragility.study_bytes against the peak traced by tracemalloc (numpy's arrays
   are traced) in a fresh process: at least 0.9 of it and at most twice it.
 * Long work shows a progress bar on stderr.
 """

@@ -18,7 +18,7 @@ statue2model.report.fragility_section's; :meth:`StudyRun.data` gives the verdict
     fragility_median_ci_fixed/isolated  its bootstrap band [lo, hi] (an end None: not identified)
     fragility_p_design_fixed/isolated   the fitted probability at the design PGA
     fragility_ratio               median isolated / fixed, with its bootstrap interval fragility_ratio_ci
-    fragility_status_fixed/isolated     the fit's status (dynamics.fragility: ok, step, no failures, ...)
+    fragility_status_fixed/isolated     the fit's status (assessment.fragility: ok, step, no failures, ...)
 
 Every one of these that can be None has KEY_reason beside it: None when the value is defined
 (and complete), else why ("no failure at any level", "one level: spread not identified", "upper

@@ -8,7 +8,7 @@
 PARAMS_OR_MESH is the PARAMS.json of ``statue2model props`` or a scan (its rocking
 parameters in the weakest direction, or --direction). Records: N synthetic records
 (seeds K..K+N-1) or the set of a folder: the files its set.json names, each checked
-against the length and hash recorded there (dynamics/matching.read_record_set; a folder
+against the length and hash recorded there (hazard/matching.read_record_set; a folder
 without set.json, or with a file missing or changed, is refused). Levels: N values from
 LO to HI (PGA with a unit, 0.05g or 0.49m/s2; PGV in m/s). --isolator: a design that
 `isolator design` passed. Writes DIR/fragility.json, fragility.csv and fragility.png

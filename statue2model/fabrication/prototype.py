@@ -192,7 +192,7 @@ LABELS = {"volume": "volume", "h": "h", "b_L": "b_L", "b_R": "b_R", "I_G_per_mas
 
 
 @dataclass(frozen=True)
-class Comparison:
+class PrototypeComparison:
     """Prototype against the scaled scan: relative errors (signed, prototype / scan - 1),
     and the centre-of-mass offset as a fraction of the scan's height. ``a_min`` is the
     uplift acceleration in each body's own weakest direction."""
@@ -223,10 +223,10 @@ class Comparison:
 
 
 def compare(proto_mass: MassProperties, proto_params, scan_mass: MassProperties, scan_params,
-            height: float, proto_a_min: float | None = None, scan_a_min: float | None = None) -> Comparison:
+            height: float, proto_a_min: float | None = None, scan_a_min: float | None = None) -> PrototypeComparison:
     """Relative errors of the prototype (as built) against the scaled scan."""
     rel = lambda a, b: a / b - 1.0
-    return Comparison(
+    return PrototypeComparison(
         volume=rel(proto_mass.volume, scan_mass.volume),
         mass_ratio=proto_mass.mass / scan_mass.mass,
         com_offset=float(np.linalg.norm(proto_mass.com - scan_mass.com) / height),
@@ -289,7 +289,7 @@ def base_difference(scan_hull: np.ndarray, proto_hull: np.ndarray, scan_com: np.
             "nearest": near_p - near_s}
 
 
-def likely_causes(cmp: Comparison, base: dict, effects: dict[str, dict], notes: dict[str, str],
+def likely_causes(cmp: PrototypeComparison, base: dict, effects: dict[str, dict], notes: dict[str, str],
                   first_board: str, pitch: float) -> dict[str, str]:
     """A sentence per quantity of the comparison on what most likely makes its error,
     from numbers computed on this slice.

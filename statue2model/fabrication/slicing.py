@@ -48,7 +48,7 @@ from .nesting import Nesting, nest
 from .prototype import (
     ERROR_LIMIT,
     LABELS,
-    Comparison,
+    PrototypeComparison,
     base_difference,
     combine,
     compare,
@@ -117,7 +117,7 @@ class SliceResult:
     proto_mass: MassProperties
     proto_params: object
     proto_footprint: Footprint
-    comparison: Comparison
+    comparison: PrototypeComparison
     mesh: tuple
     height: float
     warnings: tuple

@@ -66,7 +66,7 @@ Modelling choices (assumptions):
   lifted by it; acc_abs_max leaves the impulse itself out (it is infinite).
 
 Screening (Coulomb plates): the plate alone is simulated first
-(:func:`..dynamics.simulate`, exact); if its absolute acceleration stays inside the
+(:func:`..rocking.engine.simulate`, exact); if its absolute acceleration stays inside the
 statue's limits the statue never lifts and the coupled result is the plate result
 (``stats['coupled_integration'] = False``). Otherwise the coupled system is
 integrated from t = 0 (coupled_kernel.py); if the statue still never lifts, the

@@ -114,7 +114,7 @@ def check_lengths(R: float, r: float, capacity: float = math.inf) -> None:
     """Refuse a groove radius R, ball radius r or capacity (m) that cannot be physical (a number in
     mm taken as m: R = 300 m), by the ranges of :data:`statue2model.geometry.units.PLAUSIBLE`;
     the value in range is let through (the unusual-but-possible ones are warned of where the
-    user types them: :func:`statue2model.cli.argtypes.plausible`).
+    user types them, through :func:`statue2model.geometry.units.check_plausible`).
 
     >>> check_lengths(300.0, 0.0095)
     Traceback (most recent call last):

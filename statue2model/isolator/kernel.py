@@ -694,5 +694,5 @@ SIGNATURES = {
     "boucwen": (K.F8, K.F8, K.F8, K.I8, K.I8, K.VEC, MK.SAMPLES, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.F8, K.I8,
                 K.F8, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC, K.VEC),
 }
-"""The one argument-type signature of each entry point (types of dynamics.kernel; see
+"""The one argument-type signature of each entry point (types of rocking.kernel; see
 statue2model.compute.compile)."""

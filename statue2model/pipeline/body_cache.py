@@ -8,14 +8,15 @@ from (the Body records it), the [scan] settings that change it (units, up, heigh
 density or mass, base tolerance), the package's version and its code
 (:func:`~statue2model.pipeline.cache.code_hash`).
 
-:func:`load_body` returns, in this order, the Body already built in this process
-under the same key; the one in the params stage's folder (when that stage is
-complete in this run) if the file holds the same key and is well formed; else the
-Body built from the scan. A missing, stale, malformed or tampered file is ignored
-(the Body is built again), never an error, and nothing in it is executed (plain
-arrays, no pickle: :mod:`statue2model.geometry.body_store`). The params stage
-writes the file into its folder with its other files, so the stage's manifest lists
-it and the folder checks of :mod:`~statue2model.pipeline.cache` cover it.
+:func:`load_body` returns, in this order, the Body already built in this run under
+the same key (``memory``: a dict the run holds, one per run, dropped with it); the one
+in the params stage's folder (when that stage is complete in this run) if the stage's
+manifest lists the file with the same SHA-256, the file holds the same key and is well
+formed; else the Body built from the scan. A missing, unlisted, stale, malformed or
+tampered file is ignored (the Body is built again), never an error, and nothing in it
+is executed (plain arrays, no pickle: :mod:`statue2model.geometry.body_store`). The
+params stage writes the file into its folder with its other files, so the stage's
+manifest lists it and the folder checks of :mod:`~statue2model.pipeline.cache` cover it.
 Every caller gets its own copy of the Body: a stage that changes an array in place
 cannot change what the next stage sees.
 """
@@ -33,8 +34,6 @@ from .cache import code_hash, file_hash
 BODY_FILE = "body.npz"
 """The Body's file in the params stage's folder."""
 
-_built: dict[str, object] = {}   # key -> Body: the last one built or read in this process
-
 
 def body_key(mesh: str | os.PathLike, options: dict) -> str:
     """Key of the Body of scan ``mesh`` read with ``options`` (the keyword arguments of
@@ -44,10 +43,13 @@ def body_key(mesh: str | os.PathLike, options: dict) -> str:
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
-def load_body(mesh: str | os.PathLike, options: dict, *, cached: str | os.PathLike | None = None,
+def load_body(mesh: str | os.PathLike, options: dict, *, memory: dict | None = None,
+              cached: str | os.PathLike | None = None, cached_sha256: str | None = None,
               store: str | os.PathLike | None = None):
-    """The Body of scan ``mesh`` with ``options`` (see the module docstring); ``cached``: a
-    complete params stage folder to read body.npz from; ``store``: a folder to write it into."""
+    """The Body of scan ``mesh`` with ``options`` (see the module docstring). ``memory``: the
+    run's dict of Bodies (key -> Body; None: keep none); ``cached``: a complete params stage
+    folder to read body.npz from, taken only when its SHA-256 is ``cached_sha256`` (the
+    hash the stage's manifest lists for it); ``store``: a folder to write it into."""
     from ..geometry import body as geometry_body
     from ..geometry.body_store import read_body, write_body
 
@@ -55,18 +57,19 @@ def load_body(mesh: str | os.PathLike, options: dict, *, cached: str | os.PathLi
         key = body_key(mesh, options)
     except OSError:                 # no readable scan: the reader says why, in its own words
         return geometry_body.load_body(mesh, **options)
-    body = _built.get(key)
-    if body is None and cached is not None:
-        body = read_body(Path(cached) / BODY_FILE, key)
+    body = None if memory is None else memory.get(key)
+    if body is None and cached is not None and cached_sha256 is not None:
+        path = Path(cached) / BODY_FILE
+        try:
+            listed = path.is_file() and not path.is_symlink() and file_hash(path) == cached_sha256
+        except OSError:
+            listed = False
+        body = read_body(path, key) if listed else None
     if body is None:
         body = geometry_body.load_body(mesh, **options)
-    _built.clear()
-    _built[key] = body
+    if memory is not None:
+        memory.clear()                  # one Body at a time: a run has one scan
+        memory[key] = body
     if store is not None:
         write_body(Path(store) / BODY_FILE, body, key)
     return copy.deepcopy(body)
-
-
-def forget() -> None:
-    """Drop the Body kept in memory (the next :func:`load_body` reads a file or the scan)."""
-    _built.clear()

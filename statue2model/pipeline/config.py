@@ -130,7 +130,7 @@ class ModelConfig:
     e_L: float | None = None            # restitution; None = angular momentum (eq. 15)
     e_R: float | None = None
     rtol: float = 1e-7
-    mu_static: float = 0.7              # static friction of the base: dynamics.model.MU_STATIC, a typical
+    mu_static: float = 0.7              # static friction of the base: rocking.model.MU_STATIC, a typical
                                         # value for stone on stone; uplift above mu_static g: slides first
 
 

@@ -49,18 +49,22 @@ class Context:
     dirs: dict = field(default_factory=dict)
     manifests: dict = field(default_factory=dict)
     say: Callable[[str], None] = lambda msg: None   # a progress line inside a long stage
+    bodies: dict = field(default_factory=dict)     # the run's Body, shared by its stages (body_cache.py)
 
     def load_body(self, store: Path | None = None):
         """The Body of the scan with the [scan] settings, built once per run (pipeline/body_cache.py):
-        kept in memory for the next stage, read from the params stage's body.npz when that stage is
-        complete; ``store``: the folder to write body.npz into (the params stage's)."""
-        from .body_cache import load_body
+        kept in ``bodies`` for the next stage, read from the params stage's body.npz when that stage
+        is complete and its manifest lists the file; ``store``: the folder to write body.npz into
+        (the params stage's)."""
+        from .body_cache import BODY_FILE, load_body
 
         s = self.config.scan
+        listed = (self.manifests.get("params") or {}).get("files") or {}
         return load_body(self.mesh, dict(units=s.units, up=s.up, height=s.height,
                                          density=None if s.mass is not None else s.density, mass=s.mass,
                                          base_tol=s.base_tol),
-                         cached=self.dirs.get("params"), store=store)
+                         memory=self.bodies, cached=self.dirs.get("params"),
+                         cached_sha256=listed.get(BODY_FILE) if isinstance(listed, dict) else None, store=store)
 
     def params(self):
         from ..geometry.rocking_params import RockingParams
