@@ -297,6 +297,13 @@ def test_a_changed_density_builds_the_body_again(first, monkeypatch):
     assert_same(body, geometry_body.load_body(default_scan(), **options(cfg)))
 
 
+def test_the_runs_scan_hash_gives_the_same_key():
+    """The run hashes its scan once and hands the hash on: the key is the one read from the file."""
+    opts = options(config())
+    assert body_key(default_scan(), opts, file_hash(default_scan())) == body_key(default_scan(), opts)
+    assert body_key(default_scan(), opts, "0" * 64) != body_key(default_scan(), opts)
+
+
 def test_another_scan_is_another_key(tmp_path):
     other = tmp_path / default_scan().name
     other.write_bytes(default_scan().read_bytes() + b"\n")

@@ -35,26 +35,29 @@ BODY_FILE = "body.npz"
 """The Body's file in the params stage's folder."""
 
 
-def body_key(mesh: str | os.PathLike, options: dict) -> str:
+def body_key(mesh: str | os.PathLike, options: dict, scan_sha256: str | None = None) -> str:
     """Key of the Body of scan ``mesh`` read with ``options`` (the keyword arguments of
-    :func:`statue2model.geometry.body.load_body`)."""
-    blob = json.dumps({"scan": file_hash(mesh), "source": str(mesh), "options": options,
+    :func:`statue2model.geometry.body.load_body`); ``scan_sha256``: the scan's hash when the
+    caller has it (the run hashes its scan once), else it is read here."""
+    scan = scan_sha256 if scan_sha256 is not None else file_hash(mesh)
+    blob = json.dumps({"scan": scan, "source": str(mesh), "options": options,
                        "version": __version__, "code": code_hash()}, sort_keys=True, default=str)
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
-def load_body(mesh: str | os.PathLike, options: dict, *, memory: dict | None = None,
-              cached: str | os.PathLike | None = None, cached_sha256: str | None = None,
-              store: str | os.PathLike | None = None):
-    """The Body of scan ``mesh`` with ``options`` (see the module docstring). ``memory``: the
-    run's dict of Bodies (key -> Body; None: keep none); ``cached``: a complete params stage
+def load_body(mesh: str | os.PathLike, options: dict, *, scan_sha256: str | None = None,
+              memory: dict | None = None, cached: str | os.PathLike | None = None,
+              cached_sha256: str | None = None, store: str | os.PathLike | None = None):
+    """The Body of scan ``mesh`` with ``options`` (see the module docstring). ``scan_sha256``:
+    the scan's hash if known (see :func:`body_key`); ``memory``: the run's dict of Bodies
+    (key -> Body; None: keep none); ``cached``: a complete params stage
     folder to read body.npz from, taken only when its SHA-256 is ``cached_sha256`` (the
     hash the stage's manifest lists for it); ``store``: a folder to write it into."""
     from ..geometry import body as geometry_body
     from ..geometry.body_store import read_body, write_body
 
     try:
-        key = body_key(mesh, options)
+        key = body_key(mesh, options, scan_sha256)
     except OSError:                 # no readable scan: the reader says why, in its own words
         return geometry_body.load_body(mesh, **options)
     body = None if memory is None else memory.get(key)

@@ -207,7 +207,7 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
             continue
         i = order.index(name) + 1
         ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests),
-                      say=lambda msg: say(f"        {msg}"), bodies=bodies)
+                      say=lambda msg: say(f"        {msg}"), bodies=bodies, mesh_sha256=mesh_hash)
         say(f"[{i}/{n}] {name:<10} ...")
         t0 = time.perf_counter()
         man = run_stage(out / name, key, lambda d, f=STAGES[name], c=ctx: f(c, d), force=force)

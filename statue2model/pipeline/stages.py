@@ -50,6 +50,7 @@ class Context:
     manifests: dict = field(default_factory=dict)
     say: Callable[[str], None] = lambda msg: None   # a progress line inside a long stage
     bodies: dict = field(default_factory=dict)     # the run's Body, shared by its stages (body_cache.py)
+    mesh_sha256: str | None = None                 # the scan's hash, computed once by the run
 
     def load_body(self, store: Path | None = None):
         """The Body of the scan with the [scan] settings, built once per run (pipeline/body_cache.py):
@@ -63,7 +64,7 @@ class Context:
         return load_body(self.mesh, dict(units=s.units, up=s.up, height=s.height,
                                          density=None if s.mass is not None else s.density, mass=s.mass,
                                          base_tol=s.base_tol),
-                         memory=self.bodies, cached=self.dirs.get("params"),
+                         scan_sha256=self.mesh_sha256, memory=self.bodies, cached=self.dirs.get("params"),
                          cached_sha256=listed.get(BODY_FILE) if isinstance(listed, dict) else None, store=store)
 
     def params(self):
