@@ -21,7 +21,7 @@ class MissingExtra(InputError):
     """A feature whose optional dependency (an *extra* of the package) is not installed."""
 
 
-EXTRAS = {"pointcloud": "open3d", "physics": "pybullet", "cluster": "dask[distributed]"}
+EXTRAS = {"pointcloud": "open3d", "physics": "pybullet", "cluster": "dask[distributed]", "records": "reqpy-M"}
 
 
 def missing_extra(extra: str, what: str, exc: BaseException | None = None) -> MissingExtra:

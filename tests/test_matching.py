@@ -71,24 +71,79 @@ def test_baseline_ends_at_rest():
 
 @pytest.fixture(scope="module")
 def ground_set():
-    return match_set(parse_spectrum(NTC_C), n=7, seed=1, duration=20, dt=0.01)
+    return match_set(parse_spectrum(NTC_C), n=7, seed=1)
 
 
 def test_matched_set_meets_its_tolerance(ground_set):
-    """The default set: the mean spectrum, recomputed independently here, is within -10 %/+30 % of the
-    target over 0.1-4 s, and the check says so."""
+    """The default set: 7 records of 25 s; the mean spectrum, recomputed independently here, is not
+    more than 10 % below the target over 0.15-2 s (artificial records: no upper bound), and the
+    check says so."""
     s = ground_set
     target = parse_spectrum(NTC_C)
-    T = np.geomspace(0.1, 4.0, 37)
+    T = np.geomspace(0.15, 2.0, 37)
     mean = psa(np.stack([m.samples for m in s.records]), 0.01, T).mean(axis=0)
     ratio = mean / target.Se(T)
-    assert 0.9 <= ratio.min() and ratio.max() <= 1.3, ratio
+    assert 0.9 <= ratio.min() and ratio.max() <= 1.3, ratio          # no upper bound asked: still close
     c = s.check()
-    assert c["met"] and s.met and c["band_s"] == [0.1, 4.0] and 0.9 <= c["worst_ratio"] <= 1.3
+    assert c["met"] and s.met and c["band_s"] == [0.15, 2.0] and c["tolerance"] == [-0.1, None]
     assert abs(c["min_ratio"] - ratio.min()) < 0.03                  # the two grids agree
-    assert c["mean_pga_over_target_pga"] >= 1.0                       # EC8 3.2.3.1.2 (4)b
+    assert np.mean([m.pga for m in s.records]) >= target.Se(np.array([0.0]))[0]   # EC8 3.2.3.1.2 (4)b
     assert len(s.records) == 7 and s.seeds == tuple(range(1, 8))
-    assert all(m.dt == 0.01 and len(m.samples) == 2001 for m in s.records)
+    assert all(m.dt == 0.01 and len(m.samples) == 2501 for m in s.records)
+
+
+def test_every_rule_is_listed_with_its_value(ground_set):
+    rules = {r["rule"]: r for r in ground_set.rules()}
+    assert set(rules) == {"records", "duration", "stationary part", "band", "mean spectrum not below the target",
+                          "mean PGA"}
+    assert all(r["ok"] for r in rules.values())
+    assert rules["records"]["value"] == 7 and rules["duration"]["value"] == "25 s"
+    assert rules["stationary part"]["value"] == "12.5 s" and rules["band"]["value"] == "0.15-2 s"
+    assert "no upper bound" in rules["mean spectrum not below the target"]["required"]
+
+
+def test_records_start_and_end_at_rest(ground_set):
+    """a(0) = a(end) = 0 (the envelope re-applied after every correction), v(end) = u(end) = 0."""
+    for m in ground_set.records:
+        a, dt = m.samples, m.dt
+        v = np.concatenate([[0.0], np.cumsum(0.5 * dt * (a[1:] + a[:-1]))])
+        u = np.concatenate([[0.0], np.cumsum(0.5 * dt * (v[1:] + v[:-1]))])
+        assert a[0] == 0.0 and abs(a[-1]) < 1e-12 * m.pga
+        assert abs(v[-1]) < 1e-9 and abs(u[-1]) < 1e-9
+        assert np.max(np.abs(a[:25])) < 0.02 * m.pga                  # 0.25 s into a 2.5 s rise: (0.1)^2
+
+
+def test_realism_against_the_code_displacement(ground_set):
+    """PGD of each record against d_g = 0.025 a_g S T_C T_D (NTC 3.2.3.3), computed here by hand."""
+    sp = parse_spectrum(NTC_C)
+    d_g = 0.025 * sp.a_g * sp.S * sp.T_C * sp.T_D
+    d = ground_set.to_dict()
+    assert d["realism"]["d_g_m"] == pytest.approx(d_g)
+    pgd = [float(np.max(np.abs(np.cumsum(np.cumsum(m.samples) * m.dt) * m.dt))) for m in ground_set.records]
+    assert [r["pgd_m"] for r in d["records"]] == pytest.approx(pgd, rel=0.05)
+    assert d["realism"]["mean_pgd_over_d_g"] == pytest.approx(np.mean(pgd) / d_g, rel=0.05)
+    assert d["realism"]["plausible"] and d["realism"]["mean_pgd_over_d_g"] < 2.5
+    assert all(r["a_start_over_pga"] == 0.0 and abs(r["v_end_m_s"]) < 1e-9 for r in d["records"])
+    assert all(k in d["records"][0] for k in ("pga_m_s2", "pgv_m_s", "arias_m_s", "d5_95_s", "d_end_m"))
+    assert 10.0 <= d["records"][0]["d5_95_s"] <= 25.0
+
+
+def test_a_short_set_breaks_the_rules():
+    """10 s records of 3: the count, duration and stationary rules fail and say so (the fit holds)."""
+    s = match_set(parse_spectrum(NTC_C), n=3, seed=1, duration=10, band=(0.15, 2.0))
+    failed = {r["rule"] for r in s.rules() if not r["ok"]}
+    assert failed == {"records", "duration", "stationary part"} and s.check()["fit_met"] and not s.met
+
+
+def test_design_band_and_duration():
+    from statue2model.hazard.matching import design_band, duration_for_band
+
+    assert design_band() == ((0.15, 2.0), "0.15 s to 2 s")
+    assert design_band(T1=1.5)[0] == (0.15, 3.0)
+    assert design_band(T1=0.4, T_is=3.99)[0] == (0.15, pytest.approx(4.788))
+    assert duration_for_band((0.15, 4.788)) == 25.0 and duration_for_band((0.15, 5.5)) == 28.0
+    with pytest.raises(InputError):
+        design_band(T_is=-1.0)
 
 
 def test_check_fails_when_it_should(ground_set):
@@ -101,14 +156,15 @@ def test_check_fails_when_it_should(ground_set):
 
 
 def test_a_set_is_reproducible_from_its_seeds(ground_set):
-    again = match_set(parse_spectrum(NTC_C), n=2, seed=2, duration=20, dt=0.01)
+    again = match_set(parse_spectrum(NTC_C), n=2, seed=2)
     assert np.array_equal(again.records[0].samples, ground_set.records[1].samples)
 
 
 def test_floor_set_and_ec8_band():
-    target = parse_floor("z=2,H=3,T1=0.4", parse_spectrum(NTC_C))
-    s = match_set(target, n=7, seed=5, duration=20, dt=0.01, band=band_for_period(0.4))
+    target = parse_floor("z=2,H=3,T1=0.4,n=3", parse_spectrum(NTC_C))
+    s = match_set(target, n=7, seed=5, band=band_for_period(0.4))
     assert s.met and s.band == pytest.approx((0.08, 0.8)) and s.to_dict()["target"]["kind"] == "floor"
+    assert s.to_dict()["realism"]["d_g_m"] > 0          # a floor set is checked against its ground's d_g
 
 
 def test_refusals():
@@ -123,25 +179,45 @@ def test_refusals():
 
 def test_records_command(tmp_path, capsys):
     out = tmp_path / "set"
-    code = main(["records", "--spectrum", NTC_C, "--floor", "z=2,H=3,T1=0.4", "--n", "3", "--duration", "10",
-                 "--band", "0.1:1.5", "--scale", "1:2", "--out", str(out)])
+    code = main(["records", "--spectrum", NTC_C, "--floor", "z=2,H=3,T1=0.4,n=3", "--n", "7", "--t1", "0.4",
+                 "--t-is", "2.5", "--scale", "1:2", "--out", str(out)])
     stdout, err = capsys.readouterr()
     assert code == 0, err
     data = json.loads((out / "set.json").read_text())
-    assert data["check"]["met"] is True and data["seeds"] == [1, 2, 3] and data["froude_scale"] == "1:2"
+    assert data["check"]["met"] is True and data["seeds"] == list(range(1, 8)) and data["froude_scale"] == "1:2"
+    assert data["required_band_s"] == [0.15, 3.0] and data["band_reason"] == "0.15 s to max(2 s, 2 T1 = 0.8 s, " \
+        "1.2 T_is = 3 s)" and data["duration_s"] == 25.0 and [r["ok"] for r in data["rules"]] == [True] * 6
     assert (out / "spectra.png").stat().st_size > 1000
     m = read_record(out / "record_01.csv")
-    assert abs(m.dt - 0.01 / math.sqrt(2)) < 1e-9 and len(m.samples) == 1001
-    assert "mean/target over 0.1-1.5 s" in stdout
+    assert abs(m.dt - 0.01 / math.sqrt(2)) < 1e-9 and len(m.samples) == 2501
+    assert "mean/target over 0.15-3 s" in stdout and "ok   stationary part: 12.5 s" in stdout
 
 
 def test_records_command_refuses_an_unmet_set(tmp_path, capsys):
     out = tmp_path / "set"
-    argv = ["records", "--spectrum", "ec8:ag=0.2g", "--n", "1", "--duration", "10", "--band", "0.1:1",
-            "--tolerance", "1:1", "--out", str(out)]
+    argv = ["records", "--spectrum", "ec8:ag=0.2g", "--n", "1", "--duration", "10", "--band", "0.15:1",
+            "--tolerance", "1", "--out", str(out)]
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "misses its tolerance" in err and not out.exists()
     assert main(argv + ["--keep-unmet"]) == 0
     assert "WARNING" in capsys.readouterr().out
     assert json.loads((out / "set.json").read_text())["check"]["met"] is False
+
+
+def test_a_prototype_record_says_so_and_a_run_refuses_it(tmp_path):
+    """A Froude-scaled record file carries its scale in its header; the run (the full-size statue)
+    refuses it in one line, and so does a scale= key in the project file."""
+    from statue2model.hazard.motions import parse_spec, record, write_record_csv
+    from statue2model.pipeline.config import load_config_text
+
+    m = record(np.sin(np.arange(500) * 0.05), 0.01)
+    path = write_record_csv(tmp_path / "proto.csv", m.froude(2.0))
+    assert path.read_text().startswith("# statue2model: Froude-scaled for a 1:2 prototype")
+    back = read_record(path)
+    assert back.froude_scale == 2.0 and read_record(write_record_csv(tmp_path / "full.csv", m)).froude_scale == 1.0
+    assert parse_spec(f"file:path={path}")[0].to_dict()["froude_scale"] == "1:2"
+    for spec in (f"file:path={path}", f"file:path={tmp_path / 'full.csv'},scale=1:2"):
+        with pytest.raises(InputError, match="Froude-scaled for a 1:2 prototype"):
+            load_config_text(f'[dynamics]\nmotion = "{spec}"\n')
+    load_config_text(f'[dynamics]\nmotion = "file:path={tmp_path / "full.csv"}"\n')     # full scale: fine

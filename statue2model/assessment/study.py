@@ -1,10 +1,13 @@
 """The dynamics stage's fragility study: probability of failure against PGA, fixed base and isolated.
 
-The records are a spectrum-compatible set (statue2model.hazard.matching.match_set) matched to the
-design spectrum of the project (``[isolator] spectrum``, the hazard of the verdict), ``[dynamics]
-fragility_records`` records of ``fragility_duration`` s, seeds 1..N (:func:`match_records`; written
-by :func:`write_records` to ``dynamics/records/``: record_NN.csv, set.json; the stage draws
-spectra.png). Each is scaled to every PGA level (``fragility_levels``: "auto" = 10 levels,
+The records are the design record set (statue2model.hazard.matching.match_set) matched to the
+project's design target (statue2model.hazard.site: the ``[isolator] spectrum`` on the ground, the
+floor spectrum of ``[building]`` on an upper floor; the hazard of the verdict), ``[dynamics]
+fragility_records`` records (7: the codes' mean of effects) of ``fragility_duration`` s (auto: 25 s,
+or 5 times the band's end), seeds 1..N, checked over 0.15 s to the largest of 2 s, 2 T1 of the
+building and 1.2 T_is of the isolator (:func:`match_records`; written by :func:`write_records` to
+``dynamics/records/``: record_NN.csv, set.json with every rule of the code and each record's
+realism figures; the stage draws spectra.png). Each is scaled to every PGA level (``fragility_levels``: "auto" = 10 levels,
 geometric, 0.2-3 x the design PGA; or START:STOP:N, :func:`fragility_levels`) for every parameter
 sample (the thesis' theta_R sweep, ``fragility_samples`` values, for the imperfect model; the
 model as it is for Housner's, whose curves are then the record-to-record variability alone, said
@@ -88,8 +91,8 @@ class StudyRun:
 
     @property
     def pga(self) -> float:
-        """The design PGA a_g S of the target, m/s^2."""
-        return self.target.a_g * self.target.S
+        """The design PGA of the target, Se(0) in m/s^2: a_g S on the ground, the peak floor acceleration on a floor."""
+        return float(np.asarray(self.target.Se(np.array([0.0])))[0])
 
     @property
     def n_runs(self) -> int:
@@ -99,18 +102,31 @@ class StudyRun:
     def data(self) -> dict:
         """The verdict's fragility_* numbers (module docstring) and the study's size and inputs."""
         data = fragility_data(self.result, self.pga, self.isolated)
-        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied)
+        rs = self.records
+        real = rs.realism()
+        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied,
+                    records_n=len(rs.records), records_duration_s=max(m.duration for m in rs.records),
+                    records_band_s=list(rs.band), records_required_band_s=list(rs.required_band),
+                    records_failed_rules=[r["rule"] for r in rs.rules() if not r["ok"]],
+                    records_window=rs.window, records_mean_pgd_m=real["mean_pgd_m"],
+                    records_d_g_m=real["d_g_m"], records_mean_pgd_over_d_g=real["mean_pgd_over_d_g"],
+                    records_plausible=real["plausible"], records_realism_warning=real["warning"])
         return data
 
 
-def match_records(design_spectrum_text: str, n: int, duration: float):
-    """(the design spectrum, a RecordSet of ``n`` records of ``duration`` s matched to it, seeds 1..n)."""
-    from ..hazard.code_spectra import parse_spectrum
-    from ..hazard.matching import match_set
+def match_records(target, n: int, duration: float | None = None, T1: float | None = None,
+                  T_is: float | None = None):
+    """A RecordSet of ``n`` records (seeds 1..n) matched to ``target`` over the design band of a
+    building of period ``T1`` and an isolator of period ``T_is`` (s, None: none), each of
+    ``duration`` s (None: 25 s or 5 times the band's end; a shorter one is matched over what it
+    can carry and the band rule says so)."""
+    from ..hazard.matching import design_band, duration_for_band, match_set
 
-    target = parse_spectrum(design_spectrum_text)
-    dur = float(duration)
-    return target, match_set(target, n=int(n), seed=1, duration=dur, dt=0.01, band=(0.1, dur / 5))
+    band, why = design_band(T1, T_is)
+    dur = duration_for_band(band) if duration is None else float(duration)
+    checked = band if band[1] <= dur / 5 else (band[0], dur / 5)
+    return match_set(target, n=int(n), seed=1, duration=dur, dt=0.01, band=checked, required_band=band,
+                     band_reason=why)
 
 
 def write_records(rd: Path, rs) -> None:
@@ -143,7 +159,7 @@ def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: fl
         samples = nominal(1)
         varied = ("no model parameter (Housner's model has no theta_R to vary): the curves are the "
                   "record-to-record variability alone")
-    lv = levels_for(levels_text, target.a_g * target.S)
+    lv = levels_for(levels_text, float(np.asarray(target.Se(np.array([0.0])))[0]))
     study = FragilityStudy(im="pga", rtol=rtol, n_boot=200, seed=0)
     res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor)
     return StudyRun(target, rs, met, lv, samples, varied, study, res, iso is not None)

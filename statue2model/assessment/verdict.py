@@ -6,7 +6,9 @@ capacity / demand with what it compares, so > 1 means the statue is on the safe
 side, < 1 that it is not:
 
     hazard     the design spectrum ([isolator] spectrum: code, ground or soil type,
-               a_g) and its peak ground acceleration PGA = a_g S at the site
+               a_g) and its peak ground acceleration PGA = a_g S at the site; on an upper
+               floor ([building]) the floor spectrum, whose Se(0), the peak floor
+               acceleration, is then the design PGA of every check below
     fixed      lifts?    uplift acceleration (alpha-reduced for the imperfect model)
                          against the design PGA  (a quasi-static criterion: the ground
                          acceleration that starts rocking)
@@ -75,21 +77,29 @@ def _ratio(cap: float | None, demand: float | None) -> float | None:
 
 
 def hazard(cfg) -> dict:
-    """The design earthquake of the configuration: code, ground/soil, a_g, S, PGA (m/s^2)."""
-    from ..hazard.code_spectra import parse_spectrum
+    """The design earthquake of the configuration where the object stands: the ground spectrum
+    (code, ground/soil, a_g, S) and, on an upper floor ([building]), the floor spectrum with its
+    building; ``pga`` (m/s^2) is the target's Se(0): a_g S on the ground, the peak floor
+    acceleration on a floor (statue2model.hazard.site)."""
+    from ..hazard.site import site_hazard
 
     text = DEFAULT_SPECTRUM
     if cfg is not None and getattr(cfg, "isolator", None) is not None and cfg.isolator.spectrum:
         text = cfg.isolator.spectrum
-    sp = parse_spectrum(text)
+    b = getattr(cfg, "building", None) if cfg is not None else None
+    if b is None:
+        hz = site_hazard(text)
+    else:
+        hz = site_hazard(text, floor=b.floor, storeys=b.storeys, height=b.height, period=b.period,
+                         structure=b.structure, damping=b.damping, isolated=b.isolated,
+                         method=None if b.floor_spectrum == "auto" else b.floor_spectrum)
+    sp = hz.ground
     fields = dict(kv.split("=", 1) for kv in text.split(":", 1)[-1].split(",") if "=" in kv)
     soil = fields.get("ground") or fields.get("soil") or "A"
-    out = {"spectrum": text, "code": sp.code, "soil": soil, "a_g": sp.a_g, "S": sp.S, "pga": sp.a_g * sp.S,
-           "limit_state": sp.limit_state, "floor": fields.get("floor")}
-    out["text"] = (f"{sp.code} spectrum, ground/soil {soil}, a_g {sp.a_g / G:.3f} g, S {sp.S:.2f}: design PGA "
-                   f"{out['pga'] / G:.3f} g" + (f", limit state {out['limit_state']}" if out["limit_state"] else "")
-                   + (f", floor {out['floor']}" if out["floor"] else ""))
-    return out
+    return {"spectrum": text, "code": sp.code, "soil": soil, "a_g": sp.a_g, "S": sp.S, "pga": hz.pga,
+            "ground_pga": hz.ground_pga, "limit_state": sp.limit_state, "floor": hz.floor if hz.building else None,
+            "on_floor": hz.on_floor, "building": None if hz.building is None else hz.building.to_dict(),
+            "target": hz.target.to_dict(), "text": hz.text}
 
 
 def assess(stages: dict, dirs: dict, cfg) -> dict:

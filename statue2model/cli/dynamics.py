@@ -8,6 +8,7 @@ and writes OUT (JSON), OUT-derived CSV and PNG files beside it.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from ..errors import InputError
@@ -366,25 +367,33 @@ def _band(text: str) -> tuple[float, float]:
     return lo, hi
 
 
-def _tolerance(text: str) -> tuple[float, float]:
+def _tolerance(text: str) -> tuple:
+    """BELOW (artificial records: no upper bound) or BELOW:ABOVE (recorded motions), percent."""
     parts = str(text).split(":")
     try:
-        below, above = (float(x) / 100.0 for x in parts)
+        vals = [float(x) / 100.0 for x in parts]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a tolerance BELOW:ABOVE in percent: {text!r} (e.g. 10:30)") from None
-    return -abs(below), above
+        vals = []
+    if len(vals) not in (1, 2) or not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"not a tolerance BELOW or BELOW:ABOVE in percent: {text!r} (e.g. 10 for "
+                                         "artificial records, 10:30 for recorded ones)")
+    return -abs(vals[0]), (vals[1] if len(vals) == 2 else None)
 
 
 def cmd_records(args) -> int:
-    from ..hazard.floor import parse_floor
-    from ..hazard.matching import band_for_period
-    from ..io.files import open_output
     from ..hazard.code_spectra import parse_spectrum
+    from ..hazard.floor import parse_floor
+    from ..hazard.matching import design_band, duration_for_band
+    from ..io.files import open_output
 
     target = ground = parse_spectrum(args.spectrum)
     if args.floor:
         target = parse_floor(args.floor, ground)
-    band = band_for_period(args.t1) if args.t1 is not None else args.band
+    required, why = design_band(args.t1, args.t_is)
+    band = args.band if args.band is not None else required
+    if args.duration is None:
+        args.duration = duration_for_band(band)
+    args.required_band, args.band_reason = required, why
     # the folder is checked (and locked) before any work: a user's files in it refuse it at once
     with open_output(args.out, "records", command="records", can_reuse=False) as od:
         return _records(args, od, target, band)
@@ -401,15 +410,17 @@ def _records(args, od, target, band) -> int:
     from ..report.hazard_plots import plot_spectra
 
     t0 = time.perf_counter()
+    if args.method == "wavelet":
+        from ..hazard.wavelet_matching import match_set_wavelet as match_set
     rs = match_set(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,
-                   tolerance=args.tolerance)
+                   tolerance=args.tolerance, required_band=args.required_band, band_reason=args.band_reason)
     seconds = time.perf_counter() - t0
     c = rs.check()
-    line = (f"{len(rs.records)} records, seeds {rs.seeds[0]}..{rs.seeds[-1]}, {rs.iterations} iterations, "
-            f"{seconds:.1f} s: mean/target over {c['band_s'][0]:g}-{c['band_s'][1]:g} s from {c['min_ratio']:.3f} "
-            f"(at {c['period_of_min_s']:.3g} s) to {c['max_ratio']:.3f} (at {c['period_of_max_s']:.3g} s), "
-            f"allowed {1 + rs.tolerance[0]:.2f}-{1 + rs.tolerance[1]:.2f}")
-    if not c["met"] and not args.keep_unmet:
+    line = (f"{len(rs.records)} records of {args.duration:g} s, seeds {rs.seeds[0]}..{rs.seeds[-1]}, "
+            f"{rs.iterations} iterations, {seconds:.1f} s: mean/target over {c['band_s'][0]:g}-{c['band_s'][1]:.4g} s "
+            f"from {c['min_ratio']:.3f} (at {c['period_of_min_s']:.3g} s) to {c['max_ratio']:.3f} (at "
+            f"{c['period_of_max_s']:.3g} s); {rs.window}")
+    if not c["fit_met"] and not args.keep_unmet:
         raise InputError(f"the set misses its tolerance ({line}); try more records, another --seed or a longer "
                          f"--duration, or pass --keep-unmet to write it anyway")
     lam = args.scale
@@ -431,9 +442,19 @@ def _records(args, od, target, band) -> int:
         write_json(g / "set.json", json.loads(json.dumps(data)))
         plot_spectra(rs, g / "spectra.png", title=args.floor and "floor spectrum" or "ground spectrum")
     print(line)
-    if not c["met"]:
+    for r in rs.rules():
+        print(f"  {'ok  ' if r['ok'] else 'FAIL'} {r['rule']}: {r['value']} (required {r['required']}; {r['clause']})")
+    real = rs.realism()
+    if real["d_g_m"]:
+        print(f"  PGD {real['mean_pgd_m']:.3f} m mean, {real['max_pgd_m']:.3f} m max = {real['mean_pgd_over_d_g']:.2f} "
+              f"x d_g {real['d_g_m']:.3f} m; PGV {real['mean_pgv_m_s']:.3f} m/s mean")
+    if not c["fit_met"]:
         print(f"WARNING: the set does NOT meet its tolerance (worst mean/target {c['worst_ratio']:.3f} at "
               f"{c['period_of_worst_s']:.3g} s); set.json says met: false")
+    elif not c["met"]:
+        print("WARNING: the set breaks the code's rules marked FAIL above; set.json says met: false")
+    if real["warning"]:
+        print(f"WARNING: {real['warning']}")
     print(f"wrote {len(rs.records)} records, set.json and spectra.png to {od.path}")
     return 0
 
@@ -502,28 +523,41 @@ def add_parsers(sub) -> None:
     p.set_defaults(func=cmd_motion)
 
     p = sub.add_parser("records", help="a spectrum-compatible set of artificial accelerograms",
-                       description="N records matched to a code spectrum (EC8 / NTC 2018) or to the floor spectrum "
-                                   "of a storey; the set's mean spectrum must lie within -10 %/+30 % of the target "
-                                   "over the band. Writes record_01.csv ... (readable as file:path=...), set.json "
-                                   "and spectra.png.")
+                       description="N artificial records matched to a code spectrum (EC8 / NTC 2018) or to the "
+                                   "floor spectrum of a storey, to the codes' rules (NTC 2018 3.2.3.6, EC8 3.2.3.1.2): "
+                                   "7 records of at least 25 s with a 10 s stationary part, the mean spectrum not more "
+                                   "than 10 %% below the target from 0.15 s to the largest of 2 s, 2 T1 and 1.2 T_is, "
+                                   "the mean PGA not below Se(0); each rule and each record's PGA, PGV, PGD, Arias "
+                                   "intensity and D5-95 in set.json. Writes record_01.csv ... (readable as "
+                                   "file:path=...), set.json and spectra.png.")
     p.add_argument("--spectrum", required=True, metavar="SPEC",
                    help="ground spectrum: ec8:ag=A[,ground=A-E,type=1|2,xi=5] | ntc2018:ag=A,F0=F,Tc=S[,soil=A-E,"
                         "topo=T1-T4,xi=5,ls=SLO|SLD|SLV|SLC|SLA] (the limit state's a_g, F0, Tc* of the site)")
-    p.add_argument("--floor", metavar="z=Z,H=H,T1=S[,code=ec8|ntc2018]",
-                   help="match the floor spectrum at height z of a building of height H (storeys or m) and "
-                        "period T1 instead (EC8 4.3.5.2 / NTC 2018 7.2.3; default code: the spectrum's)")
+    p.add_argument("--floor", metavar="z=Z,H=H,T1=S,n=N[,structure=S][,xi=5][,code=C]",
+                   help="match the floor spectrum at height z of a building of height H (storeys or m), period "
+                        "T1 and n storeys instead; structure masonry|concrete-frame|steel-frame|other, xi its "
+                        "damping in percent, code ec8 (EN 1998-1 eq. 4.25) | ntc2018 (Circolare C7.2.5-10, the "
+                        "default on an NTC spectrum) | ntc2018-framed (C7.2.11, frames only)")
     p.add_argument("--n", type=int, default=7, help="number of records (default 7)")
     p.add_argument("--seed", type=int, default=1, help="seed of the first record; record i uses seed + i (default 1)")
-    p.add_argument("--duration", type=positive_float, default=20.0, metavar="S", help="record length (default 20 s)")
+    p.add_argument("--duration", type=positive_float, metavar="S",
+                   help="record length (default: 25 s, or 5 times the band's end if longer)")
     p.add_argument("--dt", type=positive_float, default=0.01, metavar="S", help="time step (default 0.01 s)")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--band", type=_band, default=(0.1, 4.0), metavar="T0:T1",
-                   help="periods of the tolerance check (default 0.1:4 s)")
-    g.add_argument("--t1", type=positive_float, metavar="S", help="check over EC8's 0.2 T1-2 T1 instead")
-    p.add_argument("--tolerance", type=_tolerance, default=(-0.10, 0.30), metavar="BELOW:ABOVE",
-                   help="how far the mean spectrum may fall below / rise above the target, percent (default 10:30)")
+    p.add_argument("--t1", type=positive_float, metavar="S",
+                   help="the building's fundamental period: the band reaches 2 T1 (NTC 2018 3.2.3.6)")
+    p.add_argument("--t-is", type=positive_float, metavar="S",
+                   help="the isolator's period: the band reaches 1.2 T_is (NTC 2018 3.2.3.6)")
+    p.add_argument("--band", type=_band, metavar="T0:T1",
+                   help="periods of the tolerance check (default 0.15 s to max(2 s, 2 T1, 1.2 T_is)); a band "
+                        "narrower than the code's is checked and reported as a failed rule")
+    p.add_argument("--tolerance", type=_tolerance, default=(-0.10, None), metavar="BELOW[:ABOVE]",
+                   help="how far the mean spectrum may fall below (and rise above) the target, percent (default 10: "
+                        "artificial records, no upper bound; 10:30 is NTC's window for recorded motions)")
     p.add_argument("--scale", type=scale_ratio, default=1.0, metavar="1:N",
                    help="write the records Froude-scaled for a 1:N prototype (times / sqrt(N))")
+    p.add_argument("--method", choices=["fourier", "wavelet"], default="fourier",
+                   help="fourier: SIMQKE Fourier-amplitude correction (default, core); wavelet: reqpy's CWT "
+                        "matching (the [records] extra; about 45 x slower, lower PGD: docs/records.md)")
     p.add_argument("--keep-unmet", action="store_true",
                    help="write a set that misses its tolerance (with a warning and met: false) instead of refusing")
     p.add_argument("--out", default=str(Path("outputs") / "records"), metavar="DIR",

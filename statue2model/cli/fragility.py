@@ -151,6 +151,10 @@ def parse_records(text: str, units: str | None, say=print, check=None):
         n = len(info["ignored"])
         say(f"note: {n} record file{'s' if n > 1 else ''} in {path} not named by its set.json "
             f"({', '.join(info['ignored'][:4])}{', ...' if n > 4 else ''}): not used")
+    scaled = sorted({r.froude_scale for r in records if r.froude_scale != 1.0})
+    if scaled:      # never silently: the model of PARAMS.json must be the prototype's
+        say(f"note: the records of {path} are Froude-scaled for a 1:{scaled[0]:g} prototype: the model "
+            f"(PARAMS.json) must be that prototype's, not the full-size statue's")
     return records
 
 

@@ -1,35 +1,58 @@
-"""Spectrum-compatible accelerogram sets (EC8 §3.2.3.1.2, NTC 2018 §3.2.3.6).
+"""Spectrum-compatible accelerogram sets, to the codes' rules (NTC 2018 §3.2.3.6 and §7.3.5,
+EC8 EN 1998-1 §3.2.3.1.2 and §4.3.3.4.3; MODEL.md section 7).
 
-:func:`match_set` makes N artificial records (default 7) whose 5 %-damped
-pseudo-acceleration spectra match a target: a code spectrum
-(:class:`~statue2model.hazard.code_spectra.ElasticSpectrum`) or a floor
-spectrum (:class:`~statue2model.hazard.floor.FloorSpectrum`); anything with
-``Se(T)`` in m/s^2 (and ``to_dict()``) will do. The method (SIMQKE, Gasparini &
-Vanmarcke 1976, as most codes' "artificial accelerograms"):
+:func:`match_set` makes N artificial records (default 7: with at least 7 the codes take the
+MEAN of the effects) whose 5 %-damped pseudo-acceleration spectra match a target: a code
+spectrum (:class:`~statue2model.hazard.code_spectra.ElasticSpectrum`) or a floor spectrum
+(:mod:`statue2model.hazard.floor`); anything with ``Se(T)`` in m/s^2 (and ``to_dict()``)
+will do. The method (SIMQKE, Gasparini & Vanmarcke 1976, as most codes' "artificial
+accelerograms"): a record is an envelope times a stationary signal,
 
-1. record i starts as stationary Gaussian white noise (``numpy.random.default_rng(seed_i)``,
-   seed_i = seed + i) times an envelope: quadratic rise to 0.1 D, constant to 0.6 D
-   (the strong phase: 10 s of a 20 s record, EC8 asks for at least 10 s), exponential
-   decay to 5 % at D;
+1. record i's stationary signal starts as Gaussian white noise
+   (``numpy.random.default_rng(seed_i)``, seed_i = seed + i), high-passed (below);
+   the envelope rises as (t / t1)^2 to t1 = 0.1 D, is 1 to t2 = 0.6 D (the
+   pseudo-stationary part: 12.5 s of a 25 s record; the codes ask for at least 10 s)
+   and decays exponentially to exactly 0 at D;
 2. each iteration computes the spectra of all records
-   (:func:`statue2model.hazard.response_spectra.psa`, exact for piecewise-linear input), and
-   multiplies each record's Fourier amplitudes by the ratio target / computed,
-   interpolated in log frequency between the matching periods (phases kept), then
-   re-applies the envelope and removes a baseline (below);
+   (:func:`statue2model.hazard.response_spectra.psa`, exact for piecewise-linear input),
+   multiplies the STATIONARY signal's Fourier amplitudes by the ratio target / computed,
+   interpolated in log frequency between the matching periods (phases kept), and
+   re-applies the envelope and the baseline (below): every record starts and ends at rest
+   (a(0) = a(D) = 0, v(D) = u(D) = 0);
 3. it stops when every record is within ``record_tol`` (5 %) of the target at every
    matching period, or after ``iterations``.
 
-Baseline: the acceleration minus env(t) (c0 + c1 t), with c0, c1 such that the
-velocity and the displacement (trapezoidal integration) end at zero: the records
-start and end at rest, so a shake table can play them (see
-:func:`~statue2model.hazard.motions.table_displacement`).
+High-pass: the correction and the seed noise are cut below the frequency 1 / T_hi (T_hi the
+band's upper end), with a cosine taper to nothing at 1 / (2 T_hi). Content at periods the
+check does not cover adds displacement, not spectral fit: without the cut the EC8 ground C set
+of 7 records of 25 s matched to 4.8 s had PGD 1.7-8 times the code's d_g (mean 4.3), cut at
+1 / (1.5 T_hi) 1.4-3.1 (mean 2.1), cut at 1 / T_hi 1.0-2.0 (mean 1.5), the fit unchanged
+(min mean/target 0.96; a cut at 1 / (0.8 T_hi) loses the band's end: 0.72-0.79 there).
 
-The set is then checked as the codes ask: its mean spectrum within -10 % / +30 %
-(``tolerance``) of the target at every period of ``band`` (default 0.1-4 s, the
-periods of the statue's rocking and of the isolator; EC8's 0.2 T1-2 T1 is
-``band_for_period(T1)``), on a grid twice as dense as the matching one. The band
-may reach a fifth of the duration (4 s for 20 s records): longer periods lose too
-much to the baseline correction to be matched.
+Baseline: the acceleration minus env(t) (c0 + c1 t), with c0, c1 such that the velocity and
+the displacement (trapezoidal integration) end at zero; weighted by the envelope, the
+correction keeps a(0) = a(D) = 0.
+
+The set is then checked as the codes ask (:meth:`RecordSet.rules`, every rule with its value,
+limit and clause): the count (>= 7), each record's duration (>= 25 s) and pseudo-stationary
+part (>= 10 s), the band (0.15 s to the largest of 2 s, 2 T1 of the building and 1.2 T_is of
+an isolator: :func:`design_band`), the mean spectrum not more than 10 % below the target at
+any period of the band (artificial records have NO upper bound: the -10 % / +30 % window is
+NTC's rule for recorded motions, ``TOLERANCE_RECORDED``) and the mean PGA (the spectra's
+T = 0 value) not below the target's Se(0) (EC8 §3.2.3.1.2(4)b; NTC has no such rule, and it
+is checked on NTC sets too: the conservative reading). A set whose mean PGA falls short is
+scaled up to it (``pga_scale``; no upper bound is broken). The check grid is twice as dense
+as the matching one. The band may reach a fifth of the duration (5 s for 25 s records):
+longer periods lose too much to the baseline correction, so :func:`duration_for_band` gives
+the duration a band needs.
+
+Realism (:meth:`RecordSet.realism`): each record's PGA, PGV, PGD, Arias intensity, D5-95 and
+start/end values (:mod:`statue2model.hazard.record_measures`), and the set's mean PGD against
+the design ground displacement d_g = 0.025 a_g S T_C T_D (EC8 §3.2.2.4; of the ground spectrum
+under a floor spectrum: a floor moves with the ground at long periods). A set whose mean PGD
+exceeds the spectrum's own long-period displacement (SDe at T_D, 2.5 d_g for F0 = 2.5: no
+5 %-damped oscillator of the target moves that much) is physically implausible: ``plausible``
+false and a warning naming its PGD.
 
 A set on disk is a folder with its ``set.json`` (:func:`set_files` writes its
 ``files``, ``file_checks`` and ``units``; ``statue2model records`` writes it last, after
@@ -42,11 +65,15 @@ Example
 -------
 >>> from statue2model.hazard.code_spectra import parse_spectrum
 >>> target = parse_spectrum("ntc2018:ag=0.1g,F0=2.5,Tc=0.3,soil=C")
->>> s = match_set(target, n=3, seed=1, duration=10, dt=0.01, band=(0.1, 1.5))
->>> s.met, len(s.records), s.seeds, s.records[0].dt
-(True, 3, (1, 2, 3), 0.01)
->>> 0.9 <= s.check()["min_ratio"] and s.check()["max_ratio"] <= 1.3
-True
+>>> s = match_set(target, n=7, seed=1)                    # 25 s records, 0.15-2 s
+>>> s.met, len(s.records), s.seeds[:2], s.records[0].duration
+(True, 7, (1, 2), 25.0)
+>>> [(r["rule"], r["ok"]) for r in s.rules()][:3]
+[('records', True), ('duration', True), ('stationary part', True)]
+>>> s.check()["tolerance"], s.window
+([-0.1, None], 'artificial records: mean >= 90 % of the target, no upper bound')
+>>> float(s.records[0].samples[0]), float(s.records[0].samples[-1])      # at rest at both ends
+(0.0, 0.0)
 """
 from __future__ import annotations
 
@@ -59,12 +86,27 @@ from ..errors import InputError
 from .motions import GroundMotion, record
 from .response_spectra import POINTS_PER_PERIOD, psa
 
-TOLERANCE = (-0.10, 0.30)
-"""Allowed deviation of the set's mean spectrum from the target (EC8 -10 %, NTC 2018 +30 %)."""
-DEFAULT_BAND = (0.1, 4.0)
-"""Periods (s) the default check covers: the default scan's rocking and isolator periods."""
+TOLERANCE_ARTIFICIAL = (-0.10, None)
+"""Artificial records (NTC 2018 §3.2.3.6, EC8 §3.2.3.1.2(4)c): the mean spectrum no more than
+10 % below the target anywhere in the band; no upper bound."""
+TOLERANCE_RECORDED = (-0.10, 0.30)
+"""Recorded motions (NTC 2018 §3.2.3.6): the mean within -10 % / +30 % of the target."""
+TOLERANCE = TOLERANCE_ARTIFICIAL
+"""The window :func:`match_set` checks by default (its records are artificial)."""
+N_MIN = 7
+"""Records a design set needs for the MEAN of the effects (NTC §7.3.5, EC8 §4.3.3.4.3)."""
+DURATION_MIN = 25.0
+"""s, each record (NTC 2018 §3.2.3.6)."""
+STATIONARY_MIN = 10.0
+"""s, the pseudo-stationary part (NTC 2018 §3.2.3.6, EC8 §3.2.3.1.2(4)a)."""
+BAND_START, BAND_END_MIN = 0.15, 2.0
+"""s: the band starts at 0.15 s and reaches at least 2 s (NTC 2018 §3.2.3.6)."""
+DEFAULT_BAND = (BAND_START, BAND_END_MIN)
+"""Periods (s) the default check covers: the codes' band for a structure of T1 <= 1 s."""
 N_MATCH = 60
 """Matching periods (log-spaced from half the band's start to 1.5 times its end)."""
+HIGH_PASS = 1.0
+"""The seed noise and the corrections are cut below 1 / (HIGH_PASS T_hi) Hz (module docstring)."""
 
 
 def band_for_period(T1: float) -> tuple[float, float]:
@@ -73,17 +115,62 @@ def band_for_period(T1: float) -> tuple[float, float]:
     >>> band_for_period(0.5)
     (0.1, 1.0)
     """
-    if not (isinstance(T1, (int, float)) and math.isfinite(T1) and T1 > 0):
-        raise InputError(f"the structure's period T1 must be a positive number of s, got {T1!r}")
+    _period("the structure's period T1", T1)
     return 0.2 * T1, 2.0 * T1
 
 
+def _period(name: str, T) -> float:
+    if isinstance(T, bool) or not (isinstance(T, (int, float)) and math.isfinite(T) and T > 0):
+        raise InputError(f"{name} must be a positive number of s, got {T!r}")
+    return float(T)
+
+
+def design_band(T1: float | None = None, T_is: float | None = None) -> tuple[tuple[float, float], str]:
+    """The band a design set is checked over (NTC 2018 §3.2.3.6): 0.15 s to the largest of 2 s,
+    2 T1 (a building's period, when the object stands in one) and 1.2 T_is (an isolator's
+    period, when one is designed); and the reason in words.
+
+    >>> design_band()
+    ((0.15, 2.0), '0.15 s to 2 s')
+    >>> design_band(T1=0.6, T_is=3.99)
+    ((0.15, 4.788), '0.15 s to max(2 s, 2 T1 = 1.2 s, 1.2 T_is = 4.788 s)')
+    """
+    parts, hi = ["2 s"], BAND_END_MIN
+    if T1 is not None:
+        v = 2.0 * _period("the building's period T1", T1)
+        parts.append(f"2 T1 = {v:.4g} s")
+        hi = max(hi, v)
+    if T_is is not None:
+        v = 1.2 * _period("the isolator's period T_is", T_is)
+        parts.append(f"1.2 T_is = {v:.4g} s")
+        hi = max(hi, v)
+    why = f"{BAND_START:g} s to " + (parts[0] if len(parts) == 1 else f"max({', '.join(parts)})")
+    return (BAND_START, round(hi, 6)), why
+
+
+def duration_for_band(band: tuple[float, float], minimum: float = DURATION_MIN) -> float:
+    """The record duration (s) a band needs: at least ``minimum`` and 5 times the band's end
+    (rounded up to a whole second).
+
+    >>> duration_for_band((0.15, 4.788)), duration_for_band((0.15, 6.0))
+    (25.0, 30.0)
+    """
+    return float(max(minimum, math.ceil(5.0 * float(band[1]) - 1e-9)))
+
+
 def envelope(t: np.ndarray, duration: float) -> np.ndarray:
-    """Amplitude envelope on [0, duration]: (t / t1)^2 to t1 = 0.1 D, 1 to t2 = 0.6 D,
-    then exp decay to 0.05 at D."""
+    """Amplitude envelope on [0, duration]: (t / t1)^2 to t1 = 0.1 D, 1 to t2 = 0.6 D, then an
+    exponential decay (to 5 % of the strong phase if it went on) shifted to reach exactly 0 at D."""
     t1, t2 = 0.1 * duration, 0.6 * duration
     decay = math.log(20.0) / (duration - t2)
-    return np.where(t < t1, (t / t1) ** 2, np.where(t < t2, 1.0, np.exp(-decay * (t - t2))))
+    end = math.exp(-decay * (duration - t2))
+    tail = np.maximum((np.exp(-decay * (t - t2)) - end) / (1.0 - end), 0.0)
+    return np.where(t < t1, (t / t1) ** 2, np.where(t < t2, 1.0, tail))
+
+
+def stationary_part(duration: float) -> float:
+    """s, the envelope's constant part: 0.5 D."""
+    return 0.5 * float(duration)
 
 
 def baseline_correct(acc: np.ndarray, dt: float, env: np.ndarray) -> np.ndarray:
@@ -104,11 +191,31 @@ def baseline_correct(acc: np.ndarray, dt: float, env: np.ndarray) -> np.ndarray:
     return acc - c[..., :1] * b0 - c[..., 1:2] * b1 if acc.ndim > 1 else acc - c[0] * b0 - c[1] * b1
 
 
+def high_pass(f: np.ndarray, T_hi: float) -> np.ndarray:
+    """Gain 1 at frequencies f >= 1 / (HIGH_PASS T_hi) Hz, a cosine taper to 0 at half that."""
+    fc = 1.0 / (HIGH_PASS * T_hi)
+    x = np.clip((f - 0.5 * fc) / (0.5 * fc), 0.0, 1.0)
+    return 0.5 - 0.5 * np.cos(np.pi * x)
+
+
+def _window_text(tol) -> str:
+    lo, hi = tol
+    if hi is None:
+        return f"artificial records: mean >= {100 * (1 + lo):.0f} % of the target, no upper bound"
+    return (f"recorded motions: mean within {100 * (1 + lo):.0f}-{100 * (1 + hi):.0f} % of the target"
+            if tuple(tol) == TOLERANCE_RECORDED else
+            f"mean within {100 * (1 + lo):.0f}-{100 * (1 + hi):.0f} % of the target (a window of your own)")
+
+
 @dataclass(frozen=True, eq=False)
 class RecordSet:
     """A spectrum-compatible set. records: the accelerograms (m/s^2, every dt s);
     periods: (n_T,) the check grid, s; spectra: (n_records, n_T) their PSA, m/s^2;
-    target: (n_T,) the target there; band (s) and tolerance (fractions) of the check."""
+    target: (n_T,) the target there; band (s) and tolerance (fractions below, above or None)
+    of the check; required_band: the band the code asks for (:func:`design_band`) and
+    band_reason its reason; stationary_s: each record's pseudo-stationary part, s;
+    pga_scale: the factor applied so the mean PGA reaches Se(0) (1: none); d_g: the
+    target's design ground displacement, m (None if it has none)."""
 
     records: tuple[GroundMotion, ...]
     seeds: tuple[int, ...]
@@ -116,11 +223,18 @@ class RecordSet:
     spectra: np.ndarray
     target: np.ndarray
     band: tuple[float, float]
-    tolerance: tuple[float, float]
+    tolerance: tuple
     xi: float
     iterations: int
     target_info: dict
     target_pga: float = float("nan")
+    required_band: tuple[float, float] = DEFAULT_BAND
+    band_reason: str = "0.15 s to 2 s"
+    stationary_s: float = float("nan")
+    pga_scale: float = 1.0
+    d_g: float | None = None
+    sd_plateau: float | None = None
+    kind: str = "artificial"
 
     @property
     def mean(self) -> np.ndarray:
@@ -132,17 +246,24 @@ class RecordSet:
         lo, hi = self.band
         return (self.periods >= lo * (1 - 1e-9)) & (self.periods <= hi * (1 + 1e-9))
 
+    @property
+    def window(self) -> str:
+        """The tolerance window in words, named for what it is (artificial vs recorded)."""
+        return _window_text(self.tolerance)
+
     def check(self) -> dict:
-        """The tolerance check over the band: min and max of mean / target and their periods
-        (``met``); also the set's mean PGA over the target's Se(0), which EC8 §3.2.3.1.2 (4)b
-        wants >= 1 for a ground spectrum (reported, not part of ``met``)."""
+        """The tolerance check over the band: min and max of mean / target and their periods;
+        ``met``: every rule of :meth:`rules` holds; ``fit_met``: the tolerance alone."""
         T = self.periods[self.in_band]
         ratio = self.mean[self.in_band] / self.target[self.in_band]
         i, j = int(np.argmin(ratio)), int(np.argmax(ratio))
-        lo, hi = 1 + self.tolerance[0], 1 + self.tolerance[1]
-        worst = i if (lo - ratio[i]) / (-self.tolerance[0]) >= (ratio[j] - hi) / self.tolerance[1] else j
-        return {"met": bool(ratio[i] >= lo and ratio[j] <= hi),
-                "band_s": list(self.band), "tolerance": list(self.tolerance),
+        lo_tol, hi_tol = self.tolerance
+        lo = 1 + lo_tol
+        over = (ratio[j] - (1 + hi_tol)) / hi_tol if hi_tol is not None else -math.inf
+        worst = i if (lo - ratio[i]) / (-lo_tol) >= over else j
+        fit = bool(ratio[i] >= lo and (hi_tol is None or ratio[j] <= 1 + hi_tol))
+        return {"met": all(r["ok"] for r in self.rules()), "fit_met": fit,
+                "band_s": list(self.band), "tolerance": [lo_tol, hi_tol], "window": self.window,
                 "min_ratio": float(ratio[i]), "period_of_min_s": float(T[i]),
                 "max_ratio": float(ratio[j]), "period_of_max_s": float(T[j]),
                 "worst_ratio": float(ratio[worst]), "period_of_worst_s": float(T[worst]),
@@ -152,18 +273,89 @@ class RecordSet:
     def met(self) -> bool:
         return self.check()["met"]
 
+    def rules(self) -> list[dict]:
+        """Every rule of the codes for a design set, each {"rule", "clause", "required", "value", "ok"}."""
+        T = self.periods[self.in_band]
+        ratio = self.mean[self.in_band] / self.target[self.in_band]
+        lo_tol, hi_tol = self.tolerance
+        durations = [m.duration for m in self.records]
+        pga_ratio = float(np.mean([m.pga for m in self.records]) / self.target_pga)
+        rb = self.required_band
+        below = float(ratio.min())
+        out = [
+            {"rule": "records", "clause": "NTC 2018 7.3.5, EC8 4.3.3.4.3 (the mean of the effects)",
+             "required": f">= {N_MIN}", "value": len(self.records), "ok": len(self.records) >= N_MIN},
+            {"rule": "duration", "clause": "NTC 2018 3.2.3.6", "required": f">= {DURATION_MIN:g} s each",
+             "value": f"{min(durations):g} s" + ("" if min(durations) == max(durations) else f"-{max(durations):g} s"),
+             "ok": min(durations) >= DURATION_MIN - 1e-9},
+            {"rule": "stationary part", "clause": "NTC 2018 3.2.3.6, EC8 3.2.3.1.2(4)a",
+             "required": f">= {STATIONARY_MIN:g} s", "value": f"{self.stationary_s:g} s",
+             "ok": bool(self.stationary_s >= STATIONARY_MIN - 1e-9)},
+            {"rule": "band", "clause": "NTC 2018 3.2.3.6 (" + self.band_reason + ")",
+             "required": f"{rb[0]:g}-{rb[1]:.4g} s", "value": f"{self.band[0]:g}-{self.band[1]:.4g} s",
+             "ok": bool(self.band[0] <= rb[0] * (1 + 1e-9) and self.band[1] >= rb[1] * (1 - 1e-9))},
+            {"rule": "mean spectrum not below the target", "clause": "NTC 2018 3.2.3.6, EC8 3.2.3.1.2(4)c",
+             "required": f">= {1 + lo_tol:.2f} x target over the band ({self.window})",
+             "value": f"{below:.3f} at {float(T[int(np.argmin(ratio))]):.3g} s", "ok": bool(below >= 1 + lo_tol)},
+            {"rule": "mean PGA", "clause": "EC8 3.2.3.1.2(4)b (checked on NTC sets too)",
+             "required": ">= Se(0) = a_g S (x the floor's amplification on a floor)",
+             "value": f"{pga_ratio:.3f} x Se(0)" + (f" (set scaled x{self.pga_scale:.3f} to reach it)"
+                                                     if self.pga_scale > 1 else ""),
+             "ok": bool(pga_ratio >= 1 - 1e-9)}]
+        if hi_tol is not None:
+            above = float(ratio.max())
+            out.append({"rule": "mean spectrum not above the target", "clause": "NTC 2018 3.2.3.6 (recorded motions)",
+                        "required": f"<= {1 + hi_tol:.2f} x target over the band",
+                        "value": f"{above:.3f} at {float(T[int(np.argmax(ratio))]):.3g} s",
+                        "ok": bool(above <= 1 + hi_tol)})
+        return out
+
+    def measures(self) -> list[dict]:
+        """Each record's realism figures (:func:`statue2model.hazard.record_measures.record_measures`)."""
+        from .record_measures import record_measures
+
+        return [record_measures(m) for m in self.records]
+
+    def realism(self, measures: list[dict] | None = None) -> dict:
+        """The set's PGD against d_g (module docstring): mean and max PGD, their ratio to d_g, the
+        limit (the target's long-period spectral displacement), ``plausible`` and a ``warning``."""
+        ms = self.measures() if measures is None else measures
+        pgd = np.array([m["pgd_m"] for m in ms])
+        pgv = np.array([m["pgv_m_s"] for m in ms])
+        out = {"mean_pgd_m": float(pgd.mean()), "max_pgd_m": float(pgd.max()), "mean_pgv_m_s": float(pgv.mean()),
+               "max_pgv_m_s": float(pgv.max()), "d_g_m": self.d_g, "d_g_clause": "EC8 3.2.2.4 / NTC 2018 3.2.3.3: "
+               "d_g = 0.025 a_g S T_C T_D of the ground spectrum",
+               "limit_m": self.sd_plateau, "mean_pgd_over_d_g": None, "plausible": True, "warning": None}
+        if self.d_g:
+            out["mean_pgd_over_d_g"] = float(pgd.mean() / self.d_g)
+            limit = self.sd_plateau if self.sd_plateau else 2.5 * self.d_g
+            out["limit_m"] = float(limit)
+            if pgd.mean() > limit:
+                out["plausible"] = False
+                out["warning"] = (f"the records' mean PGD {pgd.mean():.3f} m is {pgd.mean() / self.d_g:.1f} x the "
+                                  f"design ground displacement d_g = {self.d_g:.3f} m and above the spectrum's own "
+                                  f"long-period displacement {limit:.3f} m: physically implausible (long-period content "
+                                  f"the site's hazard does not have); their displacement demand on an isolator is "
+                                  f"overstated")
+        return out
+
     def to_dict(self) -> dict:
-        """JSON-ready: the target, the seeds, the check, each record's PGA and worst ratio."""
+        """JSON-ready: the target, the seeds, the rules, the check, each record's realism figures."""
+        ms = self.measures()
         per = []
-        for s, m, sp in zip(self.seeds, self.records, self.spectra):
+        for s, m, sp, me in zip(self.seeds, self.records, self.spectra, ms):
             r = sp[self.in_band] / self.target[self.in_band]
-            per.append({"seed": int(s), "pga_m_s2": m.pga, "n_samples": int(len(m.samples)), "dt_s": m.dt,
-                        "min_ratio": float(r.min()), "max_ratio": float(r.max())})
-        return {"target": self.target_info, "n_records": len(self.records), "seeds": [int(s) for s in self.seeds],
-                "damping_ratio": self.xi, "iterations": self.iterations,
-                "method": "SIMQKE: enveloped Gaussian noise, Fourier amplitudes corrected by target/computed "
-                          "spectral ratios, envelope-weighted linear baseline correction",
-                "check": self.check(), "mean_pga_m_s2": float(np.mean([m.pga for m in self.records])),
+            per.append({"seed": int(s), "n_samples": int(len(m.samples)), "dt_s": m.dt, "duration_s": m.duration,
+                        "min_ratio": float(r.min()), "max_ratio": float(r.max()), **me})
+        return {"target": self.target_info, "kind": self.kind, "n_records": len(self.records),
+                "seeds": [int(s) for s in self.seeds], "damping_ratio": self.xi, "iterations": self.iterations,
+                "method": "SIMQKE: high-passed Gaussian noise under an envelope, its Fourier amplitudes corrected by "
+                          "target/computed spectral ratios, the envelope and an envelope-weighted linear baseline "
+                          "re-applied each iteration (records at rest at both ends)",
+                "duration_s": max(m.duration for m in self.records), "stationary_s": self.stationary_s,
+                "required_band_s": list(self.required_band), "band_reason": self.band_reason,
+                "pga_scale": self.pga_scale, "rules": self.rules(), "check": self.check(),
+                "realism": self.realism(ms), "mean_pga_m_s2": float(np.mean([m.pga for m in self.records])),
                 "records": per, "periods_s": self.periods.tolist(), "target_m_s2": self.target.tolist(),
                 "mean_m_s2": self.mean.tolist()}
 
@@ -177,18 +369,34 @@ def _target_values(target, T: np.ndarray) -> np.ndarray:
     return v
 
 
-def match_set(target, n: int = 7, seed: int = 1, duration: float = 20.0, dt: float = 0.01,
-              band: tuple[float, float] = DEFAULT_BAND, tolerance: tuple[float, float] = TOLERANCE,
-              iterations: int = 20, record_tol: float = 0.05) -> RecordSet:
+def _ground_of(target):
+    """The ground spectrum under ``target`` (itself, or a floor spectrum's ``ground``)."""
+    return getattr(target, "ground", None) or target
+
+
+def _sd_plateau(ground) -> float | None:
+    """The ground spectrum's spectral displacement at T_D (m), or None."""
+    T_D = getattr(ground, "T_D", None)
+    if T_D is None or not callable(getattr(ground, "Se", None)):
+        return None
+    return float(ground.Se(np.array([float(T_D)]))[0]) * float(T_D) ** 2 / (4 * math.pi ** 2)
+
+
+def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_MIN, dt: float = 0.01,
+              band: tuple[float, float] = DEFAULT_BAND, tolerance: tuple = TOLERANCE,
+              iterations: int = 20, record_tol: float = 0.05, required_band: tuple[float, float] | None = None,
+              band_reason: str | None = None) -> RecordSet:
     """N records of ``duration`` s every ``dt`` s matched to ``target`` (see the module
-    docstring). Damping: the target's ``xi`` (percent) if it has one, else 5 %. Reproducible:
-    record i depends only on (target, seed + i, duration, dt, band, iterations)."""
+    docstring) and checked over ``band`` against ``required_band`` (default: ``band`` itself)
+    within ``tolerance`` (fractions (below, above or None)). Damping: the target's ``xi``
+    (percent) if it has one, else 5 %. Reproducible: record i depends only on (target,
+    seed + i, duration, dt, band, iterations)."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= 100:
         raise InputError(f"number of records must be an integer from 1 to 100, got {n!r}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a non-negative integer, got {seed!r}")
     for name, v in (("duration", duration), ("dt", dt)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise InputError(f"record set: {name} must be a positive number of s, got {v!r}")
     try:
         lo, hi = (float(b) for b in band)
@@ -202,9 +410,8 @@ def match_set(target, n: int = 7, seed: int = 1, duration: float = 20.0, dt: flo
     if hi > duration / 5 * (1 + 1e-9):   # longer periods lose too much to the baseline correction
         raise InputError(f"record set: a {duration:g} s record cannot be matched up to {hi:g} s: use a "
                          f"duration of at least {5 * hi:g} s or a band ending at {duration / 5:g} s or less")
-    tol = tuple(float(x) for x in tolerance)
-    if not (len(tol) == 2 and -1 < tol[0] < 0 < tol[1]):
-        raise InputError(f"record set: tolerance must be (minus, plus) fractions like (-0.1, 0.3), got {tolerance!r}")
+    tol = _tolerance(tolerance)
+    rb = (lo, hi) if required_band is None else tuple(float(x) for x in required_band)
     from ..compute import budget
 
     head = f"a set of {n} records of {duration:g} s at dt {dt:g} s"
@@ -227,34 +434,63 @@ def match_set(target, n: int = 7, seed: int = 1, duration: float = 20.0, dt: flo
     t = np.arange(npts) * dt
     env = envelope(t, duration)
     seeds = tuple(int(seed) + i for i in range(n))
-    acc = np.stack([np.random.default_rng(s).standard_normal(npts) for s in seeds]) * env
     f = np.fft.rfftfreq(nfft, dt)
+    H = high_pass(f, hi)
     logf = np.log(np.maximum(f, f[1] * 0.5))
     logf_match = np.log(1.0 / T_match[::-1])                 # ascending frequencies
+
+    def filtered(x, gain):
+        return np.fft.irfft(np.fft.rfft(x, nfft, axis=-1) * gain, nfft, axis=-1)[:, :npts]
+
+    # the stationary signals: high-passed white noise
+    s = filtered(np.stack([np.random.default_rng(k).standard_normal(npts) for k in seeds]), H)
     from ..compute.executors import progress_bar
 
     bar = progress_bar(f"matching {n} records", iterations + 2, unit="spectra")   # shown for long work
     try:
         # first pass: scale every record so its spectrum matches on average
-        acc *= np.median(S_match / psa(acc, dt, T_match, xi), axis=-1, keepdims=True)
+        s *= np.median(S_match / psa(s * env, dt, T_match, xi), axis=-1, keepdims=True)
         bar.update(1)
         done = 0
         for done in range(1, iterations + 1):
-            acc = baseline_correct(acc, dt, env)
+            acc = baseline_correct(s * env, dt, env)
             ratio = S_match / psa(acc, dt, T_match, xi)        # (n, n_T)
             bar.update(1)
             if np.all(np.abs(ratio - 1) <= record_tol):
                 break
             R = np.stack([np.interp(logf, logf_match, r[::-1]) for r in ratio])
-            acc = np.fft.irfft(np.fft.rfft(acc, nfft, axis=-1) * R, nfft, axis=-1)[:, :npts]
-        acc = baseline_correct(acc, dt, env)
+            s = filtered(s, R * H)
+        acc = baseline_correct(s * env, dt, env)
+        target_pga = float(_target_values(target, np.array([0.0]))[0])
+        scale = target_pga / float(np.mean(np.max(np.abs(acc), axis=-1)))
+        scale = scale * (1 + 1e-12) if scale > 1 else 1.0       # EC8 3.2.3.1.2(4)b: mean PGA >= Se(0)
+        acc = acc * scale
         spectra = psa(acc, dt, T_check, xi)
     finally:
         bar.close()
     info = target.to_dict() if callable(getattr(target, "to_dict", None)) else {"kind": type(target).__name__}
-    records = tuple(record(a, dt, label=f"matched seed {s}") for a, s in zip(acc, seeds))
-    return RecordSet(records, seeds, T_check, spectra, S_check, (lo, hi), tol, xi, done, info,
-                     float(_target_values(target, np.array([0.0]))[0]))
+    records = tuple(record(a, dt, label=f"matched seed {k}") for a, k in zip(acc, seeds))
+    from .record_measures import design_ground_displacement
+
+    ground = _ground_of(target)
+    return RecordSet(records, seeds, T_check, spectra, S_check, (lo, hi), tol, xi, done, info, target_pga,
+                     rb, band_reason or f"{rb[0]:g} s to {rb[1]:.4g} s", stationary_part(duration), float(scale),
+                     design_ground_displacement(ground), _sd_plateau(ground))
+
+
+def _tolerance(tolerance) -> tuple:
+    """(below, above or None) fractions, checked: -1 < below < 0 < above."""
+    try:
+        lo_t, hi_t = tolerance
+        lo_t = float(lo_t)
+        hi_t = None if hi_t is None else float(hi_t)
+    except (TypeError, ValueError):
+        raise InputError(f"record set: tolerance must be (below, above) fractions like (-0.1, None) or (-0.1, 0.3), "
+                         f"got {tolerance!r}") from None
+    if not (-1 < lo_t < 0 and (hi_t is None or 0 < hi_t < math.inf)):
+        raise InputError(f"record set: tolerance must be (below, above) fractions like (-0.1, None) or (-0.1, 0.3), "
+                         f"got {tolerance!r}")
+    return lo_t, hi_t
 
 
 # --- a set on disk: set.json names its records ------------------------------------------------
@@ -342,6 +578,17 @@ def read_record_set(folder, units: str | None = None, option: str = "--records")
         raise InputError(f"{where}: --units {units} but {SET_FILE} says the records are in {said}")
     csv_units = units or said
     records = [read_record(folder / n, units=None if n.lower().endswith(".at2") else csv_units) for n in files]
+    said_scale = data.get("froude_scale")
+    if said_scale:      # the set says it is for a prototype: every record carries it
+        from dataclasses import replace
+
+        from ..quantities import scale_ratio
+
+        try:
+            lam = scale_ratio(said_scale)
+        except InputError:
+            raise InputError(f"{where}: {SET_FILE}: froude_scale {said_scale!r} is not a scale like 1:2") from None
+        records = [r if r.froude_scale == lam else replace(r, froude_scale=lam) for r in records]
     ignored = sorted(p.name for p in folder.iterdir()
                      if p.suffix.lower() in RECORD_SUFFIXES and p.name not in set(files))
     return records, {**data, "ignored": ignored}

@@ -91,6 +91,7 @@ class GroundMotion:
     dt: float = 0.0
     samples: np.ndarray | None = None
     label: str = "free"
+    froude_scale: float = 1.0       # lambda of the 1:lambda prototype it is scaled for (1: full scale)
 
     @property
     def end(self) -> float:
@@ -171,7 +172,7 @@ class GroundMotion:
             raise InputError(f"scale factor lambda must be positive, got {lam}")
         r = math.sqrt(lam)
         return replace(self, start=self.start / r, duration=self.duration / r, dt=self.dt / r,
-                       freq=self.freq * r, label=f"{self.label} (1:{lam:g})")
+                       freq=self.freq * r, label=f"{self.label} (1:{lam:g})", froude_scale=self.froude_scale * lam)
 
     def sampled(self, dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(t, u_g'') on a uniform grid from 0 to the end (default dt: the record's
@@ -215,6 +216,8 @@ class GroundMotion:
             d.update(freq_hz=self.freq, phase_rad=self.phase)
         if self.kind == "record":
             d.update(dt_s=self.dt, n_samples=int(len(self.samples)))
+        if self.froude_scale != 1.0:
+            d["froude_scale"] = f"1:{self.froude_scale:g}"
         return d
 
 
@@ -356,7 +359,29 @@ def _read_at2(path: Path) -> GroundMotion:
 _CELL_SEP = re.compile(r"[,;\s]+")
 
 
+FROUDE_HEADER = "# statue2model: Froude-scaled for a 1:{lam:g} prototype"
+"""The first line of a record file written for a prototype (:func:`write_record_csv`); read back
+by :func:`read_record` into ``froude_scale``, so the record never drives a full-size model unseen."""
+_FROUDE_RE = re.compile(r"#\s*statue2model:\s*Froude-scaled for a 1:([0-9.eE+-]+) prototype")
+
+
 def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
+    m = _read_csv_samples(path, dt, units)
+    with open(path, encoding="utf-8-sig", errors="replace") as f:
+        first = f.readline()
+    hit = _FROUDE_RE.match(first.strip())
+    if hit:
+        try:
+            lam = float(hit.group(1))
+        except ValueError:
+            lam = math.nan
+        if not (math.isfinite(lam) and lam > 0):
+            raise InputError(f"{path}: its header names a prototype scale 1:{hit.group(1)} that is not a number > 0")
+        m = replace(m, froude_scale=lam)
+    return m
+
+
+def _read_csv_samples(path: Path, dt: float | None, units: str) -> GroundMotion:
     rows, line_no = [], []
     # utf-8-sig: a byte-order mark (Excel's "CSV UTF-8") would otherwise make the first number a header
     for j, line in enumerate(path.read_text(encoding="utf-8-sig", errors="replace").splitlines(), start=1):
@@ -438,7 +463,9 @@ def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Pat
     from ..io.files import atomic_write
 
     t, u = motion.sampled(dt)
-    text = "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
+    head = (FROUDE_HEADER.format(lam=motion.froude_scale) + " (times / sqrt(lambda), accelerations unchanged)\n"
+            if motion.froude_scale != 1.0 else "")
+    text = head + "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
     return atomic_write(path, lambda p: p.write_text(text))
 
 

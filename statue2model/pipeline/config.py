@@ -12,6 +12,9 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
              mu_static
 [isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
+[building]   floor, storeys, height, period, structure, damping, isolated, floor_spectrum
+             (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
+             an upper floor takes the floor spectrum of the Circolare / EC8, hazard/floor.py)
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
              fragility, fragility_records, fragility_duration,          time histories, fragility)
              fragility_levels, fragility_samples
@@ -150,6 +153,21 @@ class IsolatorConfig:
 
 
 @dataclass(frozen=True)
+class BuildingConfig:
+    """Where the object stands (MODEL.md section 7; statue2model.hazard.site): the design target of
+    every analysis is the [isolator] spectrum on the ground floor, the floor spectrum above it."""
+
+    floor: int = 0                      # the floor the object stands on: 0 = ground floor, storeys = roof
+    storeys: int | None = None          # storeys above the foundation
+    height: float | None = None         # m, foundation to roof
+    period: float | None = None         # T1, s; auto = C_t H^(3/4) (EN 1998-1 eq. 4.6)
+    structure: str = "masonry"          # masonry | concrete-frame | steel-frame | other
+    damping: float = 5.0                # the building's damping, percent
+    isolated: bool = False              # a base-isolated building (its floors take z = 0)
+    floor_spectrum: str = "auto"        # auto (NTC: general C7.2.5-10; EC8: eq. 4.25) | ec8 | ntc2018 | ntc2018-framed
+
+
+@dataclass(frozen=True)
 class DynamicsConfig:
     """2D analyses, on a fixed base and on the isolator."""
 
@@ -162,7 +180,7 @@ class DynamicsConfig:
     isolated: bool = True               # also on the isolator (needs [isolator] enabled)
     fragility: bool = True              # fragility curves over a set matched to [isolator] spectrum
     fragility_records: int = 7          # records of the set (seeds 1..N)
-    fragility_duration: float = 10.0    # s, each record
+    fragility_duration: float | None = None   # s, each record; auto = 25 s or 5 x the band's end
     fragility_levels: str = "auto"      # PGA levels: auto (0.2-3 x the design PGA, 10) or START:STOP:N
     fragility_samples: int = 7          # theta_R values of the imperfect model (thesis' sweep)
 
@@ -193,13 +211,13 @@ class RunConfig:
 
 
 SECTIONS = {"scan": ScanConfig, "prototype": PrototypeConfig, "model": ModelConfig, "isolator": IsolatorConfig,
-            "dynamics": DynamicsConfig, "crosscheck": CrosscheckConfig, "run": RunConfig}
+            "building": BuildingConfig, "dynamics": DynamicsConfig, "crosscheck": CrosscheckConfig, "run": RunConfig}
 
 # how a value is read: the converter of each key that is not a plain number/bool/str
 _LENGTHS = {("scan", "height"), ("scan", "base_tol"), ("prototype", "board"), ("prototype", "glue"),
             ("prototype", "tool"), ("prototype", "tolerance"), ("prototype", "rod"), ("prototype", "clearance"),
             ("prototype", "wall"), ("prototype", "margin"), ("prototype", "edge"), ("prototype", "pass_depth"),
-            ("isolator", "thickness"), ("crosscheck", "grid")}
+            ("isolator", "thickness"), ("crosscheck", "grid"), ("building", "height")}
 _ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
 _AUTO_GRIDS = {("dynamics", "fragility_levels")}     # "auto" or a grid
 _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
@@ -207,7 +225,9 @@ _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("prototype", "policy"): ("mid", "envelope", "core"),
             ("model", "kind"): ("housner", "imperfect"),
             ("dynamics", "pulse"): ("cosine", "sine"),
-            ("crosscheck", "groove"): ("lattice", "tiles")}
+            ("crosscheck", "groove"): ("lattice", "tiles"),
+            ("building", "structure"): ("masonry", "concrete-frame", "steel-frame", "other"),
+            ("building", "floor_spectrum"): ("auto", "ec8", "ntc2018", "ntc2018-framed")}
 
 
 @dataclass(frozen=True)
@@ -218,6 +238,7 @@ class ProjectConfig:
     prototype: PrototypeConfig = field(default_factory=PrototypeConfig)
     model: ModelConfig = field(default_factory=ModelConfig)
     isolator: IsolatorConfig = field(default_factory=IsolatorConfig)
+    building: BuildingConfig = field(default_factory=BuildingConfig)
     dynamics: DynamicsConfig = field(default_factory=DynamicsConfig)
     crosscheck: CrosscheckConfig = field(default_factory=CrosscheckConfig)
     run: RunConfig = field(default_factory=RunConfig)
@@ -312,7 +333,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             if not isinstance(value, bool):
                 raise ValueError("must be true or false")
             return value
-        elif isinstance(default, int) or key in ("grooves", "workers", "iterations", "segments"):
+        elif isinstance(default, int) or key in ("grooves", "workers", "iterations", "segments", "storeys"):
             if isinstance(value, bool) or not float(value).is_integer():
                 raise ValueError("must be a whole number")
             return int(value)
@@ -482,8 +503,14 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
 
     if i.enabled and i.spectrum:
         named(parse_spectrum, "[isolator] spectrum", i.spectrum)
+    def full_scale(name, motion):
+        if getattr(motion, "froude_scale", 1.0) != 1.0:
+            bad(f"{name}: the record is Froude-scaled for a 1:{motion.froude_scale:g} prototype (a scale= key or "
+                "the file's header says so), and a run models the full-size statue of the scan: use the "
+                "full-scale record")
+
     if i.enabled and i.motion:
-        named(parse_spec, "[isolator] motion", i.motion)
+        full_scale("[isolator] motion", named(parse_spec, "[isolator] motion", i.motion)[0])
     for name, v in (("thickness", i.thickness), ("target", i.target), ("fuse_release", i.fuse_release)):
         if v is not None and not v > 0:
             bad(f"[isolator] {name} must be positive, got {v}")
@@ -491,6 +518,10 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
     if not 16 <= i.segments <= 4096:
         bad(f"[isolator] segments must be in 16..4096, got {i.segments}")
+    try:
+        site(cfg)
+    except InputError as exc:
+        bad(str(exc))
     freqs = linspace_spec(d.freq, f"{where}: [dynamics] freq")
     amps = linspace_spec(d.amp, f"{where}: [dynamics] amp", accel=True)
     pgas = linspace_spec(d.pga, f"{where}: [dynamics] pga", accel=True)
@@ -499,7 +530,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     if d.fragility:
         if not 2 <= d.fragility_records <= 100:
             bad(f"[dynamics] fragility_records must be in 2..100, got {d.fragility_records}")
-        if not 5.0 <= d.fragility_duration <= 120.0:
+        if d.fragility_duration is not None and not 5.0 <= d.fragility_duration <= 120.0:
             bad(f"[dynamics] fragility_duration must be in 5..120 s, got {d.fragility_duration}")
         if not 1 <= d.fragility_samples <= 1000:
             bad(f"[dynamics] fragility_samples must be in 1..1000, got {d.fragility_samples}")
@@ -509,6 +540,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         if not on:
             continue
         motion, theta0 = named(parse_spec, name, spec)
+        full_scale(name, motion)
         if motion.kind == "none" or theta0 != 0 or not motion.pga > 0:
             bad(f"{name} must be a ground motion (not zero), got {spec!r}")
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
@@ -584,6 +616,18 @@ def _check_sizes(name: str, motion, d: DynamicsConfig, freqs, amps, pgas, where:
         named(check_history, end, 1e-4, HISTORY_BYTES_PER_SAMPLE, what="the 2D histories",
               head=f"[crosscheck] motion of {num(motion.end)} s (+{num(FREE_TIME)} s free) sampled every 0.1 ms",
               fix="use a shorter motion")
+
+
+def site(cfg: ProjectConfig):
+    """The run's :class:`statue2model.hazard.site.SiteHazard`: the [isolator] spectrum (the default
+    one of the verdict when the isolator designs on a motion) under the [building] section."""
+    from ..assessment.verdict import DEFAULT_SPECTRUM
+    from ..hazard.site import site_hazard
+
+    b = cfg.building
+    return site_hazard(cfg.isolator.spectrum or DEFAULT_SPECTRUM, floor=b.floor, storeys=b.storeys, height=b.height,
+                       period=b.period, structure=b.structure, damping=b.damping, isolated=b.isolated,
+                       method=None if b.floor_spectrum == AUTO else b.floor_spectrum)
 
 
 def default_toml() -> str:

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..io.files import atomic_write, read_json, write_json
-from .config import STAGE_NAMES, ProjectConfig
+from .config import STAGE_NAMES, ProjectConfig, site
 
 
 @dataclass(frozen=True)
@@ -136,7 +136,6 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
 
 # --- isolator -------------------------------------------------------------------------------------
 def isolator_stage(ctx: Context, d: Path) -> dict:
-    from ..hazard.code_spectra import parse_spectrum
     from ..hazard.motions import parse_spec
     from ..isolator.design import design
     from ..isolator.plates import PlateGeometry
@@ -145,7 +144,7 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
 
     c, m = ctx.config.isolator, ctx.config.model
     alpha = (m.alpha_L, m.alpha_R) if m.kind == "imperfect" else (1.0, 1.0)
-    res = design(ctx.params(), mu=c.mu, spectrum=parse_spectrum(c.spectrum) if c.spectrum else None,
+    res = design(ctx.params(), mu=c.mu, spectrum=site(ctx.config).target if c.spectrum else None,
                  motion=parse_spec(c.motion)[0] if c.motion else None, target=c.target, alpha=alpha,
                  n_grooves=c.grooves, thickness=c.thickness, fuse_release=c.fuse_release)
     dd = res.to_dict()
@@ -202,14 +201,15 @@ def _fragility_study(ctx: Context, d: Path, model, iso):
     """The dynamics stage's fragility study (assessment/study.py) on the project's design spectrum:
     writes records/ (record_NN.csv, set.json, spectra.png), fragility.json, .csv and .png."""
     from ..assessment.study import match_records, run_study, write_records
-    from ..assessment.verdict import DEFAULT_SPECTRUM
     from ..report.fragility_plots import plot_fragility
     from ..report.fragility_section import records_title
     from ..report.hazard_plots import plot_spectra
 
     c = ctx.config.dynamics
-    target, rs = match_records(ctx.config.isolator.spectrum or DEFAULT_SPECTRUM, c.fragility_records,
-                               c.fragility_duration)
+    hz = site(ctx.config)
+    target = hz.target
+    rs = match_records(target, c.fragility_records, c.fragility_duration,
+                       T1=hz.building_period if hz.on_floor else None, T_is=iso.T if iso is not None else None)
     write_records(d / "records", rs)
     plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, target))
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
@@ -255,8 +255,8 @@ STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isol
 assert tuple(STAGES) == STAGE_NAMES, "a stage is named in config.STAGE_NAMES and run here"
 # stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
 DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),
-           "isolator": (("params",), (), ("model", "isolator")),
-           "dynamics": (("params",), ("isolator",), ("model", "dynamics")),
+           "isolator": (("params",), (), ("model", "isolator", "building")),
+           "dynamics": (("params",), ("isolator",), ("model", "isolator", "building", "dynamics")),
            "crosscheck": (("params",), ("isolator",), ("scan", "crosscheck"))}
 
 
