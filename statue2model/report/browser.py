@@ -16,6 +16,10 @@ needed by the full ``chromium`` and accepted by ``chromium-headless-shell``.
 ``--virtual-time-budget`` makes Chromium wait (in virtual time, which runs ahead
 when the page is idle, so it costs no real time) until the load handler has run.
 
+:func:`check_layout` loads the page in a window as wide as an A4 page (794 px) and reads what the
+load handler measured (``data-page-width``, ``data-page-scroll-width``, ``data-overflowing``);
+:func:`print_pdf` prints it with ``--print-to-pdf`` (the page's own print style: A4 and its margins).
+
 The browser is found by :func:`find_chromium`: the environment variable
 ``STATUE2MODEL_CHROMIUM`` (a path or a command name) first, then
 ``chromium-headless-shell``, ``chromium``, ``chromium-browser``, ``google-chrome``
@@ -181,6 +185,72 @@ def body_attributes(dom: str) -> dict:
     parser.feed(dom)
     parser.close()
     return dict(parser.attrs or {})
+
+
+A4_WIDTH_PX = 794
+"""The width of an A4 page in CSS pixels (210 mm at 96 dpi): the narrowest window the report is laid out for."""
+
+
+@dataclass(frozen=True)
+class LayoutCheck:
+    """How the page fits its window: the window's content width (px), the page's scroll width (px),
+    and what sticks out to the right (a table by its caption, another element by tag#id.class)."""
+
+    width: int
+    scroll_width: int
+    overflowing: tuple[str, ...]
+
+    @property
+    def ok(self) -> bool:
+        """Nothing needs a horizontal scroll bar."""
+        return self.scroll_width <= self.width and not self.overflowing
+
+
+def parse_layout_attributes(dom: str) -> LayoutCheck:
+    """Read the ``data-page-width``, ``data-page-scroll-width`` and ``data-overflowing`` attributes
+    of ``<body>`` from a dumped DOM (written by the page's load handler)."""
+    attrs = body_attributes(dom)
+    if attrs.get("data-page-width") is None:
+        raise RuntimeError("the page's load handler did not measure the layout (no data-page-width on <body>)")
+    try:
+        return LayoutCheck(int(attrs["data-page-width"]), int(attrs.get("data-page-scroll-width") or 0),
+                           tuple(str(x) for x in json.loads(attrs.get("data-overflowing") or "[]")))
+    except (ValueError, TypeError) as exc:
+        raise RuntimeError(f"unreadable layout attributes on <body>: {exc}") from None
+
+
+def check_layout(
+    html_path: str | os.PathLike, width: int = A4_WIDTH_PX, height: int = 1123, timeout: float = 30,
+    browser: str | None = None,
+) -> LayoutCheck:
+    """Load ``html_path`` in a ``width`` x ``height`` window (default: A4 at 96 dpi) and report what
+    overflows it horizontally. Raises ``RuntimeError`` as :func:`check_figures` does."""
+    exe = _browser(browser)
+    budget_ms = int(max(1.0, min(10.0, timeout / 2)) * 1000)
+    dom = _run(exe, [f"--window-size={int(width)},{int(height)}", f"--virtual-time-budget={budget_ms}",
+                     "--dump-dom"], Path(html_path), timeout).stdout
+    return parse_layout_attributes(dom)
+
+
+def print_pdf(
+    html_path: str | os.PathLike, pdf_path: str | os.PathLike, timeout: float = 60, browser: str | None = None
+) -> Path:
+    """Print ``html_path`` to ``pdf_path`` as the browser's print dialog would (the page's print style:
+    A4, its own margins, no browser header or footer). Raises ``RuntimeError`` when no PDF is written."""
+    exe = _browser(browser)
+    pdf_path = Path(pdf_path)
+
+    def write(tmp: Path) -> None:
+        with tempfile.TemporaryDirectory(prefix=".pdf-", dir=tmp.parent) as d:
+            out = Path(d) / "report.pdf"
+            args = ["--no-pdf-header-footer", "--print-to-pdf-no-header", "--virtual-time-budget=5000",
+                    f"--print-to-pdf={out}"]
+            _run(exe, args, Path(html_path), timeout)
+            if not out.is_file() or not out.read_bytes()[:5] == b"%PDF-":
+                raise RuntimeError(f"{Path(exe).name} wrote no PDF of {Path(html_path).name}")
+            os.replace(out, tmp)
+
+    return atomic_write(pdf_path, write)
 
 
 def check_figures(

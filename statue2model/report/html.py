@@ -13,7 +13,10 @@ The document::
         "subtitle": "meshes/dancing_girl.ply, ...",            # optional
         "verdict": {"recommendation": "isolate with ...",      # optional: the assessment box, first
                     "lines": ["Hazard: ...", "Fixed base: ..."],
-                    "status": "ok"},                        # ok | warn | fail (the box's colour)
+                    "status": "ok",                         # ok | warn | fail (the box's colour)
+                    "criteria": ["..."], "assumptions": ["..."], "limitations": ["..."]},  # optional
+        "definitions": {"title": "How to read the margins",    # optional: under the verdict
+                        "terms": {"uplift margin": "uplift acceleration / design PGA ...", ...}},
         "summary": [("weakest direction", "90.0 deg"), ...],    # optional key/value rows
         "warnings": [("params", "Rocking parameters", "units unsure: ..."), ...],
                                     # optional (section id, title, text) or plain text: a block at the top
@@ -52,12 +55,24 @@ Rules:
   In the ``status_column``, ``pass``/``yes``/``ok``/``True`` get class ``cell-pass``
   (green) and ``fail``/``no``/``False`` class ``cell-fail`` (red); booleans
   show as ``yes``/``no``.
+* Tables fit the page (no horizontal scroll bar at the width of an A4 page, 794 px,
+  and nothing cut when printed): headers wrap, a cell holding a run of more than
+  :data:`LONG_TOKEN` characters without a space (a path, a record spec) gets class
+  ``long`` and may break inside it, a table of :data:`WIDE_COLUMNS` columns or more
+  gets class ``wide`` (smaller font, tighter cells). The print style sets A4 pages
+  with margins, repeats table headers on each page, keeps rows, figures and the
+  verdict box whole and scales figures to the page.
 * ``warnings`` (document) are listed at the top of the page, above the summary, in a
   ``<div class="warning warnings" id="all-warnings">``, each with a link to its section;
   a section's ``warnings`` show under its heading as ``<p class="warning">warning: ...</p>``.
 * ``verdict`` is rendered first, above the warnings, as ``<div class="verdict
   verdict-<status>" id="verdict">``: the recommendation in bold, then one paragraph
-  per line.
+  per line. Its optional ``criteria``, ``assumptions`` and ``limitations`` (lists of
+  strings, :data:`VERDICT_SLOTS`) follow under the box in ``<div class="verdict-basis"
+  id="verdict-basis">``, one headed list each; without them nothing is added.
+* ``definitions`` (e.g. :data:`statue2model.report.page.MARGINS`) follow as ``<div
+  class="definitions" id="definitions">``: a heading and a two-column table, the term
+  in a row header and its meaning beside it.
 * Section ``status`` shows as a badge ``badge badge-<status>`` in the heading and
   in the table of contents.
 
@@ -71,6 +86,10 @@ inline script runs on the window ``load`` event and writes on ``<body>``
 
 * ``data-verdict-height`` and ``data-verdict-first``: the rendered height (px) of the
   verdict box and whether it stands above the first section (only with a verdict).
+* ``data-page-width`` and ``data-page-scroll-width``: the window's content width and
+  the page's scroll width (px); ``data-overflowing``: a JSON list of what sticks out to
+  the right (a table whose width exceeds its box, by its caption; any other element past
+  the window's edge, as tag#id.class).
 
 ``data-figures-missing`` is written by the renderer itself (figures whose file
 was absent, so no ``<img>`` exists for them).
@@ -148,6 +167,13 @@ _NUM_RE = re.compile(
     re.IGNORECASE,
 )
 
+# A table with this many columns or more is set in a smaller font with tighter cells (class "wide").
+WIDE_COLUMNS = 6
+# A cell whose text holds a run of more characters than this without a space may break inside it.
+LONG_TOKEN = 14
+# The verdict's optional slots, rendered in this order under its box (each a list of strings).
+VERDICT_SLOTS = (("criteria", "Criteria"), ("assumptions", "Assumptions"), ("limitations", "Limitations"))
+
 CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'"
 
 CSS = """
@@ -155,7 +181,7 @@ CSS = """
         --ok:#1b7f3b; --ok-bg:#e3f4e8; --bad:#b3261e; --bad-bg:#fbe5e3; --warn:#8a5a00; --warn-bg:#fff3d6; }
 * { box-sizing: border-box; }
 html { font-size: 16px; }
-body { margin: 0; color: var(--fg); background: #fff; line-height: 1.5;
+body { margin: 0; color: var(--fg); background: #fff; line-height: 1.5; overflow-wrap: break-word;
        font-family: system-ui, -apple-system, "Segoe UI", Roboto, "DejaVu Sans", Helvetica, Arial, sans-serif; }
 main { max-width: 62rem; margin: 0 auto; padding: 2rem 1.5rem 3rem; }
 header h1 { font-size: 1.7rem; margin: 0 0 .25rem; line-height: 1.25; }
@@ -167,13 +193,18 @@ a { color: var(--accent); text-decoration: none; }
 a:hover { text-decoration: underline; }
 table { border-collapse: collapse; margin: .5rem 0 1.25rem; font-size: .92rem; max-width: 100%; }
 caption { text-align: left; font-weight: 600; padding: 0 0 .35rem; }
-th, td { padding: .3rem .75rem; border-bottom: 1px solid var(--line); text-align: left; vertical-align: top; }
-thead th { border-bottom: 2px solid var(--fg); font-weight: 600; white-space: nowrap; }
+th, td { padding: .3rem .75rem; border-bottom: 1px solid var(--line); text-align: left; vertical-align: top;
+         overflow-wrap: break-word; hyphens: manual; }
+thead th { border-bottom: 2px solid var(--fg); font-weight: 600; vertical-align: bottom; }
 tbody tr:nth-child(even) { background: var(--bg-alt); }
 .num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
-.table-wrap { overflow-x: auto; }
+thead th.num { white-space: normal; }
+th.long, td.long { overflow-wrap: anywhere; }
+table.wide { font-size: .78rem; }
+table.wide th, table.wide td { padding: .25rem .3rem; }
+.table-wrap { max-width: 100%; overflow-x: auto; }
 table.summary th { font-weight: 500; color: var(--muted); padding-left: 0; }
-table.summary td { font-weight: 600; }
+table.summary td, table.summary td.num { font-weight: 600; text-align: left; white-space: normal; }
 td.cell-pass { color: var(--ok); background: var(--ok-bg); font-weight: 600; }
 td.cell-fail { color: var(--bad); background: var(--bad-bg); font-weight: 600; }
 .badge { display: inline-block; font-size: .72rem; font-weight: 600; letter-spacing: .03em; text-transform: uppercase;
@@ -187,7 +218,7 @@ nav.toc { background: var(--bg-alt); border: 1px solid var(--line); border-radiu
 nav.toc h2 { font-size: 1rem; margin: 0 0 .35rem; border: 0; padding: 0; }
 nav.toc ol { margin: 0; padding-left: 1.4rem; }
 nav.toc li { margin: .15rem 0; }
-figure { margin: 1rem 0 1.5rem; }
+figure { margin: 1rem 0 1.5rem; max-width: 100%; }
 figure img { display: block; max-width: 100%; height: auto; border: 1px solid var(--line); }
 figcaption { color: var(--muted); font-size: .9rem; margin-top: .35rem; }
 figure.broken img { min-height: 2rem; min-width: 8rem; outline: 2px solid var(--bad); }
@@ -202,20 +233,38 @@ figure.broken figcaption::before { content: "figure failed to load: "; color: va
 .verdict-ok { border-color: var(--ok); background: var(--ok-bg); }
 .verdict-warn { border-color: var(--warn); background: var(--warn-bg); }
 .verdict-fail { border-color: var(--bad); background: var(--bad-bg); }
+.verdict-basis { margin: -.5rem 0 1rem; padding: .5rem 1rem; border: 1px solid var(--line); border-top: 0;
+                 border-radius: 0 0 6px 6px; font-size: .92rem; }
+.verdict-basis h3 { font-size: .95rem; margin: .5rem 0 .2rem; }
+.verdict-basis ul { margin: 0 0 .3rem; padding-left: 1.25rem; }
+.definitions { margin: 1rem 0; border: 1px solid var(--line); border-radius: 6px; padding: .5rem 1rem; }
+.definitions h2 { font-size: 1rem; margin: 0 0 .35rem; border: 0; padding: 0; }
+.definitions table { margin: 0; font-size: .88rem; width: 100%; }
+.definitions th { width: 28%; font-weight: 600; padding-left: 0; }
+.definitions tbody tr:nth-child(even) { background: none; }
 .warnings { margin: 1rem 0; }
 .warnings p { margin: 0; }
 .warnings ul { margin: .35rem 0 0; padding-left: 1.25rem; }
 footer { margin-top: 3rem; padding-top: .75rem; border-top: 1px solid var(--line); color: var(--muted); font-size: .85rem; }
 footer p { margin: .2rem 0; }
+@media screen and (max-width: 52rem) { main { padding: 1.25rem .75rem 2rem; } }
+@page { size: A4; margin: 16mm 14mm 18mm 14mm; }
 @media print {
-  html { font-size: 11pt; }
-  main { max-width: none; padding: 0; }
+  html { font-size: 10pt; }
+  main { max-width: none; margin: 0; padding: 0; }
   a { color: inherit; }
-  nav.toc { break-inside: avoid; }
-  h2 { break-after: avoid; }
-  figure, table { break-inside: avoid; }
+  .table-wrap { overflow: visible; }
+  table { font-size: .9rem; }
+  table.wide { font-size: .78rem; }
+  th, td { padding: .2rem .45rem; }
+  table.wide th, table.wide td { padding: .15rem .3rem; }
+  thead { display: table-header-group; }
+  tr, th, td { break-inside: avoid; }
+  caption, h2, h3 { break-after: avoid; }
+  figure, .verdict, nav.toc, p.warning, p.missing, .verdict-basis li { break-inside: avoid; }
+  figure img { max-height: 230mm; width: auto; object-fit: contain; }
   tbody tr:nth-child(even) { background: none; }
-  .badge, td.cell-pass, td.cell-fail { -webkit-print-color-adjust: exact; print-color-adjust: exact; }
+  .badge, .verdict, td.cell-pass, td.cell-fail, .warning, .missing { -webkit-print-color-adjust: exact; print-color-adjust: exact; }
 }
 """
 
@@ -237,6 +286,19 @@ window.addEventListener("load", function () {
     document.body.dataset.verdictHeight = String(Math.round(box.height));
     document.body.dataset.verdictFirst = String(!first || box.top < first.getBoundingClientRect().top);
   }
+  var root = document.documentElement, edge = root.clientWidth + 1, wide = [];
+  Array.prototype.forEach.call(document.querySelectorAll("main *"), function (el) {
+    var over = el.getBoundingClientRect().right > edge;
+    if (el.tagName === "TABLE") over = over || el.scrollWidth > el.parentNode.clientWidth;
+    else if (el.closest("table")) return;
+    if (!over) return;
+    var cap = el.tagName === "TABLE" ? el.querySelector("caption") : null;
+    wide.push(cap ? "table: " + cap.textContent : el.tagName.toLowerCase() + (el.id ? "#" + el.id : "") +
+              (el.className && typeof el.className === "string" ? "." + el.className.split(" ").join(".") : ""));
+  });
+  document.body.dataset.pageWidth = String(root.clientWidth);
+  document.body.dataset.pageScrollWidth = String(root.scrollWidth);
+  document.body.dataset.overflowing = JSON.stringify(wide.slice(0, 50));
 });
 """
 
@@ -369,6 +431,13 @@ def _validate(doc: Mapping[str, Any]) -> None:
     for w in doc.get("warnings", ()) or ():
         if not (isinstance(w, str) or (isinstance(w, (list, tuple)) and len(w) == 3)):
             raise ValueError(f"report warning {w!r} must be text or (section id, title, text)")
+    defs = doc.get("definitions")
+    if defs:
+        terms = defs.get("terms") if isinstance(defs, Mapping) else None
+        ok = isinstance(terms, Mapping) or (isinstance(terms, (list, tuple))
+                                             and all(isinstance(t, (list, tuple)) and len(t) == 2 for t in terms))
+        if not ok:
+            raise ValueError("report definitions need 'terms': a mapping or (term, meaning) pairs")
     seen: set[str] = set()
     for i, section in enumerate(doc.get("sections", ())):
         sid = section.get("id")
@@ -415,6 +484,22 @@ def _badge(status: str | None) -> str:
     return "" if status is None else f' <span class="badge badge-{status}">{_esc(status)}</span>'
 
 
+def _has_long_token(text: str) -> bool:
+    """The text holds a run without white space longer than :data:`LONG_TOKEN` characters (a path, a
+    record spec, a formula): its cell may break inside that run, else it would widen the table.
+
+    >>> _has_long_token("synthetic:duration=20,pga=0.4g,seed=1"), _has_long_token("overturns at 0.250 g")
+    (True, False)
+    """
+    return any(len(word) > LONG_TOKEN for word in text.split())
+
+
+def _class_attr(classes: list[str], text: str) -> str:
+    """`` class="..."`` of a table cell (``long`` added for a long token), or ''."""
+    classes = [*classes, "long"] if _has_long_token(text) else classes
+    return f' class="{" ".join(classes)}"' if classes else ""
+
+
 def _table(table: Mapping[str, Any]) -> str:
     columns = table.get("columns") or None
     rows = [list(r) for r in table.get("rows", ())]
@@ -428,13 +513,14 @@ def _table(table: Mapping[str, Any]) -> str:
         cells = [(n[c], t[c]) for n, t in zip(numeric, texts) if c < len(t) and t[c] != ""]
         col_numeric.append(bool(cells) and all(n for n, _ in cells) and c != status_col)
 
-    out = ['<div class="table-wrap"><table class="data">']
+    wide = " wide" if ncol >= WIDE_COLUMNS else ""
+    out = [f'<div class="table-wrap"><table class="data{wide}">']
     if table.get("title"):
         out.append(f"<caption>{_esc(table['title'])}</caption>")
     if columns:
-        num = ' class="num"'
         heads = "".join(
-            f'<th scope="col"{num if col_numeric[c] else ""}>{_esc(h)}</th>' for c, h in enumerate(columns)
+            f'<th scope="col"{_class_attr(["num"] if col_numeric[c] else [], str(h))}>{_esc(h)}</th>'
+            for c, h in enumerate(columns)
         )
         out.append(f"<thead><tr>{heads}</tr></thead>")
     out.append("<tbody>")
@@ -448,8 +534,7 @@ def _table(table: Mapping[str, Any]) -> str:
                     classes.append(sc)
             elif is_num:
                 classes.append("num")
-            attr = f' class="{" ".join(classes)}"' if classes else ""
-            cells.append(f"<td{attr}>{_esc(text)}</td>")
+            cells.append(f"<td{_class_attr(classes, text)}>{_esc(text)}</td>")
         out.append("<tr>" + "".join(cells) + "</tr>")
     out.append("</tbody></table></div>")
     return "".join(out)
@@ -478,6 +563,33 @@ def _figure(fig: Mapping[str, Any], base_dir: Path) -> tuple[str, str | None, st
         parts.append(f"<figcaption>{_esc(caption)}</figcaption>")
     parts.append("</figure>")
     return "".join(parts), None, None
+
+
+def _verdict_basis(verdict: Mapping[str, Any]) -> str:
+    """The verdict's criteria, assumptions and limitations (its keys in :data:`VERDICT_SLOTS`, each a
+    list of strings) as one block under its box; '' when it has none of them."""
+    parts = []
+    for key, title in VERDICT_SLOTS:
+        items = [p for p in _paragraphs(verdict.get(key)) if p.strip()]
+        if items:
+            lis = "".join(f"<li>{_esc(p)}</li>" for p in items)
+            parts.append(f'<h3>{title}</h3><ul class="verdict-{key}">{lis}</ul>')
+    return f'<div class="verdict-basis" id="verdict-basis">{"".join(parts)}</div>' if parts else ""
+
+
+def _definitions(defs: Mapping[str, Any] | None) -> str:
+    """The document's ``definitions`` block ({"title": ..., "terms": {term: meaning}}) as a two-column
+    table: the term in a row header, its meaning beside it; '' for none."""
+    if not defs:
+        return ""
+    terms = defs.get("terms") or {}
+    pairs = list(terms.items()) if isinstance(terms, Mapping) else [tuple(t) for t in terms]
+    if not pairs:
+        return ""
+    rows = "".join(f'<tr><th scope="row">{_esc(k)}</th><td>{_esc(v)}</td></tr>' for k, v in pairs)
+    title = _esc(defs.get("title") or "Definitions")
+    return (f'<div class="definitions" id="definitions"><h2>{title}</h2>'
+            f"<table><tbody>{rows}</tbody></table></div>")
 
 
 def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = None) -> str:
@@ -518,6 +630,8 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         top.append(f'<div class="verdict verdict-{status}" id="verdict"><h2>Assessment</h2>'
                    f'<p class="recommendation">Recommendation: {_esc(verdict.get("recommendation", ""))}</p>'
                    f"{lines}</div>")
+        top.append(_verdict_basis(verdict))
+    top.append(_definitions(doc.get("definitions")))
     warnings = [(None, None, w) if isinstance(w, str) else tuple(w) for w in doc.get("warnings", ()) or ()]
     if warnings:
         ids = {s["id"] for s in sections}
@@ -532,7 +646,9 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
     summary = list(doc.get("summary", ()) or ())
     if summary:
         rows = "".join(
-            f'<tr><th scope="row">{_esc(k)}</th><td class="num">{_esc(_format_value(v))}</td></tr>' for k, v in summary
+            f'<tr><th scope="row">{_esc(k)}</th>'
+            f'<td{_class_attr(["num"] if _is_numeric(v, _format_value(v)) else [], _format_value(v))}>'
+            f"{_esc(_format_value(v))}</td></tr>" for k, v in summary
         )
         top.append(f'<table class="summary"><tbody>{rows}</tbody></table>')
     if missing:
@@ -569,7 +685,7 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
             f'<body data-figures-missing="{len(missing) + len(refused)}" data-figures-refused="{len(refused)}">',
             "<main>",
             "<header>" + "".join(head) + "</header>",
-            *top,
+            *[t for t in top if t],
             *body,
             f"<footer>{footer}</footer>" if footer else "",
             "</main>",

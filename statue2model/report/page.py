@@ -27,6 +27,7 @@ from pathlib import Path
 
 from ..version import __version__
 from .figure_paths import safe_figures
+from .html import VERDICT_SLOTS
 
 TITLES = {"params": "Rocking parameters", "prototype": "Prototype: layers and sheets",
           "isolator": "Rolling-ball isolator", "dynamics": "2D analyses: fixed base and isolator",
@@ -37,6 +38,43 @@ HEADLINE = {"params": ("mass", "h", "b_L / b_R", "uplift a_R", "weakest directio
                          "lowest failing PGA (isolated: overturning or capacity exceeded)"),
             "crosscheck": ("2D/3D agreement",)}
 STATUS = {"done": "done", "cached": "cached", "failed": "failed"}
+
+MARGINS_TITLE = "How to read the margins"
+MARGINS = {
+    "margin": "capacity / demand, a pure number: above 1 the statue is on the safe side, below 1 it is not; "
+              "1.00 is exactly at the limit. Both are in the same unit, stated with each margin.",
+    "design PGA": "the peak ground acceleration of the design spectrum at the site, a_g S (in g); on an upper "
+                  "floor, the peak floor acceleration Se(0) of the floor spectrum. Every PGA margin below "
+                  "divides by it.",
+    "uplift margin": "uplift acceleration / design PGA (g / g). The uplift acceleration is g b/h in the weakest "
+                     "direction (times alpha for the imperfect-base model): the ground acceleration at which "
+                     "the statue starts to rock. Below 1 the statue rocks at the design level, which is not by "
+                     "itself a failure.",
+    "overturning margin (fixed base)": "lowest PGA at which the statue overturned in the variability sweep of "
+                                       "the record ([dynamics] motion, scaled) / design PGA (g / g).",
+    "travel margin": "isolator travel capacity / design displacement demand SDe(T) (mm / mm). The capacity is "
+                     "the plate displacement at which a ball leaves its groove or the top plate tips; the design "
+                     "itself asks for more than SDe (a safety factor and the friction offset mu R_hat).",
+    "felt-acceleration margin": "uplift acceleration / the acceleration the statue feels on the isolator, "
+                                "Se(T) + mu g (g / g). Above 1 the statue stays in full contact on the plate.",
+    "failure margin (on the isolator)": "lowest PGA at which the statue on the isolator overturned or the "
+                                        "isolator's capacity was exceeded in the variability sweep / design PGA "
+                                        "(g / g).",
+    "ratio of medians (fragility)": "median failure PGA on the isolator / median overturning PGA on a fixed "
+                                    "base (g / g), with its bootstrap band: above 1 the isolator raises the "
+                                    "shaking needed to fail, below 1 it lowers it.",
+    "P at the design PGA": "the fitted probability of failure (overturning, or on the isolator also capacity "
+                           "exceeded) at the design PGA, from the lognormal fragility curve; 0 to 1.",
+    "check ratio (isolator design checks)": "value / limit, the inverse of a margin: a check passes when it is "
+                                            "at most 1.",
+}
+"""Every margin and ratio the assessment and the tables print, term -> what it compares and in which
+units (capacity / demand, so > 1 is the safe side). The report shows it as "How to read the margins"
+right under the verdict; other report modules may import it to define a term where they use it.
+
+>>> MARGINS["travel margin"].split(" (")[0]
+'isolator travel capacity / design displacement demand SDe(T)'
+"""
 
 
 def build_doc(res) -> dict:
@@ -67,13 +105,29 @@ def build_doc(res) -> dict:
         sections.append(sec)
     verdict = getattr(res, "verdict", None) or None
     return {"title": f"statue2model report: {res.mesh.stem}",
-            "verdict": None if not verdict else {"recommendation": verdict["recommendation"],
-                                                 "lines": verdict["lines"], "status": verdict.get("status", "warn")},
+            "verdict": None if not verdict else _verdict(verdict),
+            "definitions": None if not verdict else {"title": MARGINS_TITLE, "terms": dict(MARGINS)},
             "subtitle": f"{res.mesh.name}, {time.strftime('%Y-%m-%d %H:%M')}, statue2model {__version__}, "
                         f"stages {res.seconds:.1f} s",
             "summary": summary, "warnings": warnings, "sections": sections,
             "footer": "The resolved configuration is config.toml beside this report (statue2model run MESH "
                       "--config config.toml repeats the run); run.json holds every stage's numbers."}
+
+
+def _verdict(verdict: dict) -> dict:
+    """The verdict box of the report: the recommendation, the lines, the status and, when the verdict
+    has them, its criteria, assumptions and limitations (lists of strings, shown under the box).
+
+    >>> _verdict({"recommendation": "r", "lines": ["a"], "criteria": ["margin >= 1"], "hazard": {}})
+    {'recommendation': 'r', 'lines': ['a'], 'status': 'warn', 'criteria': ['margin >= 1']}
+    """
+    out = {"recommendation": verdict["recommendation"], "lines": verdict["lines"],
+           "status": verdict.get("status", "warn")}
+    for key, _ in VERDICT_SLOTS:
+        items = verdict.get(key)
+        if items:
+            out[key] = [items] if isinstance(items, str) else [str(x) for x in items]
+    return out
 
 
 def _cell(v):
