@@ -410,3 +410,19 @@ def test_a_point_the_coupled_solver_cannot_finish_is_counted_not_fatal(monkeypat
     assert "solver failed" in sp.to_csv()
     sw, acc = sweeps.isolated_variability(iso, model, motions.cosine_pulse(9.81, 1.0), [0.0, 9.81])
     assert sw.to_dict()["outcome"] == ["no motion", "solver failed"] and np.isnan(acc[1])
+
+
+def test_the_verdict_rests_on_the_design_set_and_never_contradicts_run_json(small_run):
+    """The run's recommendation against the limit states in run.json (the design record set's mean
+    demands): no sentence says 'does not protect' while every isolated limit state holds, and so on
+    (tests/test_verdict.py's checker); the design set and its limit states are on disk."""
+    from test_verdict import _consistent
+
+    run = json.loads((small_run.out / "run.json").read_text())
+    v = run["verdict"]
+    assert v["limit_states"]["n_records"] >= 7 and v["limit_states"]["statistic"] == "mean"
+    _consistent(v)
+    ls = json.loads((small_run.out / "dynamics" / "limit_states.json").read_text())
+    assert ls["rows"] == v["limit_states"]["rows"]
+    sj = json.loads((small_run.out / "dynamics" / "records" / "set.json").read_text())
+    assert sj["check"]["met"] and len(sj["files"]) == ls["n_records"]

@@ -118,3 +118,77 @@ def test_fragility_line_of_the_assessment():
     none = fragility({**dyn, "fragility_median_fixed": None, "fragility_status_fixed": "no failures"}, 2.8, False)
     assert "not fitted (no failures)" in none["line"]
     assert fragility({}, 2.8, True) == {} and fragility(None, 2.8, True) == {}
+
+
+# --- the recommendation from the limit states over the design record set (#27) -----------------
+def _row(name, base, demand, capacity, unit, exceeded, k=0):
+    from statue2model.assessment.limit_states import TITLES
+
+    return {"name": name, "title": TITLES[name], "base": base, "demand": demand, "capacity": capacity,
+            "ratio": demand / capacity, "unit": unit, "exceeded": exceeded, "n_exceeding": k}
+
+
+def _ls(fixed_fc=3.1, iso_fc=0.5, travel=0.29, ball=100.0, overturn_fixed=0):
+    rows = [_row("full_contact", "fixed", fixed_fc, 2.71, "m/s^2", fixed_fc >= 2.71, 5 if fixed_fc >= 2.71 else 0),
+            _row("rocking", "fixed", 0.1, 1.0, "", False),
+            _row("overturning", "fixed", overturn_fixed / 7, 1 / 7, "", overturn_fixed > 0, overturn_fixed),
+            _row("full_contact", "isolated", iso_fc, 2.71, "m/s^2", iso_fc >= 2.71),
+            _row("rocking", "isolated", 0.0, 1.0, "", False),
+            _row("overturning", "isolated", 0.0, 1 / 7, "", False),
+            _row("capacity", "isolated", travel, 0.35, "m", travel > 0.35, 1 if travel > 0.35 else 0),
+            _row("bearing", "isolated", ball, 115.0, "N", ball > 115.0, 7 if ball > 115 else 0)]
+    return {"n_records": 7, "statistic": "mean", "rows": rows}
+
+
+def _with_ls(tmp_path, ls, sweep_failure=None):
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}},
+              "dynamics": {"status": "done", "data": {"first_overturn_pga_fixed": 0.7 * G,
+                                                      "first_failure_pga_isolated": sweep_failure,
+                                                      "limit_states": ls}}}
+    return assess(stages, _design(tmp_path), ProjectConfig())
+
+
+def _consistent(v):
+    """Every claim of the recommendation against the limit-state rows it rests on."""
+    rows = {(r["base"], r["name"]): r for r in v["limit_states"]["rows"]}
+    rec = v["recommendation"]
+    iso_bad = [r for (b, n), r in rows.items() if b == "isolated" and n != "bearing" and r["exceeded"]]
+    if rec.startswith("no isolator needed"):
+        assert not rows["fixed", "full_contact"]["exceeded"] and not rows["fixed", "overturning"]["exceeded"]
+    if rec.startswith(("isolate with", "isolate, but")):
+        assert not iso_bad and rows["fixed", "full_contact"]["exceeded"]
+    if rec.startswith("isolate with"):
+        assert not rows["isolated", "bearing"]["exceeded"]
+    if rec.startswith("isolate, but"):
+        assert rows["isolated", "bearing"]["exceeded"]
+    if "does not protect" in rec:
+        assert iso_bad and all(f"{r['title']} exceeded" in rec for r in iso_bad)
+    for r in rows.values():       # a ratio the sentence prints is the row's
+        if f"ratio {r['ratio']:.2f}" not in rec:
+            continue
+        assert r["ratio"] == pytest.approx(float(f"{r['ratio']:.2f}"), abs=0.005)
+
+
+@pytest.mark.parametrize("case, start, state", [
+    (dict(fixed_fc=2.0), "no isolator needed at the design level: over the 7 design records", "ok"),
+    (dict(), "isolate with the designed device: over the 7 design records", "ok"),
+    (dict(ball=1039.0), "isolate, but only on grooves that carry the ball load", "warn"),
+    (dict(travel=0.40), "the designed isolator does not protect at the design level: isolator travel capacity "
+                        "exceeded (400 mm vs 350 mm, ratio 1.14; 1 of 7 records)", "fail"),
+    (dict(iso_fc=2.9), "the designed isolator does not protect at the design level: full contact (no uplift) "
+                       "exceeded", "fail")])
+def test_recommendation_follows_the_limit_states(tmp_path, case, start, state):
+    v = _with_ls(tmp_path, _ls(**case))
+    assert v["recommendation"].startswith(start), v["recommendation"]
+    assert v["status"] == state
+    _consistent(v)
+    assert v["lines"][1].startswith("Design level (mean over the 7 design records")
+
+
+def test_recommendation_is_the_same_for_any_sweep(tmp_path):
+    """One record scaled over PGA (the variability sweep) is an illustration: failing at 0.25 g in it
+    or not at all does not change the recommendation, which rests on the design set."""
+    a = _with_ls(tmp_path, _ls(), sweep_failure=0.25 * G)
+    b = _with_ls(tmp_path, _ls(), sweep_failure=None)
+    assert a["recommendation"] == b["recommendation"] and a["status"] == b["status"] == "ok"
+    assert any("illustration: one record scaled over PGA" in ln for ln in a["lines"])

@@ -102,15 +102,7 @@ class StudyRun:
     def data(self) -> dict:
         """The verdict's fragility_* numbers (module docstring) and the study's size and inputs."""
         data = fragility_data(self.result, self.pga, self.isolated)
-        rs = self.records
-        real = rs.realism()
-        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied,
-                    records_n=len(rs.records), records_duration_s=max(m.duration for m in rs.records),
-                    records_band_s=list(rs.band), records_required_band_s=list(rs.required_band),
-                    records_failed_rules=[r["rule"] for r in rs.rules() if not r["ok"]],
-                    records_window=rs.window, records_mean_pgd_m=real["mean_pgd_m"],
-                    records_d_g_m=real["d_g_m"], records_mean_pgd_over_d_g=real["mean_pgd_over_d_g"],
-                    records_plausible=real["plausible"], records_realism_warning=real["warning"])
+        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied)
         return data
 
 
@@ -127,6 +119,18 @@ def match_records(target, n: int, duration: float | None = None, T1: float | Non
     checked = band if band[1] <= dur / 5 else (band[0], dur / 5)
     return match_set(target, n=int(n), seed=1, duration=dur, dt=0.01, band=checked, required_band=band,
                      band_reason=why)
+
+
+def design_set_data(rs) -> dict:
+    """The stage's records_* numbers of the design record set ``rs`` (a RecordSet): its size, band,
+    the rules it breaks, its tolerance window and its realism (mean PGD against d_g)."""
+    real = rs.realism()
+    return dict(records_n=len(rs.records), records_duration_s=max(m.duration for m in rs.records),
+                records_band_s=list(rs.band), records_required_band_s=list(rs.required_band),
+                records_met=bool(rs.check()["met"]), records_failed_rules=[r["rule"] for r in rs.rules() if not r["ok"]],
+                records_window=rs.window, records_mean_pgd_m=real["mean_pgd_m"], records_d_g_m=real["d_g_m"],
+                records_mean_pgd_over_d_g=real["mean_pgd_over_d_g"], records_plausible=real["plausible"],
+                records_realism_warning=real["warning"])
 
 
 def write_records(rd: Path, rs) -> None:

@@ -186,14 +186,101 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             isolated["reason"] = design.get("failure") or design_failure(design)
             lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).")
     out["isolated"] = isolated
+    ls = (dyn or {}).get("limit_states")
+    if ls:
+        out["limit_states"] = ls
+        lines.insert(1, limit_state_line(ls))
+        for i, ln in enumerate(lines):     # the sweeps of one record: illustrations, labelled so
+            if i > 1 and ("in the variability sweep" in ln or "in the sweep" in ln or "of the sweep" in ln):
+                lines[i] = ln[:-1] + " (illustration: one record scaled over PGA, not the basis of the recommendation)."
     fr = fragility(dyn, pga, design is not None)
     if fr:
         out["fragility"] = fr
         lines.append(fr["line"])
     out["lines"] = lines
-    out["recommendation"] = recommend(fixed, isolated, pga)
+    out["recommendation"] = (recommend_from_limit_states(fixed, isolated, ls) if ls
+                             else recommend(fixed, isolated, pga))
     out["status"] = status(out["recommendation"])
     return out
+
+
+def _row(ls: dict, name: str, base: str) -> dict | None:
+    for r in ls.get("rows") or ():
+        if r.get("name") == name and r.get("base") == base:
+            return r
+    return None
+
+
+def _rv(r: dict | None) -> str:
+    """'demand vs capacity (ratio r, k of n records)' of a limit-state row, in its unit."""
+    if r is None:
+        return "-"
+    u = r.get("unit")
+
+    def q(x):
+        x = _finite(x)
+        return "-" if x is None else (_g(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
+                                      f"{x:.0f} N" if u == "N" else f"{x:.3g}")
+    ratio = _finite(r.get("ratio"))
+    return f"{q(r.get('demand'))} vs {q(r.get('capacity'))}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
+
+
+def limit_state_line(ls: dict) -> str:
+    """The verdict's line on the limit states at the design level (the design record set)."""
+    n, stat = ls.get("n_records"), ls.get("statistic", "mean")
+    parts = []
+    for base, label in (("fixed", "Fixed base"), ("isolated", "On the isolator")):
+        rows = [r for r in ls.get("rows") or () if r.get("base") == base]
+        if not rows:
+            continue
+        bits = []
+        for r in rows:
+            k = r.get("n_exceeding")
+            bits.append(f"{r['title']} {'EXCEEDED' if r.get('exceeded') else 'holds'} ({_rv(r)}; {k} of {n} records)")
+        parts.append(f"{label}: " + "; ".join(bits))
+    return (f"Design level ({stat} over the {n} design records matched to the design target, NTC 2018 7.3.5 / "
+            f"EC8 4.3.3.4.3): " + ". ".join(parts) + ".")
+
+
+RULE = """The recommendation, from the limit states at the design level (the design record set):
+no isolator needed when the statue stays in full contact on a fixed base (and does not overturn);
+else, with a passing isolator design, isolate when on the isolator full contact, rocking,
+overturning and the travel capacity all hold; the ball load on the grooves is then a condition
+of the recommendation when it is exceeded; any of the others exceeded: the designed isolator
+does not protect. Results of one record (the variability sweep, the synthetic or El Centro
+history) are illustrations and never enter the rule."""
+
+
+def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
+    """One plain line from the limit-state table ``ls`` by :data:`RULE`."""
+    if fixed.get("slides"):
+        return ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the rocking analyses "
+                "and the isolator design do not apply")
+    n = ls.get("n_records")
+    fc, ot = _row(ls, "full_contact", "fixed"), _row(ls, "overturning", "fixed")
+    if fc is not None and not fc.get("exceeded") and not (ot or {}).get("exceeded"):
+        return (f"no isolator needed at the design level: over the {n} design records the statue stays in full "
+                f"contact on a fixed base (peak ground acceleration {_rv(fc)})")
+    lifts = (f"the statue lifts on a fixed base at the design level ({_rv(fc)}; {fc.get('n_exceeding')} of {n} "
+             f"records" + (f", overturning in {ot.get('n_exceeding')}" if ot and ot.get("exceeded") else "") + ")")
+    if not isolated:
+        return f"{lifts} and no isolator was designed: run the isolator stage"
+    if not isolated.get("passed"):
+        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
+    bad = [r for r in (_row(ls, k, "isolated") for k in ("full_contact", "rocking", "overturning", "capacity"))
+           if r is not None and r.get("exceeded")]
+    if bad:
+        return ("the designed isolator does not protect at the design level: " + "; ".join(
+            f"{r['title']} exceeded ({_rv(r)}; {r.get('n_exceeding')} of {n} records)" for r in bad))
+    ifc, cap = _row(ls, "full_contact", "isolated"), _row(ls, "capacity", "isolated")
+    ok = (f"over the {n} design records the statue stays in full contact on it (felt acceleration {_rv(ifc)}) "
+          f"and the plate's travel stays within its capacity (travel with margin {_rv(cap)})")
+    bearing = _row(ls, "bearing", "isolated")
+    if bearing is not None and bearing.get("exceeded"):
+        return (f"isolate, but only on grooves that carry the ball load: {ok}; the load per ball exceeds what the "
+                f"thesis' beech grooves carried ({_rv(bearing)}): a harder groove surface, a rubber layer, or more "
+                f"or larger balls")
+    return f"isolate with the designed device: {ok}"
 
 
 def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
@@ -251,6 +338,8 @@ def status(recommendation: str) -> str:
     range protects, else 'warn' (the colour of the report's box)."""
     if recommendation.startswith(("no isolator needed", "isolate with")):
         return "ok"
+    if recommendation.startswith("isolate, but only"):
+        return "warn"
     if recommendation.startswith(("no isolator in range works", "the designed isolator does not protect")):
         return "fail"
     return "warn"

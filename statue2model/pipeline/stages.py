@@ -162,9 +162,12 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
 # --- dynamics -------------------------------------------------------------------------------------
 def dynamics_stage(ctx: Context, d: Path) -> dict:
     from ..assessment.analyses import DynamicsResults, histories, spectra, variabilities, variability_dict
+    from ..assessment.limit_states import evaluate
+    from ..assessment.study import design_set_data
     from ..hazard.motions import parse_spec
     from ..isolator.device import isolator_from_design
     from ..report.dynamics_plots import plot_spectrum
+    from ..report.design_set_section import design_set_section
     from ..report.dynamics_section import dynamics_section, spectrum_titles
     from ..report.fragility_section import fragility_section
     from ..report.pipeline_plots import plot_history_pair, plot_variability_pair
@@ -188,30 +191,60 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     r = DynamicsResults(model, motion, iso, period, c.pulse, freqs, amps, pgas, sp, spi, sw, swi, acc_i,
                         *histories(model, iso, motion, rtol))
     data = r.data()
-    study = _fragility_study(ctx, d, model, iso) if c.fragility else None
+    rs, target = _design_set(ctx, d, iso)
+    ls = evaluate(model, rs.records, iso=iso, design=design, rtol=rtol, uplift_band=_uplift_band(ctx),
+                  executor=ex)
+    write_json(d / "limit_states.json", ls.to_dict())
+    data["limit_states"] = ls.to_dict()
+    data.update(design_set_data(rs))
+    study = _fragility_study(ctx, d, model, iso, rs, target) if c.fragility else None
     if study is not None:
         data.update(study.data())
     write_json(d / "history.json", r.history_dict())
     plot_history_pair(r.history, r.history_plate, r.history_coupled, d / "history.png")
-    return {**dynamics_section(r, data, study and fragility_section(study), c.isolated,
-                               enabled("isolator", ctx.config)), "data": data}
+    section = dynamics_section(r, data, study and fragility_section(study), c.isolated,
+                               enabled("isolator", ctx.config))
+    extra = design_set_section(rs, data["limit_states"])
+    for key in ("tables", "text", "warnings", "figures"):
+        section[key] = list(extra[key]) + list(section.get(key) or [])
+    return {**section, "data": data}
 
 
-def _fragility_study(ctx: Context, d: Path, model, iso):
-    """The dynamics stage's fragility study (assessment/study.py) on the project's design spectrum:
-    writes records/ (record_NN.csv, set.json, spectra.png), fragility.json, .csv and .png."""
-    from ..assessment.study import match_records, run_study, write_records
-    from ..report.fragility_plots import plot_fragility
+def _design_set(ctx: Context, d: Path, iso):
+    """The design record set (assessment/study.py, hazard/matching.py) of the project's design target
+    (the site's ground or floor spectrum), over the band of the building's and the isolator's
+    periods: writes records/ (record_NN.csv, set.json, spectra.png). Returns (RecordSet, target)."""
+    from ..assessment.study import match_records, write_records
     from ..report.fragility_section import records_title
     from ..report.hazard_plots import plot_spectra
 
     c = ctx.config.dynamics
     hz = site(ctx.config)
-    target = hz.target
-    rs = match_records(target, c.fragility_records, c.fragility_duration,
+    rs = match_records(hz.target, c.fragility_records, c.fragility_duration,
                        T1=hz.building_period if hz.on_floor else None, T_is=iso.T if iso is not None else None)
     write_records(d / "records", rs)
-    plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, target))
+    plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, hz.target))
+    return rs, hz.target
+
+
+def _uplift_band(ctx: Context):
+    """(low, high) of the weakest uplift acceleration a_min (m/s^2) at half and at double the base's
+    contact tolerance when the params stage flagged the contact uncertain, else None."""
+    base = read_json(ctx.dirs["params"] / "props.json").get("base") or {}
+    rows = base.get("sensitivity") or []
+    if not base.get("uncertain") or not rows:
+        return None
+    values = [float(r["a_min"]) for r in rows]
+    return min(values), max(values)
+
+
+def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
+    """The dynamics stage's fragility study (assessment/study.py) on the design record set ``rs``:
+    writes fragility.json, .csv and .png."""
+    from ..assessment.study import run_study
+    from ..report.fragility_plots import plot_fragility
+
+    c = ctx.config.dynamics
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
                       ctx.executor)
     study.result.write_json(d / "fragility.json")

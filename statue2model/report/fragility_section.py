@@ -23,14 +23,6 @@ def fragility_section(run) -> dict:
     """{'figures', 'tables', 'text', 'warnings'} of a StudyRun ``run``."""
     res, lv, pga, rs = run.result, run.levels, run.pga, run.records
     warnings, text = [], []
-    failed = [r for r in rs.rules() if not r["ok"]]
-    if failed:
-        warnings.append("Design record set: " + "; ".join(f"{r['rule']} {r['value']} (required {r['required']}, "
-                                                            f"{r['clause']})" for r in failed)
-                        + " (records/set.json); the curves use it anyway.")
-    real = rs.realism()
-    if real["warning"]:
-        warnings.append(f"Design record set: {real['warning']}.")
     ratio = res.ratio.get("failure") if run.isolated else None
     rows = []
     for name, cv in res.curves.items():
@@ -53,34 +45,9 @@ def fragility_section(run) -> dict:
                        f" ({ratio['ci_note']})" if ratio.get("ci_note") else "") + ".")
     elif ratio is not None:
         text.append(f"The isolator's ratio of median failure PGAs is {ratio['note']}.")
-    tables.append(records_rules_table(rs))
-    tables.append(records_realism_table(rs, real))
     figs = [{"path": "fragility.png", "caption": title + "; markers: fraction failed at each level, lines: "
-             "lognormal fits, shaded: bootstrap bands"},
-            {"path": "records/spectra.png", "caption": "The fragility records' spectra against the design spectrum"}]
+             "lognormal fits, shaded: bootstrap bands"}]
     return {"figures": figs, "tables": tables, "text": text, "warnings": warnings}
-
-
-def records_rules_table(rs) -> dict:
-    """Every code rule of the design record set ``rs`` with its value, requirement and clause."""
-    rows = [[r["rule"], str(r["value"]), r["required"], r["clause"], "ok" if r["ok"] else "FAIL"] for r in rs.rules()]
-    return {"title": f"Design record set: {len(rs.records)} artificial records against the code's rules ({rs.window})",
-            "columns": ["rule", "value", "required", "clause", "status"], "rows": rows, "status_column": 4}
-
-
-def records_realism_table(rs, real: dict) -> dict:
-    """Each record's realism figures (PGA, PGV, PGD and PGD / d_g, Arias, D5-95, start and end)."""
-    d_g = real["d_g_m"]
-    rows = []
-    for i, m in enumerate(rs.measures()):
-        rows.append([f"record_{i + 1:02d}", f"{m['pga_m_s2'] / G:.3f} g", f"{m['pgv_m_s']:.3f}", f"{m['pgd_m']:.3f}",
-                     "-" if not d_g else f"{m['pgd_m'] / d_g:.2f}", f"{m['arias_m_s']:.3f}", f"{m['d5_95_s']:.1f}",
-                     f"{m['a_start_over_pga']:.3f}", f"{m['v_end_m_s']:.1e}", f"{m['d_end_m']:.1e}"])
-    title = ("Design record set, realism: " + (f"mean PGD {real['mean_pgd_m']:.3f} m = {real['mean_pgd_over_d_g']:.2f}"
-             f" x d_g {d_g:.3f} m (EC8 3.2.2.4), limit {real['limit_m']:.3f} m: "
-             + ("plausible" if real["plausible"] else "IMPLAUSIBLE") if d_g else "no d_g for this target"))
-    return {"title": title, "columns": ["record", "PGA", "PGV m/s", "PGD m", "PGD / d_g", "Arias m/s", "D5-95 s",
-                                        "|a(0)| / PGA", "v(end) m/s", "d(end) m"], "rows": rows}
 
 
 def _num(v) -> float | None:
