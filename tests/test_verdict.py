@@ -192,3 +192,10 @@ def test_recommendation_is_the_same_for_any_sweep(tmp_path):
     b = _with_ls(tmp_path, _ls(), sweep_failure=None)
     assert a["recommendation"] == b["recommendation"] and a["status"] == b["status"] == "ok"
     assert any("illustration: one record scaled over PGA" in ln for ln in a["lines"])
+
+
+def test_an_uncertain_base_contact_is_carried_with_its_size(tmp_path):
+    ls = _ls()
+    ls["uplift_band"] = [2.60, 2.90]
+    v = _with_ls(tmp_path, ls)
+    assert "between 0.265 g and 0.296 g" in v["lines"][1] and "checked against the low end" in v["lines"][1]

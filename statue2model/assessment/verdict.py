@@ -238,8 +238,13 @@ def limit_state_line(ls: dict) -> str:
             k = r.get("n_exceeding")
             bits.append(f"{r['title']} {'EXCEEDED' if r.get('exceeded') else 'holds'} ({_rv(r)}; {k} of {n} records)")
         parts.append(f"{label}: " + "; ".join(bits))
+    band = ls.get("uplift_band")
+    doubt = ""
+    if band and None not in band:
+        doubt = (f" The base contact is uncertain: the weakest uplift acceleration lies between {_g(band[0])} and "
+                 f"{_g(band[1])} (half and double the contact tolerance); full contact is checked against the low end.")
     return (f"Design level ({stat} over the {n} design records matched to the design target, NTC 2018 7.3.5 / "
-            f"EC8 4.3.3.4.3): " + ". ".join(parts) + ".")
+            f"EC8 4.3.3.4.3): " + ". ".join(parts) + "." + doubt)
 
 
 RULE = """The recommendation, from the limit states at the design level (the design record set):

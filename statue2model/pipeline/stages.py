@@ -249,7 +249,7 @@ def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
                       ctx.executor)
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
-    plot_fragility(study.result, d / "fragility.png")
+    plot_fragility(study.result, d / "fragility.png", design_im=study.pga)
     return study
 
 

@@ -28,9 +28,10 @@ COLOURS = {"overturn": "#d62728", "overturn_isolated": "#1f77b4", "capacity_exce
            "failure_isolated": "#2ca02c"}
 
 
-def plot_fragility(res, path):
+def plot_fragility(res, path, design_im: float | None = None):
     """The curves of a FragilityResult ``res`` as a PNG at ``path``: fractions (markers), fitted
-    curves (lines) and their bands (shaded), one colour per outcome."""
+    curves (lines) and their bands (shaded), one colour per outcome; ``design_im``: the design
+    level (PGA m/s^2, or PGV m/s) as a vertical line."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     scale = G if res.im == "pga" else 1.0
@@ -46,6 +47,10 @@ def plot_fragility(res, path):
             ax.plot([], [], "o", color=col, label=f"{LABELS[k]} (not fitted: {c.reason})")
         if c.band_lo is not None and np.all(np.isfinite(c.band_lo)):
             ax.fill_between(c.levels / scale, c.band_lo, c.band_hi, color=col, alpha=0.15, lw=0)
+    if design_im is not None and np.isfinite(design_im) and design_im > 0:
+        ax.axvline(design_im / scale, color="k", ls="--", lw=1.2,
+                   label=f"design {'PGA' if res.im == 'pga' else 'PGV'} {design_im / scale:.3f}"
+                         f"{' g' if res.im == 'pga' else ' m/s'}")
     ax.set_xlabel("PGA (g)" if res.im == "pga" else "PGV (m/s)")
     ax.set_ylabel("probability")
     ax.set_ylim(-0.02, 1.02)
