@@ -199,3 +199,26 @@ def test_an_uncertain_base_contact_is_carried_with_its_size(tmp_path):
     ls["uplift_band"] = [2.60, 2.90]
     v = _with_ls(tmp_path, ls)
     assert "between 0.265 g and 0.296 g" in v["lines"][1] and "checked against the low end" in v["lines"][1]
+
+
+def test_no_probability_from_an_unidentified_spread():
+    """Failures that jump from none to all between adjacent levels fit any small beta: the
+    probability at the design PGA is not stored and the verdict says why."""
+    import numpy as np
+
+    from statue2model.assessment.fragility import FragilityCurve
+    from statue2model.assessment.study import spread_identified
+
+    lv = np.array([1.0, 2.0, 3.0, 4.0]) * G
+    step = FragilityCurve("overturn", lv, np.array([0, 0, 7, 7]), np.full(4, 7), 2.5 * G, 0.02, "step",
+                          (2.4 * G, 2.6 * G), (0.01, 0.05))
+    assert "jump between adjacent levels (from none at 0.200 g to all at 0.300 g)" in spread_identified(step)
+    smooth = FragilityCurve("overturn", lv, np.array([0, 2, 5, 7]), np.full(4, 7), 2.5 * G, 0.3, "ok",
+                            (2.3 * G, 2.7 * G), (0.2, 0.45))
+    assert spread_identified(smooth) is None
+    dyn = {"fragility_runs": 70, "fragility_median_fixed": 2.5 * G, "fragility_p_design_fixed": None,
+           "fragility_p_design_fixed_reason": spread_identified(step)}
+    from statue2model.assessment.verdict import fragility
+
+    line = fragility(dyn, 0.287 * 9.80665, False)["line"]
+    assert "P(overturning) at the design PGA not known (spread not identified" in line and "< 0.01" not in line

@@ -169,6 +169,28 @@ def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: fl
     return StudyRun(target, rs, met, lv, samples, varied, study, res, iso is not None)
 
 
+def spread_identified(cv) -> str | None:
+    """None when the curve's dispersion beta is identified by its counts, else why not: a fit that
+    is a step (failures from none to all between two adjacent levels: any beta up to the gap fits),
+    no level with a partial fraction of failures, or a beta band with an end not identified. A
+    probability at the design level from such a fit is not known and is not stored."""
+    if not cv.fitted:
+        return None
+    partial = int(np.sum((cv.n_fail > 0) & (cv.n_fail < cv.n_trials)))
+    if cv.status == "step" or partial == 0:
+        lv = cv.levels
+        frac = cv.fraction
+        below = lv[frac == 0]
+        above = lv[frac >= 1]
+        gap = (f" (from none at {below.max() / 9.80665:.3f} g to all at {above.min() / 9.80665:.3f} g)"
+               if below.size and above.size else "")
+        return f"spread not identified: the failures jump between adjacent levels{gap}; beta is not known"
+    lo, hi = (float(x) for x in cv.beta_ci)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return f"spread not identified: its band has an end not identified ({cv.beta_ci_note or 'bootstrap'})"
+    return None
+
+
 def _num(v) -> float | None:
     """A finite float, or None."""
     return float(v) if v is not None and math.isfinite(v) else None
@@ -187,7 +209,10 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
         else:
             why = cv.reason
             med = _num(cv.median) if cv.fitted else None
-            p = _num(float(cv.probability(pga))) if cv.fitted else None
+            spread = spread_identified(cv)
+            p = _num(float(cv.probability(pga))) if cv.fitted and spread is None else None
+            if cv.fitted and spread is not None:
+                why = spread
             mci = [_num(x) for x in cv.median_ci] if cv.fitted else None
             if mci is not None and all(x is None for x in mci):
                 mci = None
@@ -196,7 +221,8 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
                 ci_why = f"median undefined ({why})"
         data.update({f"fragility_median_{side}": med, f"fragility_median_{side}_reason": why,
                      f"fragility_median_ci_{side}": mci, f"fragility_median_ci_{side}_reason": ci_why,
-                     f"fragility_p_design_{side}": p, f"fragility_p_design_{side}_reason": why,
+                     f"fragility_p_design_{side}": p,
+                     f"fragility_p_design_{side}_reason": None if p is not None else why,
                      f"fragility_status_{side}": None if cv is None else cv.status})
     r = res.ratio.get("failure") if isolated else None
     if r is None:

@@ -299,6 +299,12 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     def prob(x):
         return "< 0.01" if x < 0.005 else "> 0.99" if x > 0.995 else f"{x:.2f}"
 
+    def p_text(what, p, side):
+        if p is not None:
+            return f", P({what}) at the design PGA {prob(p)}"
+        why = dyn.get(f"fragility_p_design_{side}_reason")
+        return f", P({what}) at the design PGA not known ({why})" if why else ""
+
     def med(m, side):
         if m is None:
             why = dyn.get(f"fragility_median_{side}_reason") or dyn.get(f"fragility_status_{side}") or "undefined"
@@ -314,12 +320,11 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
         return f"{_g(m)} ({end}" + (f"; {why})" if why else ")")
 
     line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
-            f"median overturning PGA on a fixed base {med(mf, 'fixed')}"
-            + (f", P(overturning) at the design PGA {prob(pf)}" if pf is not None else ""))
+            f"median overturning PGA on a fixed base {med(mf, 'fixed')}" + p_text("overturning", pf, "fixed"))
     r = _finite(dyn.get("fragility_ratio"))
     if isolated:
         line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) {med(mi, 'isolated')}"
-                 + (f", P(failure) at the design PGA {prob(pi)}" if pi is not None else ""))
+                 + p_text("failure", pi, "isolated"))
         if r is not None:
             ci = [_finite(x) for x in (list(dyn.get("fragility_ratio_ci") or []) + [None, None])[:2]]
             why = dyn.get("fragility_ratio_ci_reason")
