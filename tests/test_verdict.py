@@ -209,7 +209,7 @@ def test_no_probability_from_an_unidentified_spread():
     from statue2model.assessment.fragility import FragilityCurve
     from statue2model.assessment.study import spread_identified
 
-    lv = np.array([1.0, 2.0, 3.0, 4.0]) * G
+    lv = np.array([0.1, 0.2, 0.3, 0.4]) * 9.80665
     step = FragilityCurve("overturn", lv, np.array([0, 0, 7, 7]), np.full(4, 7), 2.5 * G, 0.02, "step",
                           (2.4 * G, 2.6 * G), (0.01, 0.05))
     assert "jump between adjacent levels (from none at 0.200 g to all at 0.300 g)" in spread_identified(step)
