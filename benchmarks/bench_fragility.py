@@ -4,8 +4,8 @@ The study of issue [12]: the thesis' statue prototype (Table 24: h 0.3523, b_L 0
 b_R 0.0805 m, m 12.074 kg, imperfect model alpha_L 0.159, alpha_R 0.175, theta 4.55e-3 rad)
 on a fixed base, 100 synthetic 20 s records x 40 PGA levels (0.05 g..1 g) x 50 Latin-hypercube
 samples of theta_R / delta_R in [1.78, 2.26]e-2 and alpha_L, alpha_R within +-10 % = 200 000 runs
-(e is left at eq. 15: sampling e splits the batches per sample, one restitution table per
-kernel batch, which costs the in-process threads their balance; docs/fragility.md).
+(e is left at eq. 15; the default scan's study samples e: a record's runs of every sample go to
+the kernel in one batch, each row with its own restitution table).
 
 * The headlines: the whole study (``--records`` 100) for the bundled default scan (Housner's
   model, 50 samples of e, on 2 processes) and for the thesis statue (in this process, numba
@@ -64,12 +64,12 @@ def scan_inputs(n_records: int, n_levels: int = 40, n_samples: int = 50):
 
 
 def scan_headline(n_rec: int) -> None:
-    """The default scan's study on 2 processes (each sample of e is its own kernel batch, which the
-    in-process threads balance poorly; the processes take blocks of rows)."""
+    """The default scan's study on 2 processes (blocks of rows; in this process's numba threads it
+    takes about as long: benchmarks/bench_fragility_speed.py)."""
     inputs = scan_inputs(n_rec)
     runs = n_rec * FULL[1] * FULL[2]
     with ProcessExecutor(2) as ex:
-        timed(scan_inputs(1, 2, 2), ex)
+        timed(scan_inputs(4, 2, 2), ex)          # a task for each worker at least: both load the kernels
         res, fixed, _ = timed(inputs, ex)
     c = res.curves["overturn"]
     print(f"default scan (Housner, e sampled): {runs} runs ({res.stats['integrated_fixed']} integrated) on 2 processes: "
@@ -127,7 +127,7 @@ def main() -> int:
 
         def add(name, workers, ex):
             nonlocal ref, ok
-            timed(study_inputs(1, 2, 2), ex)                  # start the workers, load the kernels
+            timed(study_inputs(4, 2, 2), ex)                  # start the workers, load the kernels
             r, fx, _ = timed(sinputs, ex)
             same = True
             if ref is None:

@@ -41,13 +41,17 @@ Only a curve whose own fit is defined has bands (else they are null, with its re
 Early exit (fixed base; the outcome only): a run stops when it overturns; a run whose
 motion never exceeds the uplift limits is not integrated (``quiet``); after the ground
 is still, a run stops once it has peaked on both sides without any impact able to add
-energy (the kernel's ``early_exit``). A body at rest whose remaining record stays
-below the uplift limits cannot move again: the kernel's stick phase already skips the
-rest of the record without integrating (it checks each sample once, in closed form),
-so stopping it earlier saves nothing measurable. A body still rocking is integrated on
-(a sub-uplift ground motion can still pump it) until its outcome is decided on energy
-(``kernel_vector(early_exit="outcome")``): its energy plus all the energy the rest of the
-record could pump in stays below the overturning barrier (docs/fragility.md).
+energy (the kernel's ``early_exit``). A body at rest skips, without a step, the record
+pieces that cannot lift it: the stick search reads the record's suffix extremes (the
+largest and smallest sample from there to the end, once per record), so a body at rest
+whose remaining record stays within its uplift limits stops there at once, and one that
+will lift again jumps to the piece before the next sample beyond them (exact: the same
+numbers as reading every piece; a quiet tail costs nothing). A body still rocking is
+integrated on (a sub-uplift ground motion can still pump it) until its outcome is decided
+on energy (``kernel_vector(early_exit="outcome")``): its energy plus all the energy the
+rest of the record could pump in stays below the overturning barrier (docs/fragility.md).
+A record's runs of every parameter sample go to the kernel in one batch (each row with its
+sample's restitution table), handed to numba's threads one run at a time.
 
 Example
 -------
@@ -478,54 +482,73 @@ def _n_samples(motion: GroundMotion) -> int:
 
 
 def _rows_task(task: tuple) -> np.ndarray:
-    """One block of fixed-base rows on a worker: (P, eLw, eLe, eRw, eRe, kinds, M, samples,
-    t_end, rtol, max_steps) -> statistics (rows, N_S). Module level: it pickles."""
+    """One block of fixed-base rows on a worker: (P, tables, lengths, table_row, kinds, M,
+    samples, hi, lo, t_end, rtol, max_steps) -> statistics (rows, N_S). Module level: it pickles."""
     from ..rocking.batch import _run_rows
 
     return _run_rows(task)
 
 
-def _fixed(model, records, gains, samples, study, executor, max_steps):
-    """(fails, valid, n_integrated): (R, S, L) bool arrays of the fixed-base runs."""
+def _fixed(model, records, gains, samples, study, executor, max_steps, keep_stats=False):
+    """(fails, valid, n_integrated): (R, S, L) bool arrays of the fixed-base runs; with
+    ``keep_stats`` a fourth item, the runs' statistics (R, S, L, N_S) (kernel.S_*; a run
+    not integrated has zeros and nan there, as run_batch leaves it)."""
+    from ..rocking.batch import restitution_tables, suffix_extremes
+
     R, L = gains.shape
     S_n = samples.n
     models = samples.models(model)
     fac = samples.im_factors()
     fails = np.zeros((R, S_n, L), dtype=bool)
     valid = np.ones((R, S_n, L), dtype=bool)
-    # group the samples by their restitution tables (the kernel takes one pair per batch)
+    stats = np.zeros((R, S_n, L, K.N_S)) if keep_stats else None
+    # the distinct restitution tables: a record's runs of every sample go in one batch, each
+    # row with its sample's table
     groups: dict = {}
-    for s, m in enumerate(models):
-        groups.setdefault((m.e_L, m.e_R), []).append(s)
+    for m in models:
+        groups.setdefault((m.e_L, m.e_R), len(groups))
+    table_of = np.array([groups[(m.e_L, m.e_R)] for m in models], dtype=np.int64)
+    distinct = [None] * len(groups)
+    for s_, m in enumerate(models):
+        if distinct[table_of[s_]] is None:
+            distinct[table_of[s_]] = m
+    tables, lengths = restitution_tables(distinct)
     Pall = np.array([m.kernel_vector(early_exit="outcome") for m in models])
     lims = np.array([m.uplift_limits for m in models])
-    jobs = []          # (record, sample indices (rows,), level indices (rows,), P, kinds, M, t_end, quiet)
+    slides = any(m.slides_first for m in models)
+    ss = np.repeat(np.arange(S_n), L)
+    ll = np.tile(np.arange(L), S_n)
+    P = Pall[ss]
+    rows_table = table_of[ss]
+    n = ss.size
+    jobs = []          # (record, M, t_end, todo (rows integrated), samples)
+    n_int = 0
     for r, rec in enumerate(records):
         kind, M0, smp = rec.kernel_args()
         hi, lo = rec.extremes()
-        for (eL, eR), idx in groups.items():
-            ss = np.repeat(np.asarray(idx), L)
-            ll = np.tile(np.arange(L), len(idx))
-            g = gains[r, ll] * fac[ss]
-            n = ss.size
-            M = np.tile(M0, (n, 1))
-            M[:, K.MA] *= g
-            quiet = (g * hi <= lims[ss, 0]) & (-g * lo <= lims[ss, 1])
-            na = np.array([not models[s].applicability(gk * hi, -gk * lo)[0] for s, gk in zip(ss, g)]) \
-                if any(models[s].slides_first for s in idx) else np.zeros(n, dtype=bool)
-            valid[r, ss, ll] = ~na
-            jobs.append((r, ss, ll, Pall[ss], np.full(n, kind, dtype=np.int64), M,
-                         np.full(n, rec.end + study.free_time), quiet | na, eL, eR, smp))
-    n_int = int(sum(int((~j[7]).sum()) for j in jobs))
+        g = gains[r, ll] * fac[ss]
+        M = np.tile(M0, (n, 1))
+        M[:, K.MA] *= g
+        quiet = (g * hi <= lims[ss, 0]) & (-g * lo <= lims[ss, 1])
+        na = np.array([not models[s_].applicability(gk * hi, -gk * lo)[0] for s_, gk in zip(ss, g)]) \
+            if slides else np.zeros(n, dtype=bool)
+        valid[r, ss, ll] = ~na
+        todo = np.flatnonzero(~(quiet | na))
+        n_int += int(todo.size)
+        jobs.append((r, kind, M, np.full(n, rec.end + study.free_time), todo, smp))
     if executor is None:
         from ..compute.executors import progress_bar
 
-        bar = progress_bar("fragility, fixed base", len(jobs), unit="batch")
+        bar = progress_bar("fragility, fixed base", len(jobs), unit="record")
         try:
-            for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
-                gm = models[ss[0]]
-                S = run_batch(gm, P, kinds, M, smp, t_end, rtol=study.rtol, quiet=quiet, max_steps=max_steps)
+            for (r, kind, M, t_end, todo, smp) in jobs:
+                quiet = np.ones(n, dtype=bool)
+                quiet[todo] = False
+                S = run_batch(distinct, P, np.full(n, kind, dtype=np.int64), M, smp, t_end, rtol=study.rtol,
+                              quiet=quiet, max_steps=max_steps, table_row=rows_table)
                 fails[r, ss, ll] = S[:, K.S_OVERTURNED] > 0
+                if keep_stats:
+                    stats[r, ss, ll] = S
                 bar.update(1)
         finally:
             bar.close()
@@ -534,21 +557,28 @@ def _fixed(model, records, gains, samples, study, executor, max_steps):
 
         ensure_compiled()
         tasks, where = [], []
-        for (r, ss, ll, P, kinds, M, t_end, quiet, eL, eR, smp) in jobs:
-            todo = np.flatnonzero(~quiet)
-            eLw, eLe = eL.arrays()
-            eRw, eRe = eR.arrays()
+        for (r, kind, M, t_end, todo, smp) in jobs:
+            smp = K.as_samples(smp)
+            s_hi, s_lo = suffix_extremes(smp)
             for a in range(0, todo.size, ROWS_PER_TASK):
                 k = todo[a:a + ROWS_PER_TASK]
-                tasks.append((np.ascontiguousarray(P[k]), eLw, eLe, eRw, eRe, kinds[k], np.ascontiguousarray(M[k]),
-                              K.as_samples(smp), t_end[k], float(study.rtol), int(max_steps)))
+                tasks.append((np.ascontiguousarray(P[k]), tables, lengths, rows_table[k],
+                              np.full(k.size, kind, dtype=np.int64), np.ascontiguousarray(M[k]), smp, s_hi, s_lo,
+                              t_end[k], float(study.rtol), int(max_steps)))
                 where.append((r, ss[k], ll[k]))
+        if keep_stats:
+            stats[...] = 0.0
+            stats[..., K.S_T_UPLIFT] = stats[..., K.S_T_OVERTURN] = stats[..., K.S_T_REST] = np.nan
+            for (r, kind, M, t_end, todo, smp) in jobs:
+                stats[r, ss, ll, K.S_T_FINAL] = t_end
         for (r, sk, lk), S in zip(where, executor.map(_rows_task, tasks, desc="fragility, fixed base")):
             bad = S[:, K.S_STATUS] != K.STATUS_OK
             if np.any(bad):
                 raise RuntimeError(f"rocking solver did not finish {int(bad.sum())} of {S.shape[0]} runs")
             fails[r, sk, lk] = S[:, K.S_OVERTURNED] > 0
-    return fails, valid, n_int
+            if keep_stats:
+                stats[r, sk, lk] = S
+    return (fails, valid, n_int, stats) if keep_stats else (fails, valid, n_int)
 
 
 def _iso_task(task: tuple) -> np.ndarray:

@@ -2,70 +2,128 @@
 of this process or on the workers of an :class:`~statue2model.compute.executors.Executor`.
 
 Each row i is one run: model vector ``P[i]``, motion ``kinds[i]``, ``M[i]``
-(all rows share one record's ``samples`` and the restitution tables of one
-model), end time ``t_end[i]``. Rows whose motion never exceeds the uplift
-limits are not integrated at all. Returns the statistics matrix (n, N_S) of
-:mod:`statue2model.rocking.kernel` (indices ``kernel.S_*``).
+(all rows share one record's ``samples``), end time ``t_end[i]``, and the restitution
+tables of one model, or of the model ``table_row[i]`` of a list (a batch may mix the
+samples of e). Rows whose motion never exceeds the uplift limits are not integrated at
+all. Returns the statistics matrix (n, N_S) of :mod:`statue2model.rocking.kernel`
+(indices ``kernel.S_*``).
 
 Rows are independent and each is integrated deterministically, so the matrix is
-bit-identical whether the rows run in numba's threads here or in blocks on an
-executor's workers.
+bit-identical whether the rows run in numba's threads here (handed out one at a time:
+the runs' lengths differ tenfold) or in blocks on an executor's workers.
+
+>>> import numpy as np
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> from statue2model.hazard import motions
+>>> from statue2model.rocking import RockingModel
+>>> block = RockingParams.rectangular_block(0.0384, 0.2, 1.286)       # lifts at 0.192 g
+>>> models = [RockingModel.housner(block, e_L=e, e_R=e) for e in (0.8, 0.9)]
+>>> kind, M, smp = motions.sine_pulse(3.0, 2.0).kernel_args()
+>>> S = run_batch(models, np.array([m.kernel_vector() for m in models]), [kind] * 2, np.tile(M, (2, 1)),
+...               smp, [8.0, 8.0], table_row=[0, 1])
+>>> S.shape, bool(S[0, K.S_N_IMP] > 0)
+((2, 20), True)
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..compute.compile import ensure_compiled
+from ..errors import InputError
 from . import kernel as K
 from .model import RockingModel
 
+THREAD_CHUNK = 1
+"""Rows a numba thread takes at a time (dynamic scheduling): a run lasts from a few steps
+(overturning at once) to thousands (rocking through the record), so fixed halves of a
+block leave one thread idle."""
 
-def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarray, samples: np.ndarray,
+
+def restitution_tables(models) -> tuple[np.ndarray, np.ndarray]:
+    """(tables, lengths) of the kernel's simulate_batch for a list of models: rows 4j .. 4j+3
+    of ``tables`` are model j's e_L table (|theta'| rad/s, e) and e_R table, padded with
+    zeros to the longest, ``lengths`` (4 len(models),) their lengths."""
+    arrs = []
+    for m in models:
+        arrs.extend(m.e_L.arrays())
+        arrs.extend(m.e_R.arrays())
+    width = max(a.size for a in arrs)
+    tables = np.zeros((len(arrs), width))
+    for i, a in enumerate(arrs):
+        tables[i, :a.size] = a
+    return tables, np.array([a.size for a in arrs], dtype=np.int64)
+
+
+def suffix_extremes(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(hi, lo): the largest and smallest of samples[k:] for each k (m/s^2), what the kernel's
+    stick search reads to skip the record pieces that cannot lift a body at rest."""
+    a = np.asarray(samples, dtype=float)
+    if a.size == 0:
+        return np.zeros(0), np.zeros(0)
+    return (np.ascontiguousarray(np.maximum.accumulate(a[::-1])[::-1]),
+            np.ascontiguousarray(np.minimum.accumulate(a[::-1])[::-1]))
+
+
+def run_batch(model, P: np.ndarray, kinds: np.ndarray, M: np.ndarray, samples: np.ndarray,
               t_end: np.ndarray, rtol: float = 1e-8, quiet: np.ndarray | None = None,
               progress: str | None = None, chunk: int = 500, max_steps: int = 20_000_000,
-              executor=None) -> np.ndarray:
+              executor=None, table_row=None, skip_quiet: bool = True) -> np.ndarray:
     """Run every row; ``quiet[i]`` True marks rows known not to move (skipped).
+    ``model``: a RockingModel (its restitution for every row) or a list of them, row i
+    taking the restitution of ``model[table_row[i]]`` (P holds each row's model vector).
     ``progress``: a label to show a progress bar (tqdm, on stderr), or None.
+    ``skip_quiet`` False: a body at rest reads every record piece (the path before the
+    exact skip of the pieces that cannot lift it; the same numbers, for tests).
 
-    ``executor``: None runs the rows here, ``chunk`` rows at a time, each block in
-    numba's parallel threads; an :class:`~statue2model.compute.executors.Executor` runs
-    blocks of rows (:func:`~statue2model.compute.executors.chunks`, about 4 per worker)
-    on its workers, one numba thread each (``chunk`` is then unused). Same result."""
+    ``executor``: None runs the rows here in numba's parallel threads (one block, or
+    ``chunk`` rows at a time when a progress bar is shown); an
+    :class:`~statue2model.compute.executors.Executor` runs blocks of rows
+    (:func:`~statue2model.compute.executors.chunks`, about 4 per worker) on its workers,
+    one numba thread each (``chunk`` is then unused). Same result."""
     ensure_compiled()          # here, before any worker starts: they load the kernels from the cache
     n = P.shape[0]
+    models = [model] if isinstance(model, RockingModel) else list(model)
+    if not models or not all(isinstance(m, RockingModel) for m in models):
+        raise InputError("run_batch: model must be a RockingModel or a non-empty list of them")
+    if table_row is None:
+        if len(models) != 1:
+            raise InputError(f"run_batch: table_row (the model of each row) is needed with {len(models)} models")
+        table_row = np.zeros(n, dtype=np.int64)
+    table_row = np.ascontiguousarray(np.broadcast_to(table_row, (n,)), dtype=np.int64)
+    if n and (table_row.min() < 0 or table_row.max() >= len(models)):
+        raise InputError(f"run_batch: table_row must lie in 0..{len(models) - 1}")
     S = np.zeros((n, K.N_S))
     S[:, K.S_T_UPLIFT] = S[:, K.S_T_OVERTURN] = S[:, K.S_T_REST] = np.nan
     S[:, K.S_T_FINAL] = t_end
-    todo = np.arange(n) if quiet is None else np.flatnonzero(~quiet)
-    eLw, eLe = model.e_L.arrays()
-    eRw, eRe = model.e_R.arrays()
+    todo = np.arange(n) if quiet is None else np.flatnonzero(~np.asarray(quiet, dtype=bool))
+    tables, lengths = restitution_tables(models)
     P = np.ascontiguousarray(P, dtype=float)
     M = np.ascontiguousarray(M, dtype=float)
-    kinds = np.ascontiguousarray(kinds, dtype=np.int64)
+    kinds = np.ascontiguousarray(np.broadcast_to(kinds, (n,)), dtype=np.int64)
     t_end = np.ascontiguousarray(np.broadcast_to(t_end, (n,)), dtype=float)
     samples = K.as_samples(samples)
+    hi, lo = suffix_extremes(samples) if skip_quiet else (np.zeros(0), np.zeros(0))
     if executor is not None:
         from ..compute.executors import chunks
 
         blocks = [todo[c] for c in chunks(todo.size, executor)]
-        tasks = [(P[idx], eLw, eLe, eRw, eRe, kinds[idx], M[idx], samples, t_end[idx], float(rtol), int(max_steps))
-                 for idx in blocks]
+        tasks = [(P[idx], tables, lengths, table_row[idx], kinds[idx], M[idx], samples, hi, lo, t_end[idx],
+                  float(rtol), int(max_steps)) for idx in blocks]
         for idx, Sc in zip(blocks, executor.map(_run_rows, tasks, desc=progress)):
             S[idx] = Sc
         return _checked(S)
-    _threading_layer()
     bar = None
+    step = todo.size
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=n, desc=progress, unit="run", leave=False)
         bar.update(n - todo.size)
-    for start in range(0, todo.size, chunk):
-        idx = todo[start:start + chunk]
-        Sc = np.zeros((idx.size, K.N_S))
-        K.simulate_batch(P[idx], eLw, eLe, eRw, eRe, kinds[idx], M[idx], samples, 0.0, 0.0, t_end[idx],
-                         float(rtol), int(max_steps), Sc)
-        S[idx] = Sc
+        step = max(1, int(chunk))
+    for start in range(0, todo.size, max(step, 1)):
+        idx = todo[start:start + step]
+        S[idx] = _simulate_rows(P[idx], tables, lengths, table_row[idx], kinds[idx], M[idx], samples, hi, lo,
+                                t_end[idx], float(rtol), int(max_steps))
         if bar is not None:
             bar.update(idx.size)
     if bar is not None:
@@ -73,17 +131,30 @@ def run_batch(model: RockingModel, P: np.ndarray, kinds: np.ndarray, M: np.ndarr
     return _checked(S)
 
 
-def _run_rows(task: tuple) -> np.ndarray:
-    """One block of rows on a worker: ``task`` = (P, eLw, eLe, eRw, eRe, kinds, M,
-    samples, t_end, rtol, max_steps) of those rows (shapes as in :func:`run_batch`);
-    returns their statistics (rows, N_S). Module level so that it pickles."""
-    P, eLw, eLe, eRw, eRe, kinds, M, samples, t_end, rtol, max_steps = task
-    ensure_compiled()
+def _simulate_rows(P, tables, lengths, table_row, kinds, M, samples, hi, lo, t_end, rtol, max_steps) -> np.ndarray:
+    """The kernel's simulate_batch on these rows in numba's threads, handed out THREAD_CHUNK
+    rows at a time; returns their statistics (rows, N_S)."""
+    from numba import parallel_chunksize
+
     _threading_layer()
     Sc = np.zeros((P.shape[0], K.N_S))
-    samples = K.as_samples(samples)        # read-only again (unpickled arrays are writable)
-    K.simulate_batch(P, eLw, eLe, eRw, eRe, kinds, M, samples, 0.0, 0.0, t_end, rtol, max_steps, Sc)
+    if P.shape[0]:
+        with parallel_chunksize(THREAD_CHUNK):
+            K.simulate_batch(P, tables, lengths, table_row, kinds, M, samples, hi, lo, 0.0, 0.0, t_end, rtol,
+                             max_steps, Sc)
     return Sc
+
+
+def _run_rows(task: tuple) -> np.ndarray:
+    """One block of rows on a worker: ``task`` = (P, tables, lengths, table_row, kinds, M,
+    samples, hi, lo, t_end, rtol, max_steps) of those rows (shapes as in :func:`run_batch`;
+    tables, lengths: :func:`restitution_tables`; hi, lo: :func:`suffix_extremes` or empty);
+    returns their statistics (rows, N_S). Module level so that it pickles."""
+    P, tables, lengths, table_row, kinds, M, samples, hi, lo, t_end, rtol, max_steps = task
+    ensure_compiled()
+    samples = K.as_samples(samples)        # read-only again (unpickled arrays are writable)
+    return _simulate_rows(P, tables, lengths, table_row, kinds, M, samples, np.ascontiguousarray(hi),
+                          np.ascontiguousarray(lo), t_end, rtol, max_steps)
 
 
 def _checked(S: np.ndarray) -> np.ndarray:

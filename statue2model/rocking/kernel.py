@@ -25,7 +25,15 @@ Method
 * Output samples are read from the same dense output; they never change the
   steps, so results are independent of the output grid.
 * Stick (full contact) is not integrated: the next uplift is found in closed
-  form on each motion segment (linear or harmonic).
+  form on each motion segment (linear or harmonic). On a record, the pieces
+  that cannot lift the body (both samples, scaled, within its uplift limits)
+  are skipped at once from the record's suffix extremes (:func:`_quiet_until`):
+  a body at rest on a quiet tail stops there; the same numbers as reading
+  every piece.
+* The helpers of the integration loop take the model vector and the motion
+  piece as tuples, and no array that an inlined helper would receive: numba
+  counts the references of such an array atomically, which took about half
+  the time of a run (and more when threads share the array).
 * Zeno: after an impact whose next excursion would peak below
   ``rest_tol * delta`` the remaining geometric series of impacts is summed in
   closed form and the body returns to stick.
@@ -55,6 +63,7 @@ _AX = D8.A
 _B = D8.B
 _NX = D8.N_STAGES_EXTENDED
 _NI = D8.INTERPOLATOR_POWER
+
 
 # --- model vector P --------------------------------------------------------
 # packed by RockingModel.kernel_vector (statue2model.rocking.model), the one place that
@@ -164,6 +173,115 @@ def _first_exceedance(ta, tb, seg, up, dn):
     return np.inf, 0
 
 
+@njit(cache=True, inline="always")
+def _model_tuple(P):
+    """The model vector P (N_P,) as a tuple: the helpers of the integration loop read the
+    model from it (a tuple is a value: no reference counting, see :func:`_step`)."""
+    return (P[0], P[1], P[2], P[3], P[4], P[5], P[6], P[7], P[8], P[9], P[10], P[11], P[12], P[13])
+
+
+@njit(cache=True, error_model="numpy")
+def _piece(t, kind, M, samples):
+    """:func:`statue2model.hazard.motion_kernel.segment` as a value: (end of the piece, the
+    piece (c0, c1, t0, A, w, ts, phi, u_end)), the same arithmetic number for number
+    (tests/test_fragility_speed.py checks it bit for bit). A tuple and no raise path (the
+    numpy error model: dt > 0 is checked where a record is made), so that numba counts no
+    reference of M or samples here: an atomic operation on an array that every thread of a
+    batch shares, once per step and per sample at rest."""
+    nan = np.nan
+    if kind == M_NONE:
+        return np.inf, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan)
+    ts = M[MT0]
+    te = M[MT1]
+    if t < ts:
+        return ts, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan)
+    if t >= te:
+        return np.inf, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan)
+    if kind == M_HARMONIC:
+        return te, (0.0, 0.0, 0.0, M[MA], M[MW], ts, M[MPH], nan)
+    if kind == M_RECT:
+        return te, (M[MA], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan)
+    dt = M[MDT]
+    n = samples.shape[0]
+    k = int(math.floor((t - ts) / dt))
+    if k < 0:
+        k = 0
+    if k > n - 2:
+        k = n - 2
+    if t < ts + k * dt and k > 0:
+        k -= 1
+    if t >= ts + (k + 1) * dt and k < n - 2:
+        k += 1
+    tk = ts + k * dt
+    piece = (M[MA] * samples[k], M[MA] * (samples[k + 1] - samples[k]) / dt, tk, 0.0, 0.0, 0.0, 0.0,
+             M[MA] * samples[k + 1])
+    if k == n - 2:
+        return te, piece
+    return ts + (k + 1) * dt, piece
+
+
+@njit(cache=True)
+def suffix_extremes(samples):
+    """(hi, lo), each (n,): the largest and the smallest of samples[k:] (unscaled record
+    accelerations), what :func:`_quiet_until` reads; computed once per record."""
+    n = samples.shape[0]
+    hi = np.empty(n)
+    lo = np.empty(n)
+    if n == 0:
+        return hi, lo
+    hi[n - 1] = samples[n - 1]
+    lo[n - 1] = samples[n - 1]
+    for k in range(n - 2, -1, -1):
+        hi[k] = max(samples[k], hi[k + 1])
+        lo[k] = min(samples[k], lo[k + 1])
+    return hi, lo
+
+
+@njit(cache=True, error_model="numpy")
+def _quiet_until(tc, M, samples, hi, lo, up, dn):
+    """A body at rest at tc, the start of a record piece the stick search is about to read:
+    the start of the first piece from tc on that can lift it, or inf if none can (nor the
+    still ground after the record). Exact: the stick search (_first_exceedance, piece by
+    piece) finds no uplift in a piece that starts at its own start time (u there is c0 =
+    gain x sample, to the bit) and whose two samples, times the gain, lie within
+    [-dn, up]; so it would step through such pieces one by one and find nothing. ``hi``,
+    ``lo``: :func:`suffix_extremes` of the samples (the gain's rounding is monotonic: the
+    largest scaled sample is the gain times the largest sample; empty arrays: no skip). tc
+    is returned unchanged when it is not a piece start of the record or the record ends
+    oddly (te before the last sample)."""
+    ts = M[MT0]
+    te = M[MT1]
+    dt = M[MDT]
+    n = samples.shape[0]
+    if not (tc >= ts and tc < te and dt > 0.0 and n >= 2 and hi.shape[0] == n and lo.shape[0] == n):
+        return tc
+    k = int(math.floor((tc - ts) / dt + 0.5))
+    if k < 0 or k > n - 2 or ts + k * dt != tc:
+        return tc
+    g = M[MA]
+    top = g * hi[k] if g >= 0.0 else g * lo[k]
+    bottom = g * lo[k] if g >= 0.0 else g * hi[k]
+    if top <= up and bottom >= -dn:
+        # no sample from k on lifts it, and no interpolated value between them: nor the
+        # ground at rest after the record (u = 0) when the limits are not negative
+        if up >= 0.0 and dn >= 0.0:
+            return np.inf
+        return tc
+    j = k
+    while j < n:
+        v = g * samples[j]
+        if v > up or v < -dn:
+            break
+        j += 1
+    # pieces k .. j-2 have both samples within the limits: the search may start at piece j - 1
+    if j - 1 <= k:
+        return tc
+    t_j = ts + (j - 1) * dt
+    if not t_j < te:
+        return tc
+    return t_j
+
+
 # --- mechanics ---------------------------------------------------------------
 @njit(cache=True, inline="always")
 def _rhs(t, th, s, reg, P, seg):
@@ -182,39 +300,104 @@ def _rhs(t, th, s, reg, P, seg):
     return P[P2L] * (al * math.sin(x) - u * math.cos(x))
 
 
-@njit(cache=True, inline="always")
-def _stage(i, t, th, om, h, s, reg, P, seg, Ks):
-    """Stage i of the DOP853 tableau (the 3 dense-output stages included): fills Ks[i].
-    D8.stage_state and D8.combine written on two scalars: the state stays in registers
-    (through a state array the rocking benchmark ran 7-11 % slower)."""
-    dth = 0.0
-    dom = 0.0
-    for j in range(i):
-        a = _AX[i, j]
-        if a != 0.0:
-            dth += a * Ks[j, 0]
-            dom += a * Ks[j, 1]
-    Ks[i, 0] = om + h * dom
-    Ks[i, 1] = _rhs(t + _CX[i] * h, th + h * dth, s, reg, P, seg)
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _step(t, th, om, f0, h, s, reg, P, seg, Ks):
     """One DOP853 step of length h; returns (theta, theta') at t + h. Ks (_NX, 2):
-    the stages (theta', theta'')."""
-    Ks[0, 0] = om
-    Ks[0, 1] = f0
-    for i in range(1, _NS):
-        _stage(i, t, th, om, h, s, reg, P, seg, Ks)
-    bth = 0.0
-    bom = 0.0
-    for j in range(_NS):
-        bth += _B[j] * Ks[j, 0]
-        bom += _B[j] * Ks[j, 1]
+    the stages (theta', theta''). P and seg are tuples (:func:`_model_tuple`, :func:`_piece`).
+
+    The stages written out, the sums over the nonzero coefficients of the tableau _AX (every
+    one, in the order of the columns) and then over _B (every column), on scalars: the
+    arithmetic of the loop ``for j in range(i): if _AX[i, j] != 0: dth += _AX[i, j] Ks[j, 0]``
+    (D8.stage_state, D8.combine) to the bit (tests/test_fragility_speed.py checks it), about
+    8 % faster a step. The helpers take no array: numba counts the references of an array each
+    time an inlined helper receives one, an atomic operation (with the stages in such a helper
+    that took about half the time of a run)."""
+    k0 = om
+    g0 = f0
+    Ks[0, 0] = k0
+    Ks[0, 1] = g0
+    dth = 0.0 + _AX[1, 0] * k0
+    dom = 0.0 + _AX[1, 0] * g0
+    k1 = om + h * dom
+    g1 = _rhs(t + _CX[1] * h, th + h * dth, s, reg, P, seg)
+    Ks[1, 0] = k1
+    Ks[1, 1] = g1
+    dth = 0.0 + _AX[2, 0] * k0 + _AX[2, 1] * k1
+    dom = 0.0 + _AX[2, 0] * g0 + _AX[2, 1] * g1
+    k2 = om + h * dom
+    g2 = _rhs(t + _CX[2] * h, th + h * dth, s, reg, P, seg)
+    Ks[2, 0] = k2
+    Ks[2, 1] = g2
+    dth = 0.0 + _AX[3, 0] * k0 + _AX[3, 2] * k2
+    dom = 0.0 + _AX[3, 0] * g0 + _AX[3, 2] * g2
+    k3 = om + h * dom
+    g3 = _rhs(t + _CX[3] * h, th + h * dth, s, reg, P, seg)
+    Ks[3, 0] = k3
+    Ks[3, 1] = g3
+    dth = 0.0 + _AX[4, 0] * k0 + _AX[4, 2] * k2 + _AX[4, 3] * k3
+    dom = 0.0 + _AX[4, 0] * g0 + _AX[4, 2] * g2 + _AX[4, 3] * g3
+    k4 = om + h * dom
+    g4 = _rhs(t + _CX[4] * h, th + h * dth, s, reg, P, seg)
+    Ks[4, 0] = k4
+    Ks[4, 1] = g4
+    dth = 0.0 + _AX[5, 0] * k0 + _AX[5, 3] * k3 + _AX[5, 4] * k4
+    dom = 0.0 + _AX[5, 0] * g0 + _AX[5, 3] * g3 + _AX[5, 4] * g4
+    k5 = om + h * dom
+    g5 = _rhs(t + _CX[5] * h, th + h * dth, s, reg, P, seg)
+    Ks[5, 0] = k5
+    Ks[5, 1] = g5
+    dth = 0.0 + _AX[6, 0] * k0 + _AX[6, 3] * k3 + _AX[6, 4] * k4 + _AX[6, 5] * k5
+    dom = 0.0 + _AX[6, 0] * g0 + _AX[6, 3] * g3 + _AX[6, 4] * g4 + _AX[6, 5] * g5
+    k6 = om + h * dom
+    g6 = _rhs(t + _CX[6] * h, th + h * dth, s, reg, P, seg)
+    Ks[6, 0] = k6
+    Ks[6, 1] = g6
+    dth = 0.0 + _AX[7, 0] * k0 + _AX[7, 3] * k3 + _AX[7, 4] * k4 + _AX[7, 5] * k5 + _AX[7, 6] * k6
+    dom = 0.0 + _AX[7, 0] * g0 + _AX[7, 3] * g3 + _AX[7, 4] * g4 + _AX[7, 5] * g5 + _AX[7, 6] * g6
+    k7 = om + h * dom
+    g7 = _rhs(t + _CX[7] * h, th + h * dth, s, reg, P, seg)
+    Ks[7, 0] = k7
+    Ks[7, 1] = g7
+    dth = 0.0 + _AX[8, 0] * k0 + _AX[8, 3] * k3 + _AX[8, 4] * k4 + _AX[8, 5] * k5 + _AX[8, 6] * k6
+    dth = dth + _AX[8, 7] * k7
+    dom = 0.0 + _AX[8, 0] * g0 + _AX[8, 3] * g3 + _AX[8, 4] * g4 + _AX[8, 5] * g5 + _AX[8, 6] * g6
+    dom = dom + _AX[8, 7] * g7
+    k8 = om + h * dom
+    g8 = _rhs(t + _CX[8] * h, th + h * dth, s, reg, P, seg)
+    Ks[8, 0] = k8
+    Ks[8, 1] = g8
+    dth = 0.0 + _AX[9, 0] * k0 + _AX[9, 3] * k3 + _AX[9, 4] * k4 + _AX[9, 5] * k5 + _AX[9, 6] * k6
+    dth = dth + _AX[9, 7] * k7 + _AX[9, 8] * k8
+    dom = 0.0 + _AX[9, 0] * g0 + _AX[9, 3] * g3 + _AX[9, 4] * g4 + _AX[9, 5] * g5 + _AX[9, 6] * g6
+    dom = dom + _AX[9, 7] * g7 + _AX[9, 8] * g8
+    k9 = om + h * dom
+    g9 = _rhs(t + _CX[9] * h, th + h * dth, s, reg, P, seg)
+    Ks[9, 0] = k9
+    Ks[9, 1] = g9
+    dth = 0.0 + _AX[10, 0] * k0 + _AX[10, 3] * k3 + _AX[10, 4] * k4 + _AX[10, 5] * k5 + _AX[10, 6] * k6
+    dth = dth + _AX[10, 7] * k7 + _AX[10, 8] * k8 + _AX[10, 9] * k9
+    dom = 0.0 + _AX[10, 0] * g0 + _AX[10, 3] * g3 + _AX[10, 4] * g4 + _AX[10, 5] * g5 + _AX[10, 6] * g6
+    dom = dom + _AX[10, 7] * g7 + _AX[10, 8] * g8 + _AX[10, 9] * g9
+    k10 = om + h * dom
+    g10 = _rhs(t + _CX[10] * h, th + h * dth, s, reg, P, seg)
+    Ks[10, 0] = k10
+    Ks[10, 1] = g10
+    dth = 0.0 + _AX[11, 0] * k0 + _AX[11, 3] * k3 + _AX[11, 4] * k4 + _AX[11, 5] * k5 + _AX[11, 6] * k6
+    dth = dth + _AX[11, 7] * k7 + _AX[11, 8] * k8 + _AX[11, 9] * k9 + _AX[11, 10] * k10
+    dom = 0.0 + _AX[11, 0] * g0 + _AX[11, 3] * g3 + _AX[11, 4] * g4 + _AX[11, 5] * g5 + _AX[11, 6] * g6
+    dom = dom + _AX[11, 7] * g7 + _AX[11, 8] * g8 + _AX[11, 9] * g9 + _AX[11, 10] * g10
+    k11 = om + h * dom
+    g11 = _rhs(t + _CX[11] * h, th + h * dth, s, reg, P, seg)
+    Ks[11, 0] = k11
+    Ks[11, 1] = g11
+    bth = 0.0 + _B[0] * k0 + _B[1] * k1 + _B[2] * k2 + _B[3] * k3 + _B[4] * k4 + _B[5] * k5 + _B[6] * k6
+    bth = bth + _B[7] * k7 + _B[8] * k8 + _B[9] * k9 + _B[10] * k10 + _B[11] * k11
+    bom = 0.0 + _B[0] * g0 + _B[1] * g1 + _B[2] * g2 + _B[3] * g3 + _B[4] * g4 + _B[5] * g5 + _B[6] * g6
+    bom = bom + _B[7] * g7 + _B[8] * g8 + _B[9] * g9 + _B[10] * g10 + _B[11] * g11
     return th + h * bth, om + h * bom
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _error_norm(h, th, om, thn, omn, Ks, Y, atol, rtol):
     """D8.error_norm of the step (th, om) -> (thn, omn); Y (2, 2): work rows."""
     Y[0, 0] = th
@@ -224,20 +407,28 @@ def _error_norm(h, th, om, thn, omn, Ks, Y, atol, rtol):
     return D8.error_norm(h, Y[0], Y[1], Ks, atol, rtol)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F):
     """Dense-output coefficients F (_NI, 2) of the accepted step (Ks rows 0..12 hold
     its stages, row 12 the slope at t + h); 3 more right-hand sides."""
     Y[0, 0] = th
     Y[0, 1] = om
-    for i in range(_NS + 1, _NX):
-        _stage(i, t, th, om, h, s, reg, P, seg, Ks)
+    for i in range(_NS + 1, _NX):        # the 3 dense-output stages: the loop form of _step's sums
+        dth = 0.0
+        dom = 0.0
+        for j in range(i):
+            a = _AX[i, j]
+            if a != 0.0:
+                dth += a * Ks[j, 0]
+                dom += a * Ks[j, 1]
+        Ks[i, 0] = om + h * dom
+        Ks[i, 1] = _rhs(t + _CX[i] * h, th + h * dth, s, reg, P, seg)
     Y[1, 0] = thn
     Y[1, 1] = omn
     D8.dense_coeffs(Y[0], Y[1], h, Ks, F)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _root_dense(what, target, s, xa, Fa, xb, Fb, F, th, om, xtol):
     """Root in [xa, xb] (fractions of the step) of s*theta(x) - target (what=0) or
     s*theta'(x) (what=1) on the dense output; Fa, Fb of opposite signs (Illinois)."""
@@ -315,7 +506,7 @@ def _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, 
         abs(omv - D8.dense_eval(0.5, F, 1, om)) > 10.0 * (atol_o + rtol * abs(omv))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _remaining_abs_acc(M, samples):
     """(n,) bound of the ground motion still to come from sample k: |gain| x the integral of |a| from
     t_k to the end, m/s, for a record that is linear between samples (the integral of |a| over
@@ -364,7 +555,19 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     """Integrate one run. Arrays written: out_y (len(out_t), 3) = theta, theta',
     phase (0 stick, 1 rolling transition, 2 rocking, 3 overturned); imp (cap, 3) =
     time, |theta'| before impact, landing side (-1 left edge, +1 right edge);
-    peaks (cap, 3) = time, |theta| peak, side; S: statistics (indices S_*)."""
+    peaks (cap, 3) = time, |theta| peak, side; S: statistics (indices S_*).
+    Returns the number of output samples written."""
+    s_hi, s_lo = suffix_extremes(samples)
+    return _simulate(P, eLw, eLe, eRw, eRe, kind, M, samples, s_hi, s_lo, theta0, omega0, t0, t_end,
+                     rtol, max_steps, out_t, out_y, imp, peaks, S)
+
+
+@njit(cache=True, error_model="numpy")
+def _simulate(Pvec, eLw, eLe, eRw, eRe, kind, M, samples, s_hi, s_lo, theta0, omega0, t0, t_end,
+              rtol, max_steps, out_t, out_y, imp, peaks, S):
+    """:func:`simulate_kernel` given the record's :func:`suffix_extremes` ``s_hi``, ``s_lo``
+    (computed once for all the runs of a batch)."""
+    P = _model_tuple(Pvec)
     for i in range(N_S):
         S[i] = 0.0
     S[S_T_UPLIFT] = np.nan
@@ -375,7 +578,6 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     Y = np.empty((2, 2))             # states at the start and the end of a step
     F = np.empty((_NI, 2))
     atol = np.empty(2)
-    seg = np.empty(8)
     n_out = out_t.shape[0]
     cap_imp = imp.shape[0]
     cap_pk = peaks.shape[0]
@@ -418,15 +620,15 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
     nrej = 0
     nrhs = 0
     status = STATUS_OK
-    seg_end = segment(t, kind, M, samples, seg)
-    f0 = _rhs(t, th, s, reg, P, seg)
+    seg_end, sg = _piece(t, kind, M, samples)
+    f0 = _rhs(t, th, s, reg, P, sg)
     nrhs += 1
     if moving and reg == 1 and (P[TR] if s > 0 else P[TL]) > 0.0 and s * th == _bounds(s, 0, P)[1] \
             and (s * om < 0.0 or (om == 0.0 and s * f0 < 0.0)):
         # starts exactly at theta_side moving inward: it is in the rolling transition
         reg = 0
         S[S_FULL_UPLIFT] = 0.0
-        f0 = _rhs(t, th, s, reg, P, seg)
+        f0 = _rhs(t, th, s, reg, P, sg)
         nrhs += 1
     overturned = False
     early = P[EARLY] > 0.0
@@ -465,11 +667,17 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             side = 0
             tc = t
             while tc < t_end:
-                tb = segment(tc, kind, M, samples, seg)
-                t_up, side = _first_exceedance(tc, min(tb, t_end), seg, P[LIM_UP], P[LIM_DN])
+                tb, sg = _piece(tc, kind, M, samples)
+                t_up, side = _first_exceedance(tc, min(tb, t_end), sg, P[LIM_UP], P[LIM_DN])
                 if side != 0 or tb == np.inf:
                     break
                 tc = tb
+                if kind == M_RECORD:
+                    # skip the pieces that cannot lift it (exact), or stop: none can
+                    tc = _quiet_until(tc, M, samples, s_hi, s_lo, P[LIM_UP], P[LIM_DN])
+                    if tc == np.inf:
+                        t_up = np.inf
+                        break
             if side == 0 or t_up >= t_end:
                 io = _fill_still(out_t, out_y, io, t_end)
                 t = t_end
@@ -479,14 +687,14 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             # the equation of motion itself pushes the body off (q'' > 0)
             s = side
             reg = _start_region(s, P)
-            seg_end = segment(t_up, kind, M, samples, seg)
-            f0 = _rhs(t_up, 0.0, s, reg, P, seg)
+            seg_end, sg = _piece(t_up, kind, M, samples)
+            f0 = _rhs(t_up, 0.0, s, reg, P, sg)
             nrhs += 1
             nudge = 4.0 * _EPS * max(1.0, abs(t_up))
             while s * f0 <= 0.0 and t_up < min(seg_end, t_end):
                 t_up += nudge
                 nudge *= 4.0
-                f0 = _rhs(t_up, 0.0, s, reg, P, seg)
+                f0 = _rhs(t_up, 0.0, s, reg, P, sg)
                 nrhs += 1
             if s * f0 <= 0.0:
                 t = min(seg_end, t_end)
@@ -505,17 +713,17 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         if t_lim - t <= 0.0:
             if t >= t_end:
                 break
-            seg_end = segment(t, kind, M, samples, seg)
-            f0 = _rhs(t, th, s, reg, P, seg)
+            seg_end, sg = _piece(t, kind, M, samples)
+            f0 = _rhs(t, th, s, reg, P, sg)
             nrhs += 1
             continue
         h_try = h
         if h > t_lim - t:
             h = t_lim - t
         hits = True if h == t_lim - t else False
-        thn, omn = _step(t, th, om, f0, h, s, reg, P, seg, Ks)
+        thn, omn = _step(t, th, om, f0, h, s, reg, P, sg, Ks)
         tn = t_lim if hits else t + h
-        fn = _rhs(tn, thn, s, reg, P, seg)
+        fn = _rhs(tn, thn, s, reg, P, sg)
         Ks[_NS, 0] = omn
         Ks[_NS, 1] = fn
         nrhs += _NS
@@ -526,7 +734,10 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             if h < 1e-14 * max(1.0, abs(t)):
                 h = 1e-14 * max(1.0, abs(t))
             continue
-        h_next = D8.next_step(h, err, hits, h_try)
+        if hits and h * 10.0 < h_try:
+            h_next = h_try      # what D8.next_step gives (its factor is at most 10), without its power
+        else:
+            h_next = D8.next_step(h, err, hits, h_try)
         dense = False
         xtol = D8.event_xtol(t, h)
         floor = D8.shortest(h, t)  # shortest step: no more retries
@@ -568,7 +779,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
         if scan:
             # theta'' changes sign: theta' may cross zero and come back inside the step
             if not dense:
-                _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
+                _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, sg, Ks, Y, F)
                 nrhs += 3
                 dense = True
             xp = 0.0
@@ -602,7 +813,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     q_e = s * D8.dense_eval(xe1, F, 0, th)
             else:
                 if not dense:
-                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, sg, Ks, Y, F)
                     nrhs += 3
                     dense = True
                 xr = _root_dense(np.int64(1), 0.0, s, xe0, Fe0, xe1, Fe1, F, th, om, xtol)
@@ -653,7 +864,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 om_ev = omn
             else:
                 if not dense:
-                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, sg, Ks, Y, F)
                     nrhs += 3
                     dense = True
                 xr = _root_dense(np.int64(0), target, s, xa / h, Fa, xb / h, Fb, F, th, om, xtol)
@@ -661,7 +872,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 th_ev = D8.dense_eval(xr, F, 0, th)
                 om_ev = D8.dense_eval(xr, F, 1, om)
                 # check the dense output against a step taken to the event
-                thv, omv = _step(t, th, om, f0, x_ev, s, reg, P, seg, Ks)
+                thv, omv = _step(t, th, om, f0, x_ev, s, reg, P, sg, Ks)
                 nrhs += _NS - 1
                 validated = True
                 if not floor and (abs(thv - th_ev) > 10.0 * (atol_t + rtol * abs(thv)) or
@@ -670,7 +881,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 th_ev = thv
                 om_ev = omv
         if x_e >= 0.0 and x_e < h and not retry and not floor:
-            thv, omv = _step(t, th, om, f0, x_e, s, reg, P, seg, Ks)
+            thv, omv = _step(t, th, om, f0, x_e, s, reg, P, sg, Ks)
             nrhs += _NS - 1
             validated = True
             if abs(s * thv - q_e) > 10.0 * (atol_t + rtol * abs(thv)) or abs(omv) > 10.0 * (atol_o + rtol * abs(om)):
@@ -686,7 +897,7 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
             # and no step to an extremum or an event has checked it already, check it at
             # mid-step (a fixed point) and retry shorter if it is poor.
             # Output samples never change the solution: they get their own check below.
-            retry = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, rtol)
+            retry = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, sg, Ks, F, atol_t, atol_o, rtol)
             nrhs += _NS - 1
             checked = True
         if retry:
@@ -724,17 +935,17 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 tho, omo = thn, omn
             else:
                 if not dense:
-                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, seg, Ks, Y, F)
+                    _dense_coeffs(t, th, om, thn, omn, h, s, reg, P, sg, Ks, Y, F)
                     nrhs += 3
                     dense = True
                 if reg == 0 and not checked:
                     # the same mid-step check, for the output only (no retry): a poor dense
                     # output is replaced by steps taken to each sample
-                    poor = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, seg, Ks, F, atol_t, atol_o, rtol)
+                    poor = _dense_poor_at_mid(t, th, om, f0, h, s, reg, P, sg, Ks, F, atol_t, atol_o, rtol)
                     nrhs += _NS - 1
                     checked = True
                 if reg == 0 and poor:
-                    tho, omo = _step(t, th, om, f0, xo, s, reg, P, seg, Ks)
+                    tho, omo = _step(t, th, om, f0, xo, s, reg, P, sg, Ks)
                     nrhs += _NS - 1
                 else:
                     tho = D8.dense_eval(xo / h, F, 0, th)
@@ -759,12 +970,13 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 if kk < 0:
                     kk = 0
                 rem = a_rem[kk] if kk < a_rem.shape[0] else 0.0
-                if _energy_bound(th, om, s, P) + k_pump * rem < barrier:
+                # the energy bound is >= 0: with k_pump rem alone at the barrier the test fails
+                if k_pump * rem < barrier and _energy_bound(th, om, s, P) + k_pump * rem < barrier:
                     S[S_DECIDED] = 1.0
                     break
             if hits and t < t_end:
-                seg_end = segment(t, kind, M, samples, seg)
-                f0 = _rhs(t, th, s, reg, P, seg)
+                seg_end, sg = _piece(t, kind, M, samples)
+                f0 = _rhs(t, th, s, reg, P, sg)
                 nrhs += 1
             continue
         # apply the event
@@ -813,9 +1025,9 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                 reg = _start_region(s, P)
                 th = 0.0
                 om = e * om_ev
-                seg_end = segment(t, kind, M, samples, seg)
+                seg_end, sg = _piece(t, kind, M, samples)
                 # Zeno: sum the remaining impacts in closed form once they are negligible
-                c = -s * _rhs(t, 0.0, s, reg, P, seg)
+                c = -s * _rhs(t, 0.0, s, reg, P, sg)
                 nrhs += 1
                 wp = abs(om)
                 dside = P[DR] if s > 0 else P[DL]
@@ -836,8 +1048,8 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
                     S[S_T_REST] = t
                     continue
         S[S_T_REST] = np.nan
-        seg_end = segment(t, kind, M, samples, seg)
-        f0 = _rhs(t, th, s, reg, P, seg)
+        seg_end, sg = _piece(t, kind, M, samples)
+        f0 = _rhs(t, th, s, reg, P, sg)
         nrhs += 1
     if overturned:
         S[S_T_REST] = np.nan
@@ -853,23 +1065,33 @@ def simulate_kernel(P, eLw, eLe, eRw, eRe, kind, M, samples, theta0, omega0, t0,
 
 
 @njit(cache=True, parallel=True)
-def simulate_batch(Pm, eLw, eLe, eRw, eRe, kinds, Mm, samples, theta0, omega0, t_end, rtol,
-                   max_steps, Sm):
-    """Run len(Pm) simulations in parallel (statistics only): row i uses model
-    Pm[i], motion (kinds[i], Mm[i], samples) and end time t_end[i]."""
+def simulate_batch(Pm, tables, lengths, table_row, kinds, Mm, samples, s_hi, s_lo, theta0, omega0, t_end,
+                   rtol, max_steps, Sm):
+    """Run len(Pm) simulations in parallel (statistics only): row i uses model Pm[i], the
+    restitution tables number j = table_row[i] of ``tables`` (its rows 4j .. 4j+3: e_L's
+    |theta'| in rad/s and e_L, e_R's |theta'| and e_R, each ``lengths[4j + c]`` long; see
+    :func:`statue2model.rocking.batch.restitution_tables`), motion (kinds[i], Mm[i], samples)
+    and end time t_end[i]. ``s_hi``, ``s_lo``: :func:`suffix_extremes` of the samples (a body
+    at rest skips the record pieces that cannot lift it, exactly), or empty arrays: the stick
+    search then reads every piece (the same result; the path before the skip, for tests)."""
     n = Pm.shape[0]
     out_t = np.empty(0)
     for i in prange(n):
+        j = 4 * table_row[i]
+        eLw = tables[j, :lengths[j]].copy()
+        eLe = tables[j + 1, :lengths[j + 1]].copy()
+        eRw = tables[j + 2, :lengths[j + 2]].copy()
+        eRe = tables[j + 3, :lengths[j + 3]].copy()
         out_y = np.empty((0, 3))
         imp = np.empty((0, 3))
         peaks = np.empty((0, 3))
-        simulate_kernel(Pm[i], eLw, eLe, eRw, eRe, kinds[i], Mm[i], samples, theta0, omega0,
-                        0.0, t_end[i], rtol, max_steps, out_t, out_y, imp, peaks, Sm[i])
+        _simulate(Pm[i], eLw, eLe, eRw, eRe, kinds[i], Mm[i], samples, s_hi, s_lo, theta0, omega0,
+                  0.0, t_end[i], rtol, max_steps, out_t, out_y, imp, peaks, Sm[i])
 
 
 SIGNATURES = {
     "ground_acc": (F8, I8, VEC, SAMPLES),
     "simulate_kernel": (VEC, VEC, VEC, VEC, VEC, I8, VEC, SAMPLES, F8, F8, F8, F8, F8, I8, VEC, MAT, MAT, MAT, VEC),
-    "simulate_batch": (MAT, VEC, VEC, VEC, VEC, IVEC, MAT, SAMPLES, F8, F8, VEC, F8, I8, MAT),
+    "simulate_batch": (MAT, MAT, IVEC, IVEC, IVEC, MAT, SAMPLES, VEC, VEC, F8, F8, VEC, F8, I8, MAT),
 }
 """The one argument-type signature of each entry point (see statue2model.compute.compile)."""
