@@ -398,19 +398,11 @@ def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_
     for name, v in (("duration", duration), ("dt", dt)):
         if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise InputError(f"record set: {name} must be a positive number of s, got {v!r}")
-    try:
-        lo, hi = (float(b) for b in band)
-    except (TypeError, ValueError):
-        raise InputError(f"record set: band must be two periods (s), got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise InputError(f"record set: band must be two periods 0 < T0 < T1 (s), got {band!r}")
-    if lo < 4 * dt:
-        raise InputError(f"record set: dt {dt:g} s is too coarse for periods from {lo:g} s: use dt <= {lo / 4:g} s "
-                         f"or a band starting at {4 * dt:g} s or more")
+    lo, hi = check_band(band, dt)
     if hi > duration / 5 * (1 + 1e-9):   # longer periods lose too much to the baseline correction
         raise InputError(f"record set: a {duration:g} s record cannot be matched up to {hi:g} s: use a "
                          f"duration of at least {5 * hi:g} s or a band ending at {duration / 5:g} s or less")
-    tol = _tolerance(tolerance)
+    tol = check_tolerance(tolerance)
     rb = (lo, hi) if required_band is None else tuple(float(x) for x in required_band)
     from ..compute import budget
 
@@ -478,17 +470,31 @@ def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_
                      design_ground_displacement(ground), _sd_plateau(ground))
 
 
-def _tolerance(tolerance) -> tuple:
-    """(below, above or None) fractions, checked: -1 < below < 0 < above."""
+def check_band(band, dt: float, what: str = "record set") -> tuple[float, float]:
+    """(T0, T1) of ``band`` as floats, refused in one line unless 0 < T0 < T1 and T0 >= 4 dt (the
+    shortest period a record sampled every ``dt`` s resolves)."""
+    try:
+        lo, hi = (float(b) for b in band)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: band must be two periods (s), got {band!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise InputError(f"{what}: band must be two periods 0 < T0 < T1 (s), got {band!r}")
+    if lo < 4 * dt:
+        raise InputError(f"{what}: dt {dt:g} s is too coarse for periods from {lo:g} s: use dt <= {lo / 4:g} s "
+                         f"or a band starting at {4 * dt:g} s or more")
+    return lo, hi
+
+
+def check_tolerance(tolerance, what: str = "record set") -> tuple:
+    """(below, above or None) fractions, refused in one line unless -1 < below < 0 < above."""
     try:
         lo_t, hi_t = tolerance
         lo_t = float(lo_t)
         hi_t = None if hi_t is None else float(hi_t)
     except (TypeError, ValueError):
-        raise InputError(f"record set: tolerance must be (below, above) fractions like (-0.1, None) or (-0.1, 0.3), "
-                         f"got {tolerance!r}") from None
+        lo_t, hi_t = math.nan, None
     if not (-1 < lo_t < 0 and (hi_t is None or 0 < hi_t < math.inf)):
-        raise InputError(f"record set: tolerance must be (below, above) fractions like (-0.1, None) or (-0.1, 0.3), "
+        raise InputError(f"{what}: tolerance must be (below, above) fractions like (-0.1, None) or (-0.1, 0.3), "
                          f"got {tolerance!r}")
     return lo_t, hi_t
 

@@ -62,7 +62,8 @@ import numpy as np
 
 from ..errors import InputError, missing_extra
 from ..quantities import G_STANDARD
-from .matching import DEFAULT_BAND, TOLERANCE, RecordSet, envelope, high_pass, stationary_part
+from .matching import (DEFAULT_BAND, TOLERANCE, RecordSet, check_band, check_tolerance, envelope, high_pass,
+                       stationary_part)
 from .motions import GroundMotion, record
 from .response_spectra import psa
 
@@ -117,18 +118,6 @@ def _count(name: str, v, lo: int, hi: int) -> int:
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
         raise InputError(f"wavelet record set: {name} must be an integer from {lo} to {hi}, got {v!r}")
     return int(v)
-
-
-def _tolerance(tolerance) -> tuple:
-    try:
-        below, above = tolerance
-        below, above = float(below), (None if above is None else float(above))
-    except (TypeError, ValueError):
-        below, above = math.nan, None
-    if not (-1 < below < 0 and (above is None or 0 < above < math.inf)):
-        raise InputError(f"wavelet record set: tolerance must be (below, above) fractions like (-0.1, None) or "
-                         f"(-0.1, 0.3), got {tolerance!r}")
-    return below, above
 
 
 def _target(target, T: np.ndarray) -> np.ndarray:
@@ -209,16 +198,8 @@ def match_set_wavelet(target, n: int = 7, seed: int = 1, duration: float = 25.0,
     seed + i, duration, dt, band, scales, iterations, taper)."""
     dt = _positive("dt (s)", dt)
     duration = _positive("duration (s)", duration)
-    try:
-        lo, hi = (float(b) for b in band)
-    except (TypeError, ValueError):
-        raise InputError(f"wavelet record set: band must be two periods (s), got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise InputError(f"wavelet record set: band must be two periods 0 < T0 < T1 (s), got {band!r}")
-    if lo < 4 * dt:
-        raise InputError(f"wavelet record set: dt {dt:g} s is too coarse for periods from {lo:g} s: use dt <= "
-                         f"{lo / 4:g} s or a band starting at {4 * dt:g} s or more")
-    tol = _tolerance(tolerance)
+    lo, hi = check_band(band, dt, "wavelet record set")
+    tol = check_tolerance(tolerance, "wavelet record set")
     try:
         rb = (lo, hi) if required_band is None else tuple(float(x) for x in required_band)
     except (TypeError, ValueError):
