@@ -50,14 +50,14 @@ def _gib(text: str) -> tuple[float, float]:
 
 def test_records_beyond_memory_refused_at_once(tmp_path):
     """100 records of 600 s at 1 ms: the FFT step alone holds 40 n (nfft / 2 + 1) bytes with
-    nfft = 2^21 -> 4.0 GiB, plus the set (0.45 GiB): above the 4 GiB budget."""
+    nfft = 2^21 -> 4.0 GiB, plus the stationary signals and the set (0.9 GiB): above the 4 GiB budget."""
     out = tmp_path / "set"
     r, took = _cli("records", "--spectrum", SPECTRUM, "--n", "100", "--duration", "600", "--dt", "0.001",
                    "--out", str(out))
     line = _one_line_error(r)
     est, limit = _gib(line)
     n, N, F = 100, 600_001, 2 ** 20 + 1
-    assert est == pytest.approx((8 * n * N + 40 * n * F) / 2 ** 30, rel=0.05)   # the closed form above
+    assert est == pytest.approx((16 * n * N + 40 * n * F) / 2 ** 30, rel=0.05)   # the closed form above
     assert est > limit
     assert "fewer records" in line and "coarser dt" in line
     assert took < 2.0, f"refused after {took:.1f} s"

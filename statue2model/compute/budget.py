@@ -151,10 +151,12 @@ def record_set_bytes(n_records: int, npts: int, nfft: int, tail: int, k_max: int
     """Peak bytes of matching ``n_records`` records of ``npts`` samples to a spectrum
     (:func:`statue2model.hazard.matching.match_set`), the largest of its steps:
 
-    * an iteration's FFT step: the set (8 n npts), the correction factors (8 n F, F =
-      nfft / 2 + 1), the records' spectra and the corrected spectra (16 n F each), then
-      the inverse's output (8 n nfft) in their place;
-    * a response spectrum (:func:`statue2model.hazard.response_spectra.psa`): the set, the set
+    * an iteration's FFT step: the stationary signals and the set (8 n npts each), the
+      correction factors (8 n F, F = nfft / 2 + 1), the records' spectra and the corrected
+      spectra (16 n F each), then the inverse's output (8 n nfft) in their place;
+    * a response spectrum (:func:`statue2model.hazard.response_spectra.psa`): the stationary
+      signals, the enveloped signals and the baseline-corrected set (8 n npts each, the
+      envelope re-applied every iteration) and the set again inside psa, the set
       followed by ``tail`` zeros (8 n N', N' = npts + tail), re-sampled ``k_max`` times
       finer for the shortest periods (M = (N' - 1) k_max + 1 samples: the linear
       interpolation holds four (n, M) arrays at once, plus its (M,) index and weight
@@ -164,8 +166,8 @@ def record_set_bytes(n_records: int, npts: int, nfft: int, tail: int, k_max: int
     n, N, F = float(n_records), float(npts), float(nfft // 2 + 1)
     Np = N + float(tail)
     M = (Np - 1.0) * max(1, int(k_max)) + 1.0
-    fft = 8 * n * N + 8 * n * F + 32 * n * F
-    spectrum = 8 * n * N + 8 * n * Np + (32 * n * M + 32 * M if k_max > 1 else 16 * n * Np)
+    fft = 16 * n * N + 8 * n * F + 32 * n * F
+    spectrum = 32 * n * N + 8 * n * Np + (32 * n * M + 32 * M if k_max > 1 else 16 * n * Np)
     start = 24 * n * N
     return max(fft, spectrum, start)
 
