@@ -141,8 +141,9 @@ def test_records_command_with_the_wavelet_method(tmp_path, capsys):
     from statue2model.cli import main
 
     out = tmp_path / "set"
-    assert main(["records", "--spectrum", "ec8:ag=0.25g,ground=C", "--method", "wavelet", "--n", "7",
-                 "--out", str(out)]) == 0
+    assert main(["records", "--spectrum", "ec8:ag=0.25g,ground=C", "--method", "wavelet", "--n", "2",
+                 "--keep-unmet", "--out", str(out)]) == 0     # 2 records: the wiring, not the code's count
     data = json.loads((out / "set.json").read_text())
-    assert "reqpy" in data["method"] and data["check"]["met"] and len(data["files"]) == 7
+    assert "reqpy" in data["method"] and data["check"]["fit_met"] and len(data["files"]) == 2
+    assert [r["rule"] for r in data["rules"] if not r["ok"]] == ["records"]
     assert all(r["a_start_over_pga"] == 0.0 for r in data["records"])
