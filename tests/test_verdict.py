@@ -222,3 +222,16 @@ def test_no_probability_from_an_unidentified_spread():
 
     line = fragility(dyn, 0.287 * 9.80665, False)["line"]
     assert "P(overturning) at the design PGA not known (spread not identified" in line and "< 0.01" not in line
+
+
+def test_the_verdict_box_states_its_criteria_assumptions_and_limitations(tmp_path):
+    v = _with_ls(tmp_path, _ls())
+    assert any("mean over the 7 design records" in c for c in v["criteria"])
+    assert any("no isolator needed when the statue stays in full contact" in c for c in v["criteria"])
+    assert any(v["hazard"]["text"] in a for a in v["assumptions"])
+    assert any("illustrations" in x for x in v["limitations"])
+    from statue2model.report.html import render_report
+
+    box = {k: v[k] for k in ("recommendation", "status", "lines", "criteria", "assumptions", "limitations")}
+    page = render_report({"title": "t", "verdict": box, "sections": []}, tmp_path / "r.html").read_text()
+    assert "Criteria" in page and "Limitations" in page and "rigid body rocking" in page

@@ -201,7 +201,41 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     out["recommendation"] = (recommend_from_limit_states(fixed, isolated, ls) if ls
                              else recommend(fixed, isolated, pga))
     out["status"] = status(out["recommendation"])
+    out.update(basis(ls, hz, model))
     return out
+
+
+def basis(ls: dict | None, hz: dict, model) -> dict:
+    """The verdict box's criteria, assumptions and limitations (lists of sentences): what the
+    recommendation was decided on and what it does not cover."""
+    n = (ls or {}).get("n_records")
+    kind = getattr(model, "kind", "housner") if model is not None else "housner"
+    if ls:
+        criteria = [" ".join(RULE.split()),
+                    f"Each limit state's demand is the {ls.get('statistic', 'mean')} over the {n} design records "
+                    "(NTC 2018 7.3.5, EN 1998-1 4.3.3.4.3); a limit state is exceeded at demand / capacity >= 1, "
+                    "overturning when any record overturns."]
+    else:
+        criteria = ["Without the dynamics stage: the quasi-static uplift check (uplift acceleration against the "
+                    "design PGA) and the isolator design's spectral checks only."]
+    assumptions = [
+        f"The design target: {hz.get('text', 'the design spectrum')}.",
+        "The design records are artificial, matched to the design target to the codes' rules "
+        "(dynamics/records/set.json lists each rule and each record's PGA, PGV, PGD).",
+        "The statue is a rigid body rocking in the plane of the excitation direction (2D model, "
+        + ("imperfect model with the identified alpha and theta" if kind == "imperfect" else
+           "Housner's model with the angular-momentum restitution of eq. 15") + "); its base does not slide "
+        "unless b/h exceeds the static friction mu_s.",
+        "The isolator is the thesis' rolling-ball device with the measured rolling friction; the ball load it "
+        "carries is compared with the thesis' tests on beech grooves (ch. 6.4)."]
+    limitations = [
+        "One horizontal direction at a time; vertical ground motion and torsion are not modelled (the 3D "
+        "cross-check, when run, says where the 2D model and 3D contact physics agree).",
+        "Results of a single record (the variability sweep, the example history) are illustrations, not the "
+        "basis of the recommendation.",
+        "Material damage at the contact (chipping, the statue's own strength) is not assessed; uplift is treated "
+        "as damage to be avoided (the thesis' full-contact objective)."]
+    return {"criteria": criteria, "assumptions": assumptions, "limitations": limitations}
 
 
 def _row(ls: dict, name: str, base: str) -> dict | None:
