@@ -67,7 +67,7 @@ Example
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
@@ -123,10 +123,8 @@ class FixedRecord:
     applicable: bool
 
     def to_dict(self) -> dict:
-        return {"label": self.label, "pga_pos": _num(self.pga_pos), "pga_neg": _num(self.pga_neg),
-                "uplift": self.uplift, "t_uplift": _num(self.t_uplift),
-                "theta_max_over_delta": _num(self.theta_max_over_delta), "n_impacts": self.n_impacts,
-                "overturned": self.overturned, "outcome": self.outcome, "applicable": self.applicable}
+        """Every field, in order; a non-finite number as None."""
+        return _clean(asdict(self))
 
 
 @dataclass(frozen=True)
@@ -152,11 +150,8 @@ class IsolatedRecord:
     outcome: str
 
     def to_dict(self) -> dict:
-        return {"label": self.label, "pga": _num(self.pga), "u_max": _num(self.u_max),
-                "capacity_exceeded": self.capacity_exceeded, "t_capacity": _num(self.t_capacity),
-                "acc_felt": _num(self.acc_felt), "uplift": self.uplift, "t_uplift": _num(self.t_uplift),
-                "theta_max_over_delta": _num(self.theta_max_over_delta), "n_impacts": self.n_impacts,
-                "overturned": self.overturned, "outcome": self.outcome}
+        """Every field, in order; a non-finite number as None."""
+        return _clean(asdict(self))
 
 
 def run_record(item: tuple) -> tuple[FixedRecord, IsolatedRecord | None]:

@@ -47,6 +47,8 @@ from pathlib import Path
 
 from ..quantities import G  # m/s^2
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
+ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
+"""Appended to what the variability sweep (one record) says once the design set's limit states decide."""
 
 
 def _data(stages: dict, name: str) -> dict | None:
@@ -81,19 +83,10 @@ def hazard(cfg) -> dict:
     (code, ground/soil, a_g, S) and, on an upper floor ([building]), the floor spectrum with its
     building; ``pga`` (m/s^2) is the target's Se(0): a_g S on the ground, the peak floor
     acceleration on a floor (statue2model.hazard.site)."""
-    from ..hazard.site import site_hazard
+    from ..hazard.site import site_of
 
-    text = DEFAULT_SPECTRUM
-    if cfg is not None and getattr(cfg, "isolator", None) is not None and cfg.isolator.spectrum:
-        text = cfg.isolator.spectrum
-    b = getattr(cfg, "building", None) if cfg is not None else None
-    if b is None:
-        hz = site_hazard(text)
-    else:
-        hz = site_hazard(text, floor=b.floor, storeys=b.storeys, height=b.height, period=b.period,
-                         structure=b.structure, damping=b.damping, isolated=b.isolated,
-                         method=None if b.floor_spectrum == "auto" else b.floor_spectrum)
-    sp = hz.ground
+    hz = site_of(cfg, DEFAULT_SPECTRUM)
+    text, sp = hz.spectrum, hz.ground
     fields = dict(kv.split("=", 1) for kv in text.split(":", 1)[-1].split(",") if "=" in kv)
     soil = fields.get("ground") or fields.get("soil") or "A"
     return {"spectrum": text, "code": sp.code, "soil": soil, "a_g": sp.a_g, "S": sp.S, "pga": hz.pga,
@@ -134,12 +127,14 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
              ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
     line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
             f"margin {_n(fixed['uplift_margin'])})")
+    ls = (dyn or {}).get("limit_states")
+    sweep_note = ILLUSTRATION if ls else ""     # with the design set's limit states, a sweep only illustrates
     if "overturn_margin" in fixed:
         if fixed["first_overturn_pga"] is None:
-            line += "; it did not overturn at any PGA of the variability sweep"
+            line += "; it did not overturn at any PGA of the variability sweep" + sweep_note
         else:
             line += (f"; it overturned from {_g(fixed['first_overturn_pga'])} in the variability sweep "
-                     f"(margin {_n(fixed['overturn_margin'])} on the design PGA)")
+                     f"(margin {_n(fixed['overturn_margin'])} on the design PGA)" + sweep_note)
     lines.append(line + ".")
 
     iso = _data(stages, "isolator")
@@ -180,19 +175,15 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
                          f"; it overturned or exceeded the capacity from {_g(f_)} in the sweep "
-                         f"(margin {_n(isolated['failure_margin'])} on the design PGA)")
+                         f"(margin {_n(isolated['failure_margin'])} on the design PGA)") + sweep_note
             lines.append(line + ".")
         else:
             isolated["reason"] = design.get("failure") or design_failure(design)
             lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).")
     out["isolated"] = isolated
-    ls = (dyn or {}).get("limit_states")
     if ls:
         out["limit_states"] = ls
         lines.insert(1, limit_state_line(ls))
-        for i, ln in enumerate(lines):     # the sweeps of one record: illustrations, labelled so
-            if i > 1 and ("in the variability sweep" in ln or "in the sweep" in ln or "of the sweep" in ln):
-                lines[i] = ln[:-1] + " (illustration: one record scaled over PGA, not the basis of the recommendation)."
     fr = fragility(dyn, pga, design is not None)
     if fr:
         out["fragility"] = fr

@@ -79,6 +79,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -310,11 +311,16 @@ class RecordSet:
                         "ok": bool(above <= 1 + hi_tol)})
         return out
 
-    def measures(self) -> list[dict]:
-        """Each record's realism figures (:func:`statue2model.hazard.record_measures.record_measures`)."""
+    @cached_property
+    def _measures(self) -> tuple:
         from .record_measures import record_measures
 
-        return [record_measures(m) for m in self.records]
+        return tuple(record_measures(m) for m in self.records)
+
+    def measures(self) -> list[dict]:
+        """Each record's realism figures (:func:`statue2model.hazard.record_measures.record_measures`),
+        computed once per set (the records are immutable); fresh dicts each call."""
+        return [dict(m) for m in self._measures]
 
     def realism(self, measures: list[dict] | None = None) -> dict:
         """The set's PGD against d_g (module docstring): mean and max PGD, their ratio to d_g, the
@@ -360,26 +366,35 @@ class RecordSet:
                 "mean_m_s2": self.mean.tolist()}
 
 
-def _target_values(target, T: np.ndarray) -> np.ndarray:
+def target_values(target, T: np.ndarray, where: str = "over the matching periods") -> np.ndarray:
+    """``target.Se(T)`` (m/s^2), refused in one line unless it is positive and finite ``where``."""
     if not callable(getattr(target, "Se", None)):
         raise InputError(f"the target spectrum must have an Se(T) method, got {type(target).__name__}")
     v = np.asarray(target.Se(T), dtype=float)
     if v.shape != T.shape or not np.all(np.isfinite(v)) or np.any(v <= 0):
-        raise InputError("the target spectrum must be positive and finite over the matching periods")
+        raise InputError(f"the target spectrum must be positive and finite {where}")
     return v
 
 
-def _ground_of(target):
-    """The ground spectrum under ``target`` (itself, or a floor spectrum's ``ground``)."""
-    return getattr(target, "ground", None) or target
+def pga_scale(peaks, target_pga: float) -> float:
+    """The factor that lifts a set whose records peak at ``peaks`` (m/s^2) to a mean PGA of at
+    least ``target_pga`` (EC8 3.2.3.1.2(4)b: the mean at T = 0 not below Se(0)); 1 if it is there."""
+    scale = target_pga / float(np.mean(peaks))
+    return scale * (1 + 1e-12) if scale > 1 else 1.0
 
 
-def _sd_plateau(ground) -> float | None:
-    """The ground spectrum's spectral displacement at T_D (m), or None."""
+def target_facts(target) -> tuple[dict, float | None, float | None]:
+    """(``target.to_dict()``, the ground's d_g in m, the ground's SDe at T_D in m) of a target
+    spectrum: the ground is the target itself or a floor spectrum's ``ground`` (None: not a code
+    ground spectrum)."""
+    from .record_measures import design_ground_displacement
+
+    info = target.to_dict() if callable(getattr(target, "to_dict", None)) else {"kind": type(target).__name__}
+    ground = getattr(target, "ground", None) or target
     T_D = getattr(ground, "T_D", None)
-    if T_D is None or not callable(getattr(ground, "Se", None)):
-        return None
-    return float(ground.Se(np.array([float(T_D)]))[0]) * float(T_D) ** 2 / (4 * math.pi ** 2)
+    sd = (None if T_D is None or not callable(getattr(ground, "Se", None)) else
+          float(ground.Se(np.array([float(T_D)]))[0]) * float(T_D) ** 2 / (4 * math.pi ** 2))
+    return info, design_ground_displacement(ground), sd
 
 
 def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_MIN, dt: float = 0.01,
@@ -421,7 +436,7 @@ def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_
                        f"response spectra at {N_MATCH} periods)", fix)
     budget.check_seconds(budget.record_set_seconds(n, npts, nfft, tail, ks, iterations, ks_check),
                          head + f" with up to {iterations} iterations", fix + ", or fewer iterations")
-    S_match, S_check = _target_values(target, T_match), _target_values(target, T_check)
+    S_match, S_check = target_values(target, T_match), target_values(target, T_check)
 
     t = np.arange(npts) * dt
     env = envelope(t, duration)
@@ -453,21 +468,17 @@ def match_set(target, n: int = N_MIN, seed: int = 1, duration: float = DURATION_
             R = np.stack([np.interp(logf, logf_match, r[::-1]) for r in ratio])
             s = filtered(s, R * H)
         acc = baseline_correct(s * env, dt, env)
-        target_pga = float(_target_values(target, np.array([0.0]))[0])
-        scale = target_pga / float(np.mean(np.max(np.abs(acc), axis=-1)))
-        scale = scale * (1 + 1e-12) if scale > 1 else 1.0       # EC8 3.2.3.1.2(4)b: mean PGA >= Se(0)
+        target_pga = float(target_values(target, np.array([0.0]))[0])
+        scale = pga_scale(np.max(np.abs(acc), axis=-1), target_pga)
         acc = acc * scale
         spectra = psa(acc, dt, T_check, xi)
     finally:
         bar.close()
-    info = target.to_dict() if callable(getattr(target, "to_dict", None)) else {"kind": type(target).__name__}
     records = tuple(record(a, dt, label=f"matched seed {k}") for a, k in zip(acc, seeds))
-    from .record_measures import design_ground_displacement
-
-    ground = _ground_of(target)
+    info, d_g, sd_plateau = target_facts(target)
     return RecordSet(records, seeds, T_check, spectra, S_check, (lo, hi), tol, xi, done, info, target_pga,
                      rb, band_reason or f"{rb[0]:g} s to {rb[1]:.4g} s", stationary_part(duration), float(scale),
-                     design_ground_displacement(ground), _sd_plateau(ground))
+                     d_g, sd_plateau)
 
 
 def check_band(band, dt: float, what: str = "record set") -> tuple[float, float]:

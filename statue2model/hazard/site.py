@@ -104,3 +104,18 @@ def site_hazard(spectrum: str, floor: int = 0, storeys: int | None = None, heigh
     b = Building(storeys, height, period, structure, damping, isolated)
     target = floor_spectrum_for(ground, b, floor, method)
     return SiteHazard(spectrum, ground, target, int(floor), b)
+
+
+def site_of(cfg, default_spectrum: str) -> SiteHazard:
+    """The :class:`SiteHazard` of a project configuration ``cfg`` (any object with ``isolator.spectrum``
+    and ``building``: floor, storeys, height, period, structure, damping, isolated, floor_spectrum;
+    either may be missing, and ``cfg`` None): its ground spectrum, or ``default_spectrum`` when it
+    names none, under its building."""
+    iso = getattr(cfg, "isolator", None)
+    text = getattr(iso, "spectrum", None) or default_spectrum
+    b = getattr(cfg, "building", None)
+    if b is None:
+        return site_hazard(text)
+    return site_hazard(text, floor=b.floor, storeys=b.storeys, height=b.height, period=b.period,
+                       structure=b.structure, damping=b.damping, isolated=b.isolated,
+                       method=None if b.floor_spectrum == "auto" else b.floor_spectrum)

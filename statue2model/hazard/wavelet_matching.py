@@ -63,7 +63,7 @@ import numpy as np
 from ..errors import InputError, missing_extra
 from ..quantities import G_STANDARD
 from .matching import (DEFAULT_BAND, TOLERANCE, RecordSet, check_band, check_tolerance, envelope, high_pass,
-                       stationary_part)
+                       pga_scale, stationary_part, target_facts, target_values)
 from .motions import GroundMotion, record
 from .response_spectra import psa
 
@@ -118,15 +118,6 @@ def _count(name: str, v, lo: int, hi: int) -> int:
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
         raise InputError(f"wavelet record set: {name} must be an integer from {lo} to {hi}, got {v!r}")
     return int(v)
-
-
-def _target(target, T: np.ndarray) -> np.ndarray:
-    if not callable(getattr(target, "Se", None)):
-        raise InputError(f"the target spectrum must have an Se(T) method, got {type(target).__name__}")
-    v = np.asarray(target.Se(T), dtype=float)
-    if v.shape != T.shape or not np.all(np.isfinite(v)) or np.any(v <= 0):
-        raise InputError("the target spectrum must be positive and finite from 0 s to the longest matched period")
-    return v
 
 
 def _taper(n: int, k: int) -> np.ndarray:
@@ -229,10 +220,11 @@ def match_set_wavelet(target, n: int = 7, seed: int = 1, duration: float = 25.0,
     xi = float(getattr(target, "xi", 5.0)) / 100.0
     T_end = 1.5 * hi                                           # matched up to here
     T_grid = np.geomspace(dt, 1.2 * max(10.0, n_even * dt / 4, T_end), 400)   # covers reqpy's scales
-    S_grid = _target(target, T_grid) / G_STANDARD             # reqpy works in g
+    where = "from 0 s to the longest matched period"
+    S_grid = target_values(target, T_grid, where) / G_STANDARD             # reqpy works in g
     T_check = np.geomspace(lo, hi, CHECK_POINTS)
-    S_check = _target(target, T_check)
-    target_pga = float(_target(target, np.array([0.0]))[0])
+    S_check = target_values(target, T_check, where)
+    target_pga = float(target_values(target, np.array([0.0]), where)[0])
     rq = _reqpy()
     from ..compute.executors import progress_bar
 
@@ -263,19 +255,13 @@ def match_set_wavelet(target, n: int = 7, seed: int = 1, duration: float = 25.0,
     finally:
         bar.close()
     # EC8 3.2.3.1.2(4)b: the set's mean PGA not below Se(0), as match_set does
-    scale = target_pga / float(np.mean([np.max(np.abs(a)) for _, a in out]))
-    scale = scale * (1 + 1e-12) if scale > 1 else 1.0
+    scale = pga_scale([np.max(np.abs(a)) for _, a in out], target_pga)
     motions = tuple(record(a * scale, dt, label=label) for label, a in out)
     spectra = np.stack([psa(m.samples, dt, T_check, xi) for m in motions])
-    info = target.to_dict() if callable(getattr(target, "to_dict", None)) else {"kind": type(target).__name__}
-    from .record_measures import design_ground_displacement
-
-    ground = getattr(target, "ground", None) or target        # a floor spectrum's ground
-    T_D = getattr(ground, "T_D", None)
-    sd_plateau = float(ground.SDe(T_D)) if T_D is not None and callable(getattr(ground, "SDe", None)) else None
+    info, d_g, sd_plateau = target_facts(target)
     stationary = stationary_part(duration) if records is None else math.nan
     return WaveletRecordSet(records=motions, seeds=tuple(sd for _, sd, _ in seeds), periods=T_check,
                             spectra=spectra, target=S_check, band=(lo, hi), tolerance=tol, xi=xi,
                             iterations=iterations, target_info=info, target_pga=target_pga, required_band=rb,
                             band_reason=band_reason or f"{rb[0]:g} s to {rb[1]:.4g} s", stationary_s=stationary,
-                            pga_scale=float(scale), d_g=design_ground_displacement(ground), sd_plateau=sd_plateau)
+                            pga_scale=float(scale), d_g=d_g, sd_plateau=sd_plateau)

@@ -622,12 +622,9 @@ def site(cfg: ProjectConfig):
     """The run's :class:`statue2model.hazard.site.SiteHazard`: the [isolator] spectrum (the default
     one of the verdict when the isolator designs on a motion) under the [building] section."""
     from ..assessment.verdict import DEFAULT_SPECTRUM
-    from ..hazard.site import site_hazard
+    from ..hazard.site import site_of
 
-    b = cfg.building
-    return site_hazard(cfg.isolator.spectrum or DEFAULT_SPECTRUM, floor=b.floor, storeys=b.storeys, height=b.height,
-                       period=b.period, structure=b.structure, damping=b.damping, isolated=b.isolated,
-                       method=None if b.floor_spectrum == AUTO else b.floor_spectrum)
+    return site_of(cfg, DEFAULT_SPECTRUM)
 
 
 def default_toml() -> str:
