@@ -56,6 +56,24 @@ PER_METRE = {"mm": 1000.0, "cm": 100.0, "m": 1.0, "in": 1 / 0.0254}
 """Length units of :func:`length` and :func:`sheet_size` -> how many make a metre."""
 
 
+def positive(name: str, value) -> float:
+    """``value`` as a float when it is a positive finite number (not a bool), else one line naming
+    ``name``.
+
+    >>> positive("height", "11.5")
+    11.5
+    """
+    if isinstance(value, bool):
+        raise InputError(f"{name} must be a positive number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a positive number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
 def positive_float(text) -> float:
     """A positive finite number (the text or a number)."""
     try:

@@ -206,7 +206,8 @@ def test_readme_example_runs(tmp_path, checkout_untouched):
             steps.append(("edit", EDIT.findall(line)))
     assert [kind for kind, _ in steps] == ["run", "edit", "run"], steps
     edits = steps[1][1]
-    assert {(s, k) for s, k, _ in edits} == {("scan", "density"), ("isolator", "spectrum")}, edits
+    assert {(s, k) for s, k, _ in edits} == {("scan", "density"), ("isolator", "spectrum"), ("building", "floor"),
+                                             ("building", "storeys"), ("building", "height")}, edits
     times = []
     for kind, what in steps:
         if kind == "edit":

@@ -100,7 +100,8 @@ def test_identical_serial_processes_dask():
 
     iso = Isolator(R=0.31, r=0.0095, M=STATUE.m + 8.0, mu=0.0073, capacity=0.15)
     ref = _statue_study(None, iso)
-    assert set(ref.curves) == {"overturn", "overturn_isolated", "capacity_exceeded", "failure_isolated"}
+    assert set(ref.curves) == {"uplift", "overturn", "uplift_isolated", "overturn_isolated", "capacity_exceeded",
+                               "failure_isolated"}
     assert ref.curves["overturn"].n_fail.sum() > 0 and ref.curves["capacity_exceeded"].n_fail.sum() > 0
     others = [SerialExecutor(), ProcessExecutor(2)]
     cluster = None
@@ -137,7 +138,7 @@ def test_outputs(tmp_path):
     res.write_csv(tmp_path / "f.csv")
     plot_fragility(res, tmp_path / "f.png")
     lines = (tmp_path / "f.csv").read_text().splitlines()
-    assert lines[0].startswith("outcome,pga_m_s2,n_fail,n_trials") and len(lines) == 1 + 5
+    assert lines[0].startswith("outcome,pga_m_s2,n_fail,n_trials") and len(lines) == 1 + 2 * 5    # uplift, overturn
     assert (tmp_path / "f.png").stat().st_size > 10_000
 
 

@@ -242,9 +242,9 @@ def test_one_batch_per_record_equals_one_per_restitution_pair():
     study = F.FragilityStudy(n_boot=0)
     ims = np.array([F.intensity(r, "pga") for r in recs])
     gains = levels[None, :] / ims[:, None]
-    fails, valid, n_int, st = F._fixed(model, recs, gains, samples, study, None, 20_000_000, keep_stats=True)
+    fails, valid, n_int, _, st = F._fixed(model, recs, gains, samples, study, None, 20_000_000, keep_stats=True)
     with SerialExecutor() as ex:
-        fails2, _, _, st2 = F._fixed(model, recs, gains, samples, study, ex, 20_000_000, keep_stats=True)
+        fails2, _, _, _, st2 = F._fixed(model, recs, gains, samples, study, ex, 20_000_000, keep_stats=True)
     assert np.array_equal(st, st2, equal_nan=True) and np.array_equal(fails, fails2)
     models = samples.models(model)
     fac = samples.im_factors()

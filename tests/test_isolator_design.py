@@ -20,7 +20,7 @@ from statue2model.isolator.design import (
     tipping_capacity,
 )
 from statue2model.hazard.code_spectra import G as G0
-from statue2model.hazard.code_spectra import ec8, ntc2018
+from statue2model.hazard.code_spectra import ec8
 from statue2model.isolator.device import groove_capacity
 from statue2model.errors import InputError
 
@@ -35,13 +35,20 @@ VENERE_ALPHA = (0.159, 0.175)
 
 
 def _venere_spectrum():
-    """The thesis gives the Venere's design spectrum (SLA, Syracuse, soil C, T1; a floor
-    spectrum) only as a figure (Fig. 117). Stand-in: NTC 2018 soil C, T1 with F0 = 2.4,
-    Tc* = 0.3 s (placeholders) and a_g solved so that Se(1.55 s) = 0.3917 m/s^2, the
-    thesis' design acceleration at its period (R_hat ~ 0.60 m)."""
-    T = 2 * math.pi * math.sqrt(0.60 / G)
-    unit = ntc2018(1.0, 2.4, 0.3, "C")
-    return ntc2018(0.3917 / float(unit.Se(T)), 2.4, 0.3, "C")
+    """The spectrum the thesis' 1:2 prototype feels (ch. 6.3.2), built from the thesis' inputs, not
+    from its answer (tests/test_venere_reproduction.py, docs/venere.md): the SLA at the Paolo Orsi
+    museum, Syracuse, from the NTC hazard grid, T_R = 75 years (the damage level of a class III
+    building: the thesis prints its T_R only in Fig. 117a), soil C, T1; the floor spectrum at
+    z = 8.0 m of 11.5 m, 3 storeys, T1 = 0.32 s (Circolare general formulation); times / sqrt(2)
+    for the prototype. At T = 1.55 s it gives 0.4334 m/s^2 (the thesis: 0.3917)."""
+    from statue2model.hazard.floor import floor_spectrum
+    from statue2model.hazard.froude_spectrum import FroudeSpectrum
+    from statue2model.hazard.ntc_grid import PAOLO_ORSI, PAOLO_ORSI_CELL, return_period, site_spectrum
+
+    ground = site_spectrum(PAOLO_ORSI_CELL, *PAOLO_ORSI, return_period(50, 1.5, 0.63), soil="C",
+                           topography="T1", limit_state="SLA")
+    floor = floor_spectrum(ground, z=8.0, H=11.5, T1=0.32, code="ntc2018", n=3, structure="masonry")
+    return FroudeSpectrum(floor, 2.0)
 
 
 # --- capacity --------------------------------------------------------------------------------------
@@ -96,7 +103,10 @@ def test_the_design_procedure_reproduces_the_three_groove_device():
     for r, T in ((0.0095, 1.53), (0.0183, 1.51)):
         d = design(VENERE, spectrum=ec8(0.05 * G0, "A"), mu=0.0131, R_grid=(0.30,), balls=(r,), n_grooves=3,
                    thickness=0.03)
-        assert d.passed and (d.R, d.r, d.n_grooves) == (0.30, r, 3)
+        # every check but the ball load (required): on 9.5 mm balls the r^2 scaling of the one tested point
+        # (73.6 N on 20 mm) allows 16.6 N, the Venere puts 53 N on each of three
+        assert all(c.passed for c in d.checks if c.required and c.key != "ball_load")
+        assert (d.R, d.r, d.n_grooves) == (0.30, r, 3)
         assert round(d.T, 2) == T
     assert round(d.R_hat, 3) == 0.563
 
@@ -108,17 +118,19 @@ def test_venere_case_study():
     with the spectral displacement. The thesis gives neither the grooves' opening nor the
     plate's size: R = 0.32 m with the 20 mm ivory balls gives its R_hat = 0.60 m, an 80 mm
     opening gives the 0.15 m, and a 0.47 m x 30 mm beech plate weighs the measured
-    4.359 kg."""
+    4.359 kg. On the spectrum rebuilt from the thesis' inputs (_venere_spectrum, docs/venere.md)
+    the design acceleration is 0.4334 m/s^2, 10.6 % above the thesis' 0.3917: the thesis'
+    0.2 % margin below the uplift does not survive, and the device fails the acceleration check."""
     sp = _venere_spectrum()
     d = assess(VENERE, R=0.32, r=0.020, n_grooves=4, opening_radius=0.080, spacing=0.27, side=0.47,
                thickness=0.03, mu=MU, spectrum=sp, alpha=VENERE_ALPHA)
     assert d.T == pytest.approx(1.55, abs=0.005)
-    assert d.a_design == pytest.approx(0.3917, abs=1e-4)
-    assert d.a_lim == pytest.approx(0.3924, abs=2e-4) and d.a_design < d.a_lim
+    assert d.a_design == pytest.approx(0.4334, abs=1e-4)
+    assert d.a_lim == pytest.approx(0.3924, abs=2e-4) and d.a_design > d.a_lim
     assert d.m_o == pytest.approx(4.359, rel=0.01) and d.M == pytest.approx(16.433, rel=0.01)
     assert d.capacity_groove == pytest.approx(0.150, abs=5e-4)
-    assert d.d_design == pytest.approx(0.0240, abs=2e-4)                   # SDe(1.55 s)
-    assert d.passed
+    assert d.d_design == pytest.approx(0.0265, abs=2e-4)                   # SDe(1.55 s)
+    assert not d.passed and d.failure.startswith("plate acceleration below the statue's uplift limit")
     # on that plate the top plate tips first: the thesis' 0.15 m is the grooves alone
     assert d.capacity_limited_by == "top plate tipping" and 0.12 < d.capacity < 0.15
     assert d.capacity >= DISPLACEMENT_MARGIN * d.d_design + MU * d.R_hat
@@ -126,22 +138,26 @@ def test_venere_case_study():
     big = assess(VENERE, R=0.32, r=0.020, n_grooves=4, opening_radius=0.080, spacing=0.33, side=0.53,
                  thickness=0.03, mu=MU, spectrum=sp, alpha=VENERE_ALPHA)
     assert big.capacity == pytest.approx(0.150, abs=5e-4) and big.capacity_limited_by == "groove rim"
-    # the thesis' margin (0.2 %) rests on R_hat ~ 0.60 m: the exact R_hat of R = 0.30 m with
-    # r = 0.020 m is 0.56 m, T = 1.50 s, and the felt acceleration exceeds the uplift by 3 %
+    # the exact R_hat of R = 0.30 m with r = 0.020 m is 0.56 m, T = 1.50 s: 18 % over the uplift
     exact = assess(VENERE, R=0.30, r=0.020, n_grooves=4, opening_radius=0.080, spacing=0.27, side=0.47,
                    thickness=0.03, mu=MU, spectrum=sp, alpha=VENERE_ALPHA)
     assert exact.T == pytest.approx(1.50, abs=0.005) and not exact.passed
     assert exact.failure.startswith("plate acceleration below the statue's uplift limit")
-    # and it misses the restoring-force rule (advisory): R_hat 0.60 m > 20 d = 0.48 m
+    # and it misses the restoring-force rule (advisory): R_hat 0.60 m > 20 d = 0.53 m
     rec = next(c for c in d.checks if c.key == "recentring")
-    assert not rec.required and not rec.passed and rec.ratio == pytest.approx(1.25, abs=0.01)
+    assert not rec.required and not rec.passed and rec.ratio == pytest.approx(1.13, abs=0.01)
+    # full contact on these inputs needs a longer period: R = 0.36 m, T = 1.65 s
+    longer = assess(VENERE, R=0.36, r=0.020, n_grooves=4, opening_radius=0.080, spacing=0.27, side=0.47,
+                    thickness=0.03, mu=MU, spectrum=sp, alpha=VENERE_ALPHA)
+    assert longer.T == pytest.approx(1.654, abs=0.001)
+    assert longer.a_design < longer.a_lim
 
 
 def test_design_for_the_venere_finds_a_thesis_like_device():
     d = design(VENERE, spectrum=_venere_spectrum(), mu=MU, alpha=VENERE_ALPHA, thickness=0.03)
     assert d.passed and d.a_design <= d.a_lim
-    assert d.T >= 1.55 - 0.01                     # the acceleration sets the shortest period
-    assert 0.3 <= d.R <= 0.4                      # the restoring-force rule keeps it short
+    assert d.T >= 1.633                           # where the spectrum falls to the uplift 0.3923 m/s^2
+    assert 0.3 <= d.R <= 0.45                     # the restoring-force rule keeps it short
     assert d.capacity >= DISPLACEMENT_MARGIN * d.d_design + MU * d.R_hat - 1e-12
     assert d.side == pytest.approx(2 * 0.1995 + 0.04)   # the statue's base sets the plate
 
@@ -162,11 +178,16 @@ def _device(d):
     return (d.R, d.r, d.n_grooves, round(d.side, 3), round(d.spacing, 3), d.thickness)
 
 
+TESTED_INSERT = 2500.0
+"""N per 20 mm ball: a load test of a hard insert, assumed here so that the 5 t block's balls pass (the
+geometry is what these tests are about; no material is claimed to carry it)."""
+
+
 @pytest.mark.parametrize("spectrum", [HAZARD, ec8(0.1 * G0, "B")], ids=["ec8 0.25g C", "ec8 0.1g B"])
 def test_different_statues_get_different_devices(statues, spectrum):
     devices = {}
     for name, st in statues.items():
-        d = design(st, spectrum=spectrum, mu=MU, thickness=0.03, fuse_release=FUSE)
+        d = design(st, spectrum=spectrum, mu=MU, thickness=0.03, fuse_release=FUSE, ball_capacity=TESTED_INSERT)
         assert d.passed, (name, d.failure)
         need = DISPLACEMENT_MARGIN * d.d_design + MU * d.R_hat
         assert d.travel_need == pytest.approx(need) and d.capacity >= need - 1e-12
@@ -180,10 +201,17 @@ def test_different_statues_get_different_devices(statues, spectrum):
         assert len({dev[0] for dev in devices.values()}) > 1, devices
 
 
-def test_the_heavy_block_gets_big_balls_and_a_warning(statues):
+def test_the_heavy_block_gets_the_largest_balls_and_fails_on_the_ball_load(statues):
     d = design(statues["squat 5 t block"], spectrum=HAZARD, mu=MU, thickness=0.03)
     load = next(c for c in d.checks if c.key == "ball_load")
-    assert d.r == 0.025 and not load.required and not load.passed and load.ratio > 50
+    assert d.r == 0.05 and d.n_grooves == 4 and load.required and not load.passed and not d.passed
+    # 73.55 N on a 20 mm ball scaled to 50 mm: 459.7 N, against W / 4 of 5 t and the top plate
+    assert load.limit == pytest.approx(30 * 9.81 / 4 * (0.05 / 0.02) ** 2, rel=1e-4)
+    assert load.ratio == pytest.approx(d.M * 9.81 / 4 / load.limit, rel=1e-9) and load.ratio > 25
+    assert d.failure.startswith("load per ball within what the grooves carry")
+    # a load test of a harder surface (N per 20 mm ball) that carries it lets it pass
+    strong = design(statues["squat 5 t block"], spectrum=HAZARD, mu=MU, thickness=0.03, ball_capacity=TESTED_INSERT)
+    assert strong.passed and strong.to_dict()["ball_capacity"]["tested_load"] == TESTED_INSERT
 
 
 def test_candidates_are_listed_compactly_and_the_choice_follows_the_criterion():

@@ -163,6 +163,27 @@ def test_long_period_isolator_filters_the_ground():
     assert isolated.demand < fixed.demand         # 3 records: both the most unfavourable record's
 
 
+def test_friction_bounds_take_each_quantity_at_the_bound_that_governs():
+    """With mu_bounds every record runs on the isolator at both bounds; each quantity is the worse
+    of the two plate-alone runs (the statue stays in full contact: the plate alone is exact), and the
+    capacity row's friction offset uses the upper bound."""
+    model = thesis()
+    iso = Isolator(R=2.0, r=0.0183, M=21.664, mu=0.0073)
+    recs = [motions.synthetic_record(8.0, 0.01, 3.0, seed=s) for s in range(2)]
+    ls = evaluate(model, recs, iso=iso, mu_bounds=(0.002, 0.03))
+    for r, rec in zip(ls.isolated, recs):
+        lo, hi = plate_alone(Isolator(R=2.0, r=0.0183, M=21.664, mu=0.002), rec), \
+            plate_alone(Isolator(R=2.0, r=0.0183, M=21.664, mu=0.03), rec)
+        assert r.u_max == pytest.approx(max(lo.u_max, hi.u_max), rel=1e-6)
+        assert r.acc_felt == pytest.approx(max(lo.acc_abs_max, hi.acc_abs_max), rel=1e-6)
+    cap = ls.row("capacity", "isolated")
+    assert cap.details["mu_bounds"] == [0.002, 0.03]
+    # 2 records: the most unfavourable (max), not the mean
+    assert cap.demand == pytest.approx(1.5 * max(r.u_max for r in ls.isolated) + 0.03 * iso.R_hat, rel=1e-9)
+    with pytest.raises(InputError, match="mu_bounds"):
+        evaluate(model, recs, iso=iso, mu_bounds=(0.03, 0.002))
+
+
 def test_capacity_exceeded_outright_and_counted_as_a_loss():
     """A 10 mm stroke under 1.5 m/s^2 records: every run stops at the capacity, so the peak travel
     is the capacity and the demand 1.5 x 0.01 + mu R_hat."""

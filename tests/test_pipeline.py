@@ -165,9 +165,15 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
     assert props["a_R"] == pytest.approx(2.7170, abs=1e-4)
     assert min(p.name for p in (out / "prototype" / "layers").iterdir()) == "layer_001.dxf"
     assert (out / "prototype" / "layers.png").is_file()
-    assert (out / "isolator" / "plates" / "bottom_plate.dxf").is_file()
     design = json.loads((out / "isolator" / "design.json").read_text())
-    assert design["passed"] and design["mu"] == 0.0073
+    # the default scan (~420 kg) overloads the thesis' beech grooves (73.6 N per 20 mm ball) on every ball in
+    # range: the design fails on the ball load alone, says what would pass, writes no plates, and the
+    # dynamics stage still analyses the nearest device (the verdict makes the grooves' capacity its condition)
+    from statue2model.assessment.verdict import bearing_only
+
+    assert not design["passed"] and design["mu"] == 0.0073 and bearing_only(design)
+    assert design["what_would_pass"]["ball_capacity_needed"] > design["ball_capacity"]["tested_load"]
+    assert not (out / "isolator" / "plates").exists()
     for name in ("spectrum_fixed", "spectrum_isolated", "variability", "history"):
         assert (out / "dynamics" / f"{name}.json").is_file() and (out / "dynamics" / f"{name}.png").is_file()
     cc = json.loads((out / "crosscheck" / "crosscheck.json").read_text())
@@ -237,7 +243,8 @@ def test_executors_give_identical_numbers(tmp_path):
         assert ja == jb, name
     fa, fb = (json.loads((tmp_path / x / "dynamics" / "fragility.json").read_text()) for x in "ab")
     assert fa["curves"] == fb["curves"] and fa["ratio_of_medians"] == fb["ratio_of_medians"]
-    assert fa["curves"]["overturn"]["n_trials"] == [7] * len(fa["levels"])      # 7 records x 1 sample a level
+    # 7 records x 7 parameter samples at every level the fixed base ran (coarse and adaptive)
+    assert fa["curves"]["overturn"]["n_trials"] == [7 * 7] * len(fa["curves"]["overturn"]["levels"])
 
 
 @pytest.mark.slow
@@ -319,7 +326,10 @@ def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
     assert _numbers(local) == _numbers(dask)
     rows = {r["scan"]: r for r in local["table"]}
     assert rows["dancing_girl.ply"]["weakest uplift [g]"] == pytest.approx(0.2763, abs=1e-3)
-    assert all(r["isolator passes"] for r in local["table"])
+    # on the thesis' beech grooves only the light Nefertiti bust (31 kg) passes; the two marble statues
+    # fail on the ball load alone
+    assert {r["scan"]: r["isolator passes"] for r in local["table"]} == {
+        "dancing_girl.ply": False, "maria_barjatinskaja.ply": False, "nefertiti_bust.obj": True}
     for sub in ("dancing_girl", "maria_barjatinskaja", "nefertiti_bust"):
         assert (tmp_path / "local" / sub / "report.html").is_file()
         a = json.loads((tmp_path / "local" / sub / "dynamics" / "spectrum_isolated.json").read_text())

@@ -209,3 +209,12 @@ def test_the_pipeline_takes_no_rejected_design(tmp_path):
     assert ctx.design() is None
     (tmp_path / "design.json").write_text(json.dumps({"R": 0.3, "passed": True}))
     assert ctx.design() == {"R": 0.3, "passed": True}
+    # a design that fails on the ball load alone is analysed (the verdict makes the grooves' capacity its
+    # condition); one that fails another required check is not
+    checks = [{"key": "travel", "required": True, "passed": True},
+              {"key": "ball_load", "required": True, "passed": False}]
+    (tmp_path / "design.json").write_text(json.dumps({"R": 0.3, "passed": False, "checks": checks}))
+    assert ctx.design()["R"] == 0.3
+    checks[0]["passed"] = False
+    (tmp_path / "design.json").write_text(json.dumps({"R": 0.3, "passed": False, "checks": checks}))
+    assert ctx.design() is None

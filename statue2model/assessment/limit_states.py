@@ -7,8 +7,11 @@ least 7 records (:data:`statue2model.hazard.matching.N_MIN`) the design effect i
 records' effects, with fewer the most unfavourable one (the MAX; the codes ask for at least 3).
 :func:`evaluate` runs every record of the set, already matched to the design target (no scaling
 here), once on a fixed base (:func:`statue2model.rocking.engine.simulate`) and, with an
-isolator, once on it (:func:`statue2model.isolator.coupled.simulate_coupled`: the statue rocks on
-the moving top plate, full contact checked, not assumed), and keeps per record the numbers below
+isolator, on it (:func:`statue2model.isolator.coupled.simulate_coupled`: the statue rocks on
+the moving top plate, full contact checked, not assumed) at the design's two friction bounds
+mu_low and mu_high when it was verified at them (each quantity at the bound that makes it worse,
+EN 15129 / ASCE 7-16 17.2.8.4 practice; the rows' details say ``mu_bounds``), else once at its mu,
+and keeps per record the numbers below
 (:class:`FixedRecord`, :class:`IsolatedRecord`). The rows (:class:`LimitState`), in the order the
 damage grows; each reads ``ratio = demand / capacity`` unless its definition says otherwise:
 
@@ -39,11 +42,11 @@ damage grows; each reads ``ratio = demand / capacity`` unless its definition say
                   max |u_o| + mu R_hat (where friction may have left the plate resting off centre),
                   against the design's travel capacity min(groove rim, top-plate tipping). Exceeded
                   when ratio > 1 or any record passed the capacity outright.
-    bearing       (isolated) the static load per ball W / n (the design's advisory check: no dynamic
-                  factor there; the coupled model keeps W constant), against what the thesis' beech
-                  grooves carried undamaged, BALL_LOAD_TESTED on 20 mm balls (30 kg on four balls,
-                  ch. 6.4) scaled by (r / 0.02)^2. Exceeded when ratio > 1; the row says what raises
-                  the capacity.
+    bearing       (isolated) the static load per ball W / n (the design's required check: no dynamic
+                  factor there; the coupled model keeps W constant), against the design's per-ball
+                  capacity (design.json ``ball_capacity``: the load carried on a 20 mm ball, by default
+                  the thesis' beech grooves, BALL_LOAD_TESTED: 30 kg on four balls, ch. 6.4) scaled by
+                  (r / 0.02)^2. Exceeded when ratio > 1; the row says what raises the capacity.
 
 ``governing`` is each base's row with the largest ratio, ``first_exceeded`` each base's first
 exceeded row in the order above. Every number of :meth:`LimitStates.to_dict` is finite or None
@@ -365,23 +368,61 @@ def contact_limits(model, uplift_band=None) -> tuple[float, float]:
     return float(min(up, aL * low)), float(min(dn, aR * low))
 
 
+def _worse(a: IsolatedRecord, b: IsolatedRecord) -> IsolatedRecord:
+    """One record's isolated numbers at the governing friction bound: each quantity the worse of the
+    runs at the lower (``a``) and the upper (``b``) bound (the larger travel, felt acceleration,
+    rotation and impacts; exceeded, lifted or overturned in either), as EN 15129 / ASCE 7-16
+    17.2.8.4 bound analyses take each response from the bound that maximises it."""
+    first = lambda ta, tb: min((t for t in (ta, tb) if t is not None), default=None)
+    worst = a if (a.overturned, a.capacity_exceeded, a.theta_max_over_delta) >= (
+        b.overturned, b.capacity_exceeded, b.theta_max_over_delta) else b
+    return IsolatedRecord(a.label, a.pga, max(a.u_max, b.u_max), a.capacity_exceeded or b.capacity_exceeded,
+                          first(a.t_capacity, b.t_capacity), max(a.acc_felt, b.acc_felt), a.uplift or b.uplift,
+                          first(a.t_uplift, b.t_uplift), max(a.theta_max_over_delta, b.theta_max_over_delta),
+                          max(a.n_impacts, b.n_impacts), a.overturned or b.overturned, worst.outcome)
+
+
+def friction_bounds_of(design: dict | None) -> tuple[float, float] | None:
+    """(mu_low, mu_high) of an isolator design verified at its friction bounds (design.json's
+    ``verification``), else None."""
+    v = (design or {}).get("verification") or {}
+    lo, hi = v.get("mu_low"), v.get("mu_high")
+    return (float(lo), float(hi)) if lo is not None and hi is not None else None
+
+
 def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_band=None,
-             executor=None) -> LimitStates:
+             executor=None, mu_bounds=None) -> LimitStates:
     """The limit states of ``model`` (a RockingModel: its alpha-reduced uplift limits are the ones
     used) under ``records`` (the design record set's GroundMotions, at the design level), on a
     fixed base and, with ``iso`` (an Isolator) or ``design`` (the isolator design's dict,
     design.json; its Isolator when ``iso`` is None), on the isolator; see the module docstring.
     ``rtol``: the solvers' relative tolerance; ``uplift_band``: (low, high) m/s^2 when the base
     contact is uncertain, else None; ``executor``: maps the records over its workers
-    (statue2model.compute.executors), else they run here."""
+    (statue2model.compute.executors), else they run here. ``mu_bounds``: (mu_low, mu_high) of the
+    isolator's rolling friction (default: the design's verified bounds, :func:`friction_bounds_of`,
+    else the isolator's mu alone): every record runs on the isolator at both bounds and each quantity
+    is taken at the bound that makes it worse (:func:`_worse`)."""
     records, iso, design, band = _check(model, records, iso, design, uplift_band)
-    items = [(model, iso, rec, float(rtol)) for rec in records]
+    if mu_bounds is None:
+        mu_bounds = friction_bounds_of(design)
+    if mu_bounds is not None:
+        lo, hi = (float(x) for x in mu_bounds)
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
+            raise InputError(f"limit states: mu_bounds must be 0 <= mu_low <= mu_high, got {mu_bounds!r}")
+        mu_bounds = (lo, hi)
+    from dataclasses import replace
+
+    isos = [iso] if iso is None or mu_bounds is None else [replace(iso, mu=mu_bounds[0]), replace(iso, mu=mu_bounds[1])]
+    items = [(model, i, rec, float(rtol)) for i in isos for rec in records]
     if executor is None:
         runs = [run_record(it) for it in items]
     else:
-        runs = executor.map(run_record, items, desc=f"limit states: {len(items)} records")
-    fixed = tuple(f for f, _ in runs)
-    isolated = None if iso is None else tuple(i for _, i in runs)
+        runs = executor.map(run_record, items, desc=f"limit states: {len(items)} runs")
+    n_rec = len(records)
+    fixed = tuple(f for f, _ in runs[:n_rec])
+    isolated = None if iso is None else tuple(i for _, i in runs[:n_rec])
+    if iso is not None and len(isos) == 2:
+        isolated = tuple(_worse(a, b) for a, b in zip(isolated, (i for _, i in runs[n_rec:])))
     n = len(records)
     from ..hazard.matching import N_MIN
 
@@ -401,7 +442,11 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     if iso is not None:
         if design is not None and design.get("passed") is False:
             warnings.append("the isolator design does not pass its own required checks")
-        rows += _isolated_rows(isolated, lim, iso, design, statistic)
+        rows += _isolated_rows(isolated, lim, iso, design, statistic,
+                               mu_offset=None if mu_bounds is None else mu_bounds[1])
+        if mu_bounds is not None:
+            rows = [r if r.base != "isolated" else replace(r, details={**r.details, "mu_bounds": list(mu_bounds)})
+                    for r in rows]
     return LimitStates(tuple(rows), fixed, isolated, n, statistic, lim, band, tuple(warnings))
 
 
@@ -470,7 +515,7 @@ def _motion_rows(base, tod, overturned, at_capacity, impacts, uplift, statistic)
     return [rocking, over]
 
 
-def _isolated_rows(recs, lim, iso, design, statistic) -> list[LimitState]:
+def _isolated_rows(recs, lim, iso, design, statistic, mu_offset=None) -> list[LimitState]:
     from ..isolator.design import BALL_LOAD_TESTED, BALL_TESTED, DISPLACEMENT_MARGIN
 
     n = len(recs)
@@ -493,7 +538,9 @@ def _isolated_rows(recs, lim, iso, design, statistic) -> list[LimitState]:
                                 at_cap, [r.n_impacts for r in recs], [r.uplift for r in recs], statistic)]
     # capacity: the design's travel check with the records' peak travel for SDe
     margin = float(design.get("margin", DISPLACEMENT_MARGIN)) if design else DISPLACEMENT_MARGIN
-    mu = float(design.get("mu", iso.mu)) if design else iso.mu
+    # the friction offset at the upper friction bound when the runs took the bounds (the offset
+    # friction can hold grows with mu: conservative), else the design's (or isolator's) mu
+    mu = mu_offset if mu_offset is not None else float(design.get("mu", iso.mu)) if design else iso.mu
     R_hat = float(design.get("R_hat", iso.R_hat)) if design else iso.R_hat
     cap = design.get("capacity") if design else None
     cap = float(cap) if cap is not None else iso.capacity
@@ -504,7 +551,7 @@ def _isolated_rows(recs, lim, iso, design, statistic) -> list[LimitState]:
            "capacity_source": "design" if design and design.get("capacity") is not None else "isolator"}
     defn = (f"travel the design's check asks for, {margin:g} x the {statistic} over the {n} records of the top "
             f"plate's peak travel relative to the ground + mu R_hat (where friction may leave the plate resting off "
-            "centre) (m), against the isolator's travel capacity (the lesser of the groove rim and top-plate "
+            f"centre; mu {mu:.4g}, the upper friction bound when the runs took the bounds) (m), against the isolator's travel capacity (the lesser of the groove rim and top-plate "
             "tipping); exceeded when ratio > 1 or when any record passed the capacity outright")
     if math.isfinite(cap):
         n_cap = sum(c or u > cap for c, u in zip(at_cap, travel))
@@ -513,20 +560,24 @@ def _isolated_rows(recs, lim, iso, design, statistic) -> list[LimitState]:
     else:
         rows.append(LimitState("capacity", "isolated", demand, None, None, "m", defn, False, 0, travel, det,
                                "the isolator's travel capacity is not given (inf: not checked)"))
-    # bearing: the design's advisory ball-load check
-    P_allow = BALL_LOAD_TESTED * (iso.r / BALL_TESTED) ** 2
+    # bearing: the design's ball-load check, against the design's per-ball capacity (design.json
+    # "ball_capacity": the load carried on a 20 mm ball; the thesis' beech grooves by default)
+    bc = (design.get("ball_capacity") if design else None) or {}
+    tested = float(bc.get("tested_load") or BALL_LOAD_TESTED)
+    r_tested = float(bc.get("tested_radius") or BALL_TESTED)
+    source = bc.get("source") or ("the thesis' beech grooves, 30 kg on four 20 mm balls undamaged (ch. 6.4)")
+    P_allow = tested * (iso.r / r_tested) ** 2
     n_balls = design.get("n_grooves") if design else None
-    defn = (f"static load per ball W / n (N; the design's check, no dynamic factor), against the load the "
-            f"thesis' beech grooves carried undamaged, {BALL_LOAD_TESTED:.1f} N on {BALL_TESTED * 1000:g} mm balls "
-            "(30 kg on four balls, ch. 6.4) scaled by (r / 0.02 m)^2; exceeded when ratio > 1 (a static check: "
-            "every record or none)")
-    det = {"W": iso.W, "n_balls": n_balls, "ball_radius": iso.r, "tested_load": BALL_LOAD_TESTED,
-           "tested_radius": BALL_TESTED, "options": list(BEARING_OPTIONS)}
+    defn = (f"static load per ball W / n (N; the design's check, no dynamic factor), against what the grooves "
+            f"carry, {tested:.1f} N on a {r_tested * 1000:g} mm ball ({source}) scaled by (r / {r_tested:g} m)^2; "
+            "exceeded when ratio > 1 (a static check: every record or none)")
+    det = {"W": iso.W, "n_balls": n_balls, "ball_radius": iso.r, "tested_load": tested,
+           "tested_radius": r_tested, "capacity_source": source, "options": list(BEARING_OPTIONS)}
     if n_balls:
         n_balls = int(n_balls)
         P = iso.W / n_balls
-        det.update(n_balls_needed=math.ceil(iso.W / P_allow), ball_radius_needed=BALL_TESTED * math.sqrt(
-            P / BALL_LOAD_TESTED))
+        det.update(n_balls_needed=math.ceil(iso.W / P_allow), ball_radius_needed=r_tested * math.sqrt(
+            P / tested))
         rows.append(LimitState("bearing", "isolated", P, P_allow, P / P_allow, "N", defn, P / P_allow > 1.0,
                                n if P > P_allow else 0, (), det))
     else:

@@ -8,20 +8,34 @@ or 5 times the band's end), seeds 1..N, checked over 0.15 s to the largest of 2 
 building and 1.2 T_is of the isolator (:func:`match_records`; written by :func:`write_records` to
 ``dynamics/records/``: record_NN.csv, set.json with every rule of the code and each record's
 realism figures; the stage draws spectra.png). Each is scaled to every PGA level (``fragility_levels``: "auto" = 10 levels,
-geometric, 0.2-3 x the design PGA; or START:STOP:N, :func:`fragility_levels`) for every parameter
-sample (the thesis' theta_R sweep, ``fragility_samples`` values, for the imperfect model; the
-model as it is for Housner's, whose curves are then the record-to-record variability alone, said
-in the text) and run on a fixed base and, with an isolator design, on the isolator
+geometric, 0.2-3 x the design PGA; or START:STOP:N, :func:`fragility_levels`): the coarse grid, to
+which levels are added round by round around each curve's median until its spread is identified
+(``fragility_rounds`` rounds at most, ADAPTIVE_MAX_ADDED levels a base at most: the rule of
+statue2model.assessment.fragility.AdaptiveLevels, written in fragility.json's ``adaptive``; only the
+new levels run, the runs at the old ones are kept) for every parameter sample
+(statue2model.rocking.sampling.study_design, ``fragility_samples`` samples of one Latin hypercube:
+theta_R over the thesis' range, the restitution e_L, e_R x 0.95-1.05, alpha_L, alpha_R x 0.9-1.1, and
+the isolator's friction at its low and high bound, ``[isolator] mu_low`` / ``mu_high`` or mu times
+Table 25's spread, 0.0039 / 0.0073 and 0.0108 / 0.0073; Housner's model has no theta_R or alpha: e and mu only, said in the text) and run on a
+fixed base and, with an isolator design, on the isolator
 (statue2model.assessment.fragility.run_fragility), by :func:`run_study`. The stage writes
-fragility.json, fragility.csv and fragility.png; the report's table, figure and text are
+fragility.json, fragility.csv and fragility.png; the report's tables, figure and text are
 statue2model.report.fragility_section's; :meth:`StudyRun.data` gives the verdict's numbers:
 
     fragility_median_fixed        median PGA of overturning on a fixed base (m/s^2; None if not fitted)
     fragility_median_isolated     median PGA of failure on the isolator (overturning or capacity exceeded)
     fragility_median_ci_fixed/isolated  its bootstrap band [lo, hi] (an end None: not identified)
-    fragility_p_design_fixed/isolated   the fitted probability at the design PGA
+    fragility_p_design_fixed/isolated   the fitted probability at the design PGA (None unless the
+                                  spread is identified and the median lies within the levels run:
+                                  assessment.fragility.identified_reason)
     fragility_ratio               median isolated / fixed, with its bootstrap interval fragility_ratio_ci
     fragility_status_fixed/isolated     the fit's status (assessment.fragility: ok, step, no failures, ...)
+    fragility_limit_states        {limit state: {base: entry}} for full_contact (curves uplift,
+                                  uplift_isolated), overturning (overturn, failure_isolated) and
+                                  capacity (capacity_exceeded, isolated only): :func:`limit_state_data`
+    fragility_limit_state_ratios  {limit state: {value, ci, note, ci_note}}: median isolated / fixed
+    fragility_adaptive            the adaptive levels: rounds run, levels added per base, identified curves
+    fragility_runs, fragility_runs_isolated   runs on each base (records x levels run x samples)
 
 Every one of these that can be None has KEY_reason beside it: None when the value is defined
 (and complete), else why ("no failure at any level", "one level: spread not identified", "upper
@@ -39,6 +53,8 @@ from ..errors import InputError
 
 AUTO_LEVELS = (0.2, 3.0, 10)
 """'auto' PGA levels: (lowest, highest multiple of the design PGA, number), geometric."""
+ADAPTIVE_MAX_ADDED = 12
+"""Levels the adaptive rounds may add to each base (fixed, isolated) at most."""
 
 
 def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np.ndarray:
@@ -96,13 +112,24 @@ class StudyRun:
 
     @property
     def n_runs(self) -> int:
-        """Runs per base: records x levels x samples."""
-        return len(self.records.records) * self.levels.size * self.samples.n
+        """Runs on the fixed base: records x levels it ran x samples."""
+        return len(self.records.records) * self.result.levels_run("fixed").size * self.samples.n
+
+    @property
+    def n_runs_isolated(self) -> int:
+        """Runs on the isolator: records x levels it ran x samples (0 without one)."""
+        if not self.isolated:
+            return 0
+        return len(self.records.records) * self.result.levels_run("isolated").size * self.samples.n
 
     def data(self) -> dict:
         """The verdict's fragility_* numbers (module docstring) and the study's size and inputs."""
         data = fragility_data(self.result, self.pga, self.isolated)
-        data.update(fragility_runs=self.n_runs, fragility_records_met=self.met, fragility_varied=self.varied)
+        data.update(fragility_runs=self.n_runs, fragility_runs_isolated=self.n_runs_isolated,
+                    fragility_records_met=self.met, fragility_varied=self.varied,
+                    fragility_limit_states=limit_state_data(self.result, self.pga),
+                    fragility_limit_state_ratios=limit_state_ratios(self.result),
+                    fragility_adaptive=adaptive_summary(self.result))
         return data
 
 
@@ -147,48 +174,37 @@ def write_records(rd: Path, rs) -> None:
     write_json(rd / "set.json", {**rs.to_dict(), **set_files(rd, names)})
 
 
-def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: float, executor=None) -> StudyRun:
+def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: float, executor=None,
+              mu_low: float | None = None, mu_high: float | None = None, rounds: int = 3) -> StudyRun:
     """Run the study of the module docstring on the records ``rs`` matched to ``target``: the
-    thesis' theta_R sweep of ``n_samples`` values (imperfect model) or the model as it is
-    (Housner's), at the levels of ``levels_text``, on a fixed base and on ``iso`` (or None)."""
-    from ..rocking.sampling import nominal, thesis_theta_R
-    from .fragility import FragilityStudy, run_fragility
+    parameter samples of rocking.sampling.study_design (``n_samples`` of them; the isolator's
+    friction at ``mu_low`` and ``mu_high``, None: mu times Table 25's spread), the coarse levels of
+    ``levels_text`` and up to ``rounds`` rounds of adaptive levels (0: the coarse levels only),
+    on a fixed base and on ``iso`` (or None)."""
+    from ..rocking.sampling import describe, friction_bounds, study_design
+    from .fragility import AdaptiveLevels, FragilityStudy, run_fragility
 
     met = bool(rs.check()["met"])
-    if model.kind == "imperfect":
-        samples = thesis_theta_R(model, int(n_samples))
-        varied = (f"theta_R over the thesis' range (Table 24: {samples.values['theta_R'].min():.4g}-"
-                  f"{samples.values['theta_R'].max():.4g} rad, {samples.n} values)")
-    else:
-        samples = nominal(1)
-        varied = ("no model parameter (Housner's model has no theta_R to vary): the curves are the "
-                  "record-to-record variability alone")
+    mu = None if iso is None else float(iso.mu)
+    samples = study_design(model, int(n_samples), mu=mu, mu_low=mu_low, mu_high=mu_high, seed=0)
+    src = friction_bounds(mu, mu_low, mu_high)[2] if mu is not None and samples.n > 1 else None
+    varied = describe(samples, model, src) if samples.n > 1 else (
+        "no parameter (one sample: the model as it is): the curves are the record-to-record variability alone")
     lv = levels_for(levels_text, float(np.asarray(target.Se(np.array([0.0])))[0]))
     study = FragilityStudy(im="pga", rtol=rtol, n_boot=200, seed=0)
-    res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor)
-    return StudyRun(target, rs, met, lv, samples, varied, study, res, iso is not None)
+    adaptive = AdaptiveLevels(rounds=int(rounds), max_added=ADAPTIVE_MAX_ADDED) if rounds else None
+    res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor, adaptive=adaptive)
+    return StudyRun(target, rs, met, res.levels, samples, varied, study, res, iso is not None)
 
 
 def spread_identified(cv) -> str | None:
-    """None when the curve's dispersion beta is identified by its counts, else why not: a fit that
-    is a step (failures from none to all between two adjacent levels: any beta up to the gap fits),
-    no level with a partial fraction of failures, or a beta band with an end not identified. A
-    probability at the design level from such a fit is not known and is not stored."""
-    if not cv.fitted:
-        return None
-    partial = int(np.sum((cv.n_fail > 0) & (cv.n_fail < cv.n_trials)))
-    if cv.status == "step" or partial == 0:
-        lv = cv.levels
-        frac = cv.fraction
-        below = lv[frac == 0]
-        above = lv[frac >= 1]
-        gap = (f" (from none at {below.max() / 9.80665:.3f} g to all at {above.min() / 9.80665:.3f} g)"
-               if below.size and above.size else "")
-        return f"spread not identified: the failures jump between adjacent levels{gap}; beta is not known"
-    lo, hi = (float(x) for x in cv.beta_ci)
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        return f"spread not identified: its band has an end not identified ({cv.beta_ci_note or 'bootstrap'})"
-    return None
+    """None when the curve's dispersion beta is identified by its counts, else why not
+    (statue2model.assessment.fragility.spread_reason: a step, fewer than two levels with a partial
+    fraction of failures, a profile-likelihood or bootstrap band of beta with an end not
+    identified). A probability at the design level from such a fit is not known and is not stored."""
+    from .fragility import spread_reason
+
+    return spread_reason(cv)
 
 
 def _num(v) -> float | None:
@@ -204,13 +220,16 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
         cv = res.curves.get(name)
         if cv is None:
             why = "no isolator designed" if side == "isolated" else "not run"
-            med = p = None
+            med = p = outside = None
             mci, ci_why = None, why
         else:
+            from .fragility import median_reason
+
             why = cv.reason
+            outside = median_reason(cv)          # the median beyond the levels run: no P from it
             med = _num(cv.median) if cv.fitted else None
             spread = spread_identified(cv)
-            p = _num(float(cv.probability(pga))) if cv.fitted and spread is None else None
+            p = _num(float(cv.probability(pga))) if cv.fitted and spread is None and outside is None else None
             if cv.fitted and spread is not None:
                 why = spread
             mci = [_num(x) for x in cv.median_ci] if cv.fitted else None
@@ -222,7 +241,7 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
         data.update({f"fragility_median_{side}": med, f"fragility_median_{side}_reason": why,
                      f"fragility_median_ci_{side}": mci, f"fragility_median_ci_{side}_reason": ci_why,
                      f"fragility_p_design_{side}": p,
-                     f"fragility_p_design_{side}_reason": None if p is not None else why,
+                     f"fragility_p_design_{side}_reason": None if p is not None else (why or outside),
                      f"fragility_status_{side}": None if cv is None else cv.status})
     r = res.ratio.get("failure") if isolated else None
     if r is None:
@@ -236,3 +255,133 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
                     fragility_ratio_ci=rci,
                     fragility_ratio_ci_reason=(r.get("ci_note") or (None if rci is not None else "no band")))
     return data
+
+
+def _range_text(levels) -> str:
+    lv = np.asarray(levels, dtype=float)
+    return f"{lv.min() / 9.80665:.3f}-{lv.max() / 9.80665:.3f} g" if lv.size else "no level"
+
+
+def curve_entry(cv, pga: float) -> dict:
+    """One limit state on one base of :func:`limit_state_data`: the curve ``cv`` (FragilityCurve) at
+    the design PGA ``pga`` (m/s^2). Every number that can be undefined is None with its reason:
+
+        curve, label, status     the outcome's name and words, the fit's status (ok, step, no failures, ...)
+        levels, n_levels         the PGA levels (m/s^2) its base ran, how many
+        partial_levels           levels with a partial fraction of failures (0 < failed < runs)
+        n_fail, n_trials         failures and counted runs over all levels
+        median, median_reason    the fitted median PGA (m/s^2; None without a fit); median_reason says
+                                 why it is not identified (no fit, or it lies outside the levels run:
+                                 an extrapolation of the fit), None when it is
+        median_ci(_reason)       its bootstrap band [lo, hi] (an end None: not identified)
+        beta, beta_reason        the dispersion; None unless the curve is identified, with why
+        beta_ci, beta_profile    its bootstrap band and its profile-likelihood band (beta_profile_note)
+        p_design(_reason)        P(exceeding | PGA = design PGA); None unless identified, with why
+        identified               median and spread identified (assessment.fragility.identified_reason)
+        spread_identified        the spread alone (assessment.fragility.spread_reason)
+    """
+    from .fragility import LABELS
+
+    levels = [float(x) for x in cv.levels]
+    base = {"curve": cv.outcome, "label": LABELS.get(cv.outcome, cv.outcome), "status": cv.status,
+            "levels": levels, "n_levels": len(levels), "partial_levels": int(cv.partial),
+            "n_fail": int(np.sum(cv.n_fail)), "n_trials": int(np.sum(cv.n_trials))}
+    if not cv.fitted:
+        why = f"{cv.reason} ({_range_text(cv.levels)})"
+        return {**base, "median": None, "median_reason": why, "median_ci": None, "median_ci_reason": why,
+                "beta": None, "beta_reason": why, "beta_ci": None, "beta_profile": None,
+                "p_design": None, "p_design_reason": f"not identified: {why}", "identified": False,
+                "spread_identified": False}
+    from .fragility import median_reason
+
+    outside = median_reason(cv)
+    beta_why = spread_identified(cv)
+    spread = outside or beta_why
+    mci = [_num(x) for x in cv.median_ci]
+    mci = None if all(x is None for x in mci) else mci
+    ci_why = cv.median_ci_note or (None if mci is not None and None not in mci else "no band")
+    prof = getattr(cv, "beta_profile", None)
+    prof = None if prof is None else [_num(x) for x in prof]
+    bci = [_num(x) for x in cv.beta_ci]
+    bci = None if all(x is None for x in bci) else bci
+    p = _num(float(cv.probability(pga))) if spread is None else None
+    return {**base, "median": _num(cv.median), "median_reason": outside, "median_ci": mci, "median_ci_reason": ci_why,
+            "beta": _num(cv.beta) if spread is None else None, "beta_reason": spread,
+            "beta_ci": bci if spread is None else None, "beta_profile": prof,
+            "beta_profile_note": getattr(cv, "beta_profile_note", None),
+            "p_design": p, "p_design_reason": None if p is not None else f"not identified: {spread}",
+            "identified": spread is None, "spread_identified": beta_why is None}
+
+
+def _by_mu(res, name: str, pga: float) -> dict | None:
+    """The isolated curve ``name`` fitted on the samples at each friction bound (None when the
+    samples do not vary mu): {"low"|"high": {mu, median, beta, status, p_design, p_design_reason}}."""
+    from .fragility import FragilityCurve, fit_lognormal
+
+    smp = getattr(res, "samples", None)
+    mu = None if smp is None else smp.values.get("mu")
+    if mu is None or np.unique(mu).size < 2 or name not in getattr(res, "fails", {}):
+        return None
+    side_ran = res.ran["isolated"] if getattr(res, "ran", None) else np.ones(res.levels.size, dtype=bool)
+    f, v = res.fails[name], res.valid["isolated"]
+    out = {}
+    for word, value in (("low", float(mu.min())), ("high", float(mu.max()))):
+        sel = mu == value
+        z = (f & v)[:, sel, :].sum(axis=(0, 1))[side_ran]
+        n = v[:, sel, :].sum(axis=(0, 1))[side_ran]
+        lv = res.levels[side_ran]
+        med, beta, st = fit_lognormal(lv, z, n)
+        cv = FragilityCurve(name, lv, z.astype(int), n.astype(int), med, beta, st)
+        e = curve_entry(cv, pga)
+        out[word] = {"mu": value, "n_samples": int(sel.sum()), "median": e["median"],
+                     "median_reason": e["median_reason"], "beta": e["beta"], "status": st,
+                     "p_design": e["p_design"], "p_design_reason": e["p_design_reason"]}
+    return out
+
+
+def limit_state_data(res, pga: float) -> dict:
+    """{limit state: {base: curve_entry}} of a FragilityResult ``res`` at the design PGA ``pga``
+    (m/s^2): the curves of assessment.fragility.LIMIT_STATE_CURVES it has; an isolated entry also
+    has ``by_mu``, the same curve on the samples at each friction bound (None when mu is not varied)."""
+    from .fragility import LIMIT_STATE_CURVES
+
+    out = {}
+    for ls, bases in LIMIT_STATE_CURVES.items():
+        row = {}
+        for base, name in bases.items():
+            cv = res.curves.get(name)
+            if cv is None:
+                continue
+            row[base] = curve_entry(cv, pga)
+            if base == "isolated":
+                row[base]["by_mu"] = _by_mu(res, name, pga)
+        if row:
+            out[ls] = row
+    return out
+
+
+def limit_state_ratios(res) -> dict:
+    """{limit state: {value, ci, note, ci_note}}: median isolated / median fixed of the limit states
+    with both curves (full_contact: the ratio "uplift", overturning: "failure")."""
+    out = {}
+    for ls, key in (("full_contact", "uplift"), ("overturning", "failure")):
+        r = res.ratio.get(key)
+        if r is None:
+            continue
+        value = _num(r.get("value"))
+        ci = [_num(x) for x in (r.get("ci") or (None, None))]
+        out[ls] = {"value": value, "ci": None if value is None or all(x is None for x in ci) else ci,
+                   "note": r.get("note"), "ci_note": r.get("ci_note")}
+    return out
+
+
+def adaptive_summary(res) -> dict | None:
+    """The adaptive levels in brief (None when the levels were taken as given): rounds run, the
+    levels added per base, the levels each base ran, which curves are identified and why not."""
+    a = getattr(res, "adaptive", None)
+    if not a:
+        return None
+    return {"rounds_budget": a.get("rounds"), "max_added": a.get("max_added"),
+            "rounds_run": len(a.get("rounds_run") or []), "added": a.get("added"),
+            "levels_run": {side: [float(x) for x in res.levels_run(side)] for side in res.valid},
+            "identified": a.get("identified"), "why_not": a.get("why_not"), "rule": a.get("rule")}

@@ -20,8 +20,9 @@ side, < 1 that it is not:
     isolated   travel    the isolator's capacity against the design displacement demand
                felt      the uplift acceleration against what the statue feels on the
                          plate (the design's Se(T) + mu g)
-               travel    margin = capacity / SDe(T): the design itself asks for more
-                         (DISPLACEMENT_MARGIN x SDe + mu R_hat, isolator/design.py)
+               travel    margin = capacity / travel need, the need being the design's own
+                         DISPLACEMENT_MARGIN x SDe(T) + mu R_hat (isolator/design.py: 1.5 for
+                         gamma_x and the two components, mu R_hat the friction's resting offset)
                analyses  the lowest PGA at which the statue on the isolator overturned or
                          the isolator's capacity was exceeded, against the design PGA
     fragility  the dynamics stage's fragility study (assessment/study.py): median failure
@@ -148,11 +149,14 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     isolated = {}
     if design is not None:
         cap = design.get("capacity", design.get("d_max"))
-        demand = design.get("d_design")
+        demand = design.get("travel_need", design.get("d_design"))
+        sde = design.get("d_design")
         felt = design.get("a_design")
         if felt is not None:
             felt = felt + design.get("mu", 0.0) * G       # Se(T) + the rolling friction the plate passes on
-        isolated = {"passed": bool(design.get("passed")), "capacity": cap, "travel_demand": demand,
+        isolated = {"passed": bool(design.get("passed")), "conditional": bearing_only(design),
+                    "what_would_pass": (design.get("what_would_pass") or {}).get("text"),
+                    "th_margins": design.get("th_margins"), "capacity": cap, "travel_demand": demand,
                     "travel_margin": _ratio(cap, demand), "felt": felt,
                     "felt_margin": _ratio(uplift, felt), "T": design.get("T"),
                     "R": design.get("R"), "r": design.get("r"), "n_grooves": design.get("n_grooves")}
@@ -165,12 +169,24 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                                         else "overturned" if fail is not None else None)
             if cfg is not None and getattr(cfg, "dynamics", None) is not None:
                 isolated["record"] = cfg.dynamics.motion
-        if isolated["passed"]:
-            line = (f"On the isolator (R {_n(isolated['R'])} m, r {_mm(isolated['r'], '.1f')} mm, "
-                    f"{isolated['n_grooves']} grooves, T {_n(isolated['T'])} s): travel demand "
-                    f"{_mm(demand)} mm vs capacity {_mm(cap)} mm (margin {_n(isolated['travel_margin'])}); "
+        if isolated["passed"] or isolated["conditional"]:
+            line = (("" if isolated["passed"] else
+                     f"Isolator: no device passes with the grooves' ball capacity as given; the nearest fails only on "
+                     f"the ball load ({isolated['what_would_pass'] or design_failure(design)}); its plates are not "
+                     "written until [isolator] ball_capacity holds a load-tested value that carries it. ")
+                    + f"On the isolator (R {_n(isolated['R'])} m, r {_mm(isolated['r'], '.1f')} mm, "
+                    f"{isolated['n_grooves']} grooves, T {_n(isolated['T'])} s): travel need "
+                    f"{design.get('margin', 1.5):g} x SDe {_mm(sde)} mm + mu R_hat = {_mm(demand)} mm vs capacity "
+                    f"{_mm(cap)} mm (margin {_n(isolated['travel_margin'])}, spectral check); "
                     f"the statue feels {_g(isolated['felt'])} vs its uplift {_g(uplift)} "
-                    f"(margin {_n(isolated['felt_margin'])})")
+                    f"(margin {_n(isolated['felt_margin'])}, the design's Se(T) + mu g)")
+            th = isolated.get("th_margins") or {}
+            if th:
+                line += (f"; verified over the design records (mean of {design.get('verification', {}).get('records', {}).get('count', '-')}"
+                         f" records, friction at its bounds): travel margin {_n(_finite(th.get('travel')))} "
+                         "(capacity / (1.5 x mean peak travel + mu R_hat)), acceleration margin "
+                         f"{_n(_finite(th.get('acceleration')))} (uplift / mean felt), ball-load margin "
+                         f"{_n(_finite(th.get('bearing')))} (capacity per ball / load per ball)")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
@@ -179,7 +195,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             lines.append(line + ".")
         else:
             isolated["reason"] = design.get("failure") or design_failure(design)
-            lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).")
+            would = f" What would pass: {isolated['what_would_pass']}." if isolated["what_would_pass"] else ""
+            lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).{would}")
     out["isolated"] = isolated
     if ls:
         out["limit_states"] = ls
@@ -295,8 +312,12 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
              f"records" + (f", overturning in {ot.get('n_exceeding')}" if ot and ot.get("exceeded") else "") + ")")
     if not isolated:
         return f"{lifts} and no isolator was designed: run the isolator stage"
-    if not isolated.get("passed"):
-        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
+    if not isolated.get("passed") and not isolated.get("conditional"):
+        would = f"; what would pass: {isolated['what_would_pass']}" if isolated.get("what_would_pass") else ""
+        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}{would}"
+    if _row(ls, "full_contact", "isolated") is None:
+        return (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
+                "ran without it): run the dynamics stage with [dynamics] isolated = true")
     bad = [r for r in (_row(ls, k, "isolated") for k in ("full_contact", "rocking", "overturning", "capacity"))
            if r is not None and r.get("exceeded")]
     if bad:
@@ -307,9 +328,9 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
           f"and the plate's travel stays within its capacity (travel with margin {_rv(cap)})")
     bearing = _row(ls, "bearing", "isolated")
     if bearing is not None and bearing.get("exceeded"):
+        would = isolated.get("what_would_pass") or "a harder groove surface, a rubber layer, or more or larger balls"
         return (f"isolate, but only on grooves that carry the ball load: {ok}; the load per ball exceeds what the "
-                f"thesis' beech grooves carried ({_rv(bearing)}): a harder groove surface, a rubber layer, or more "
-                f"or larger balls")
+                f"grooves carry as given ({_rv(bearing)}): {would}")
     return f"isolate with the designed device: {ok}"
 
 
@@ -344,6 +365,11 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
         end = f"band from {_g(lo)}" if lo is not None else f"band up to {_g(hi)}"
         return f"{_g(m)} ({end}" + (f"; {why})" if why else ")")
 
+    fl = dyn.get("fragility_limit_states")
+    if isinstance(fl, dict) and fl:
+        return {"median_fixed": mf, "median_isolated": mi, "p_design_fixed": pf, "p_design_isolated": pi,
+                "ratio": _finite(dyn.get("fragility_ratio")), "ratio_ci": dyn.get("fragility_ratio_ci"),
+                "limit_states": fl, "line": limit_state_fragility_line(dyn, fl, isolated)}
     line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
             f"median overturning PGA on a fixed base {med(mf, 'fixed')}" + p_text("overturning", pf, "fixed"))
     r = _finite(dyn.get("fragility_ratio"))
@@ -357,6 +383,59 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
                 f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else f" ({why})" if why else "")
     return {"median_fixed": mf, "median_isolated": mi, "p_design_fixed": pf, "p_design_isolated": pi,
             "ratio": r, "ratio_ci": dyn.get("fragility_ratio_ci"), "line": line + "."}
+
+
+FRAGILITY_TITLES = {"full_contact": "full contact lost (uplift)", "overturning": "overturning",
+                    "capacity": "isolator capacity exceeded"}
+
+
+def _prob(p: float) -> str:
+    return "< 0.01" if p < 0.005 else "> 0.99" if p > 0.995 else f"{p:.2f}"
+
+
+def _curve_text(c: dict) -> str:
+    """'median 0.287 g (0.276 g-0.310 g), beta 0.11, P at the design PGA 0.51' of one limit-state curve
+    (the study's fragility_limit_states entry); every undefined number says why instead."""
+    m = _finite(c.get("median"))
+    if m is None:
+        return f"median not fitted ({c.get('median_reason') or c.get('status') or 'undefined'})"
+    lo, hi = (_finite(x) for x in (list(c.get("median_ci") or []) + [None, None])[:2])
+    band = f" ({_g(lo)}-{_g(hi)})" if lo is not None and hi is not None else (
+        f" (band: {c.get('median_ci_reason')})" if c.get("median_ci_reason") else "")
+    b = _finite(c.get("beta"))
+    beta = f", beta {b:.2f}" if b is not None else f", beta not identified ({c.get('beta_reason') or 'see fragility.json'})"
+    p = _finite(c.get("p_design"))
+    pt = (f", P at the design PGA {_prob(p)}" if p is not None else
+          f", P at the design PGA not known ({c.get('p_design_reason') or 'not identified'})")
+    return f"median {_g(m)}{band}{beta}{pt}"
+
+
+def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
+    """The verdict's fragility line, per limit state (full contact first, MODEL.md section 8), fixed
+    base and isolated, from the study's fragility_limit_states; what the samples varied and the runs."""
+    runs = f"{dyn.get('fragility_runs')} runs on a fixed base" + (
+        f", {dyn.get('fragility_runs_isolated')} on the isolator" if isolated and dyn.get("fragility_runs_isolated") else "")
+    parts = []
+    ratios = dyn.get("fragility_limit_state_ratios") or {}
+    for name in ("full_contact", "overturning", "capacity"):
+        sides = fl.get(name) or {}
+        bits = []
+        if sides.get("fixed"):
+            bits.append("fixed base " + _curve_text(sides["fixed"]))
+        if isolated and sides.get("isolated"):
+            what = "on the isolator (overturning or capacity exceeded) " if name == "overturning" else "on the isolator "
+            bits.append(what + _curve_text(sides["isolated"]))
+            r = ratios.get(name) or {}
+            v = _finite(r.get("value"))
+            if v is not None:
+                ci = [_finite(x) for x in (list(r.get("ci") or []) + [None, None])[:2]]
+                bits.append(f"the isolator multiplies the median by {v:.2f}"
+                            + (f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else ""))
+        if bits:
+            parts.append(f"{FRAGILITY_TITLES[name]}: " + ", ".join(bits))
+    varied = dyn.get("fragility_varied")
+    return (f"Fragility per limit state over the design records ({runs}" + (f"; varied: {varied}" if varied else "")
+            + "): " + "; ".join(parts) + ".")
 
 
 def _finite(x) -> float | None:
@@ -378,6 +457,16 @@ def status(recommendation: str) -> str:
     if recommendation.startswith(("no isolator in range works", "the designed isolator does not protect")):
         return "fail"
     return "warn"
+
+
+def bearing_only(design: dict) -> bool:
+    """True when a design fails its required checks on the ball load alone
+    (statue2model.isolator.design.fails_only_on_ball_load): the device is then analysed and recommended
+    on the condition that its grooves carry the load (the isolator's ``what_would_pass`` says what
+    that takes)."""
+    from ..isolator.design import fails_only_on_ball_load
+
+    return fails_only_on_ball_load(design)
 
 
 def design_failure(design: dict) -> str:

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..quantities import positive as _positive
 
 STRUCTURES = ("masonry", "concrete-frame", "steel-frame", "other")
 """The structural types a Building may have."""
@@ -68,18 +69,6 @@ def _structure(value) -> str:
     if key not in STRUCTURES:
         raise InputError(f"building structure {value!r} is not one of {', '.join(STRUCTURES)}")
     return key
-
-
-def _positive(name: str, value) -> float:
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be a positive number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a positive number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name} must be a positive finite number, got {value!r}")
-    return v
 
 
 def _integer(value) -> int | None:

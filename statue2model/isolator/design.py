@@ -48,22 +48,33 @@ ratio above 1 fails by that factor):
     proud          groove depth <= r - MIN_GAP / 2 (the plates stay apart)            m
     plate size     side <= SIDE_MAX                                                   m
     fuse           release <= a_lim; MIN_WALL <= the least wood around its seats     m/s^2, m
+    ball load      W / n <= P_20 (r / BALL_TESTED)^2                                   N
   advisory (reported, not required):
     a_design + mu g <= a_lim (friction transmits up to mu g; the thesis checks Se alone)  m/s^2
     recentring     R_hat <= d / (2 RESTORING) = 20 d (ASCE 7-16 §17.2.4.4)             m
-    ball load      W / n <= BALL_LOAD_TESTED (r / BALL_TESTED)^2                       N
+
+The ball load is required: heavier loads leave pits in the grooves that shorten the period
+and trap the balls (ch. 5.2). P_20 (``ball_capacity``, N per ball of BALL_TESTED = 20 mm
+radius) is what the grooves' material carries: by default BALL_LOAD_TESTED, the thesis'
+beech grooves (30 kg on four 20 mm balls undamaged, ch. 6.4), the only measured point; a
+load test of another surface (a hardwood, resin or metal insert, a rubber layer) gives its
+own, converted to a 20 mm ball by the same (0.02 / r_test)^2. No material capacity is
+assumed without such a test. What raises it: a harder surface, a rubber layer, more balls
+(W / n) or larger ones (r^2).
 
 Search: every ball radius in BALLS, groove radius in R_GRID, 3 and 4 grooves and every
 board in THICKNESSES (or the ones given). Each candidate is sized, then checked: the
-opening radius gives u_groove = need exactly; the groove spacing gives u_tip >= need and
-d <= d_max, with l taken at its largest (top plate's mass neglected); the plate is at
-least the statue's base (2 max(b_L, b_R) + 2 EDGE) and is capped at SIDE_MAX (the checks
-then say what is missing); the grooves are spread out to the plate's edge (EDGE of wood
-left), which only adds capacity; fuse seats go on the bisectors between the grooves, at
-the radius (FUSE_RADII) that leaves the most wood.
+opening radius gives u_groove = need exactly (need: the larger of the spectral need and
+``travel_floor[(R, r)]`` when given, the time histories' need of isolator/verify.py); the
+groove spacing gives u_tip >= need and d <= d_max, with l taken at its largest (top
+plate's mass neglected); the plate is at least the statue's base (2 max(b_L, b_R) + 2 EDGE)
+and is capped at SIDE_MAX (the checks then say what is missing); the grooves are spread out
+to the plate's edge (EDGE of wood left), which only adds capacity; fuse seats go on the
+bisectors between the grooves, at the radius (FUSE_RADII) that leaves the most wood.
 
-Choice (CRITERION): among the candidates that pass every required check, those whose top
-plate is within PLATE_TOLERANCE (10 %) of the lightest passing one; of these, the least
+Choice (CRITERION, of the spectral search; the pipeline re-ranks the candidates by their
+time-history margins, verify.py's CRITERION): among the candidates that pass every required
+check, those whose top plate is within PLATE_TOLERANCE (10 %) of the lightest passing one; of these, the least
 overload of the balls, then the least shortfall of the restoring force, then the largest
 acceleration margin a_lim / a_design, then the smaller side, the thinner board, 3 grooves
 before 4, the larger ball. Beyond the spectrum's T_D the spectral displacement no longer
@@ -71,7 +82,9 @@ grows with the period, so a longer period lowers the felt acceleration at no cos
 travel: for strong hazards the longest R in range wins; for weak ones the restoring-force
 rule keeps R_hat within 20 d. When none passes, the nearest candidate (fewest failing
 required checks, then the smallest worst ratio) is shown with passed False, and
-``failure`` says which checks fail and by how much, with the ranges searched.
+``failure`` says which checks fail and by how much, with the ranges searched. Every
+evaluated candidate is kept in ``Design.evaluated`` (:class:`Candidate`, not serialised) for
+the time-history verification (isolator/verify.py), which re-ranks them.
 
 Example
 -------
@@ -80,9 +93,9 @@ Example
 >>> statue = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
 >>> d = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, thickness=0.03)
 >>> d.passed, d.R, d.r, d.n_grooves, round(d.T, 2), round(d.side, 3)   # the statue's base sets the plate
-(True, 0.2, 0.0183, 3, 1.21, 0.439)
+(True, 0.2, 0.04, 3, 1.13, 0.439)
 >>> round(d.d_design, 4), round(d.travel_need, 4), round(d.capacity, 4), d.capacity_limited_by
-(0.015, 0.0252, 0.0252, 'groove rim')
+(0.0141, 0.0235, 0.024, 'groove rim')
 >>> bad = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, alpha=(0.02, 0.02))
 >>> bad.passed, bad.failure.split(":")[0]
 (False, "rolling friction below the statue's uplift limit")
@@ -108,8 +121,14 @@ from .device import (
     safety_length,
 )
 
-BALLS = (0.0095, 0.0125, 0.0183, 0.020, 0.025)
-"""Ball radii tried (m): the thesis' steel 9.5 mm, resin 18.3 mm, ivory 20 mm, and two more."""
+BALLS = (0.0095, 0.0125, 0.0183, 0.020, 0.025, 0.030, 0.040, 0.050)
+"""Ball radii tried (m): the thesis' steel 9.5 mm, resin 18.3 mm, ivory 20 mm, and larger ones
+for heavier statues (the ball load grows as r^2). A larger ball leaves the groove depth alone
+(it is set by R and the opening) and only passes the "proud" check more easily; what it costs
+is the gap between the plates, 2 (r - depth), which the top plate rides on and the fuse balls
+must fill (about 85 mm at r = 50 mm). 50 mm (100 mm balls, a stock size of steel and ceramic
+balls) is the largest: it is 2.5 times the tested 20 mm, so its capacity is already 6.25 times
+the only measured load, the furthest this one-point r^2 scaling is taken."""
 R_GRID = tuple(float(x) for x in np.round(np.arange(0.20, 2.0001, 0.05), 3))
 """Groove radii tried (m), 0.20 to 2.00: up to R = 2.0 m the period stays within about 4 s
 (4.003 s with 9.5 mm balls), the range over which EN 1998-1 §3.2.2.2 defines the elastic
@@ -125,11 +144,18 @@ DISPLACEMENT_MARGIN = 1.5
 for the two horizontal components on a spherical groove (module docstring)."""
 BALL_LOAD_TESTED = 30.0 * G / 4
 """N per ball: the thesis' four-groove beech device carried up to 30 kg on its 20 mm balls
-undamaged (ch. 6.4); heavier loads on 9.5 and 18.3 mm balls left pits (ch. 5.2)."""
+undamaged (ch. 6.4); heavier loads on 9.5 and 18.3 mm balls left pits (ch. 5.2). The default
+``ball_capacity`` of :func:`design` (the grooves' per-ball capacity on a 20 mm ball)."""
 BALL_TESTED = 0.020
 """Radius (m) of the balls of that test. For another radius r the load is scaled by
 (r / BALL_TESTED)^2: the same Hertz contact pressure on a ball in a groove much wider
 than the ball (p_max ~ (P / r^2)^(1/3)). An assumption from one measured point."""
+SIZING_CLEARANCE = 0.01
+"""The grooves are cut for the travel need plus 1 %, and the opening radius is rounded up to
+OPENING_STEP: a capacity sized to exactly the need would leave the time-history check resting on
+the last digit (a margin of 1.0000), where any other run of the same records may tip it over."""
+OPENING_STEP = 0.0005
+"""Groove opening radii are whole multiples of 0.5 mm (the drawing's precision), rounded up."""
 MIN_BOTTOM = 0.005
 """Wood left under the deepest point of a groove, m."""
 EDGE = 0.02
@@ -152,6 +178,8 @@ SHOWN_PASSING = 30
 """design.json lists at most this many passing candidates (best first) ..."""
 SHOWN_FAILING = 10
 """... and this many failing ones (nearest to passing first)."""
+BALL_CAPACITY_SOURCE = "the thesis' beech grooves, 30 kg on four 20 mm balls undamaged (ch. 6.4)"
+"""Where the default per-ball capacity comes from (design.json, the ball-load check)."""
 CRITERION = (f"the smallest plate (top plate mass within {PLATE_TOLERANCE:.0%} of the lightest passing one); "
              "among those the least overload of the balls (load per ball / tested load if above 1, to 2 "
              "digits), then the least shortfall of the restoring force (R_hat / 20 d if above 1, to 2 digits), "
@@ -225,6 +253,11 @@ class Design:
     candidates: dict = field(default_factory=dict)
     failure: str | None = None       # why nothing in range works (None when passed)
     criterion: str = CRITERION
+    ball_capacity: float = BALL_LOAD_TESTED   # N per 20 mm ball the grooves carry (the ball-load check)
+    ball_capacity_source: str = BALL_CAPACITY_SOURCE
+    verification: dict = field(default_factory=dict)    # the time-history verification (verify.py)
+    what_would_pass: dict | None = None                 # when nothing passes: what would (verify.py)
+    evaluated: tuple = field(default=(), repr=False, compare=False)   # every Candidate (not serialised)
 
     @property
     def passed(self) -> bool:
@@ -233,6 +266,12 @@ class Design:
     @property
     def capacity_limited_by(self) -> str:
         return "groove rim" if self.capacity_groove <= self.capacity_tip else "top plate tipping"
+
+    @property
+    def th_margins(self) -> dict | None:
+        """The time-history margins {travel, acceleration, bearing} (limit / demand, > 1 passes) when
+        the design was verified (verify.py), else None."""
+        return self.verification.get("margins") if self.verification else None
 
     def isolator(self, model: str = "coulomb", q: float = 30.0) -> Isolator:
         return Isolator(R=self.R, r=self.r, M=self.M, mu=self.mu, model=model, q=q, capacity=self.capacity)
@@ -251,7 +290,14 @@ class Design:
         out["checks"] = [c.to_dict() for c in self.checks]
         out["candidates"] = self.candidates
         out["notes"] = list(self.notes)
-        out["schema"] = "statue2model.isolator_design/2"
+        out["ball_capacity"] = {"tested_load": self.ball_capacity, "tested_radius": BALL_TESTED,
+                                "per_ball": self.ball_capacity * (self.r / BALL_TESTED) ** 2,
+                                "source": self.ball_capacity_source,
+                                "scaling": f"per-ball capacity = tested_load x (r / {BALL_TESTED:g} m)^2"}
+        out["verification"] = self.verification or None
+        out["th_margins"] = self.th_margins
+        out["what_would_pass"] = self.what_would_pass
+        out["schema"] = "statue2model.isolator_design/3"
         return out
 
     def report(self) -> str:
@@ -291,7 +337,42 @@ class Design:
                   f"  {cand.get('passing', 0)} of {self.candidates_tried} candidates pass every required check"
                   + (f"; ranges: {cand['ranges']}" if cand.get("ranges") else "")]
         lines += [f"  {n}" for n in self.notes]
+        if self.verification:
+            lines += [""] + _verification_lines(self)
         return "\n".join(lines)
+
+
+def _verification_lines(d) -> list[str]:
+    """design.txt's time-history part (isolator/verify.py): the margins, the records and the
+    candidates' margins table."""
+    v = d.verification
+    m = v["margins"]
+    rec = v["records"]
+    met = {True: ", the set's rules met", False: ", the set's rules NOT met", None: ""}[rec.get("rules_met")]
+    fmt = lambda x: "inf" if x is None else f"{x:.2f}"                # noqa: E731
+    lines = [f"time-history verification ({v['model']}): {rec['count']} records ({rec['source']}{met}), the "
+             f"{v['statistic']} over the records, mu_low {v['mu_low']:.4g} and mu_high {v['mu_high']:.4g}",
+             f"  margins (limit / demand, > 1 passes): travel {fmt(m['travel'])}, acceleration "
+             f"{fmt(m['acceleration'])}, bearing {fmt(m['bearing'])}; balance {fmt(v['balance'])}",
+             f"  capacity sized on the {v['demand']['capacity_sized_on']}: need {v['demand']['travel_need']:.4f} m "
+             f"(time histories) vs {v['demand']['spectral_need']:.4f} m (spectrum); capacity "
+             f"{v['demand']['capacity']:.4f} m"]
+    lines += [f"  {k}: {text}" for k, text in v["definitions"].items()]
+    rows = [("R m", "r mm", "n", "T s", "side m", "plate kg", "travel", "accel", "bearing", "balance", "result")]
+    for row in (d.candidates.get("rows") or [])[:10]:
+        mg = row.get("margins")
+        if not mg:
+            continue
+        rows.append((f"{row['R']:g}", f"{row['r'] * 1000:g}", str(row["n_grooves"]), f"{row['T']:.2f}",
+                     f"{row['side']:.3f}", f"{row['m_o']:.2f}", fmt(mg["travel"]), fmt(mg["acceleration"]),
+                     fmt(mg["bearing"]), fmt(row["balance"]), "pass" if row["passed"] else "FAIL"))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    lines += ["", f"candidates by the criterion (first 10 of {d.candidates.get('verified', 0)} verified; "
+                  f"{d.candidates.get('passing', 0)} pass):"]
+    lines += ["  " + "  ".join(s.rjust(w) for s, w in zip(r, widths)) for r in rows]
+    if d.what_would_pass:
+        lines += ["", "what would pass: " + d.what_would_pass["text"]]
+    return lines
 
 
 def tipping_capacity(L_cr: float, l: float, R: float, r: float, mu: float) -> float:
@@ -352,6 +433,8 @@ class _Geometry:
     centres: tuple
     L_cr: float
     side: float
+    side_needed: float = 0.0   # the side the need asks for before the SIDE_MAX cap, m
+    need: float = 0.0          # the travel the opening was sized on, m
 
 
 @dataclass(frozen=True)
@@ -367,25 +450,29 @@ class _Context:
     wood_density: float
     fuse_release: float | None
     fuse_ball: float | None
+    ball_capacity: float = BALL_LOAD_TESTED
+    ball_source: str = BALL_CAPACITY_SOURCE
 
 
-def _size(R, r, n, t, a_design, d, cx: _Context, min_side: float) -> _Geometry:
-    """Grooves and plate of one candidate for the demand (a_design, d); see the module."""
+def _size(R, r, n, t, a_design, d, cx: _Context, min_side: float, floor: float = 0.0) -> _Geometry:
+    """Grooves and plate of one candidate for the demand (a_design, d), the opening covering at
+    least the travel ``floor`` (m); see the module."""
     R_hat = 2 * (R - r)
-    need = cx.margin * d + cx.mu * R_hat
-    a = min(max(need * R / R_hat, 1e-6), R)         # (a floor only for a zero demand)
+    need = max(cx.margin * d + cx.mu * R_hat, floor)
+    sized = need * (1.0 + SIZING_CLEARANCE)        # the travel the grooves are cut for (SIZING_CLEARANCE)
+    a = min(max(math.ceil(sized * R / R_hat / OPENING_STEP) * OPENING_STEP, 1e-6), R)
     depth = _cap_depth(R, a)
     l0 = cx.h + t                                  # lever arm without the plate's mass: the largest
-    L_need = max(need * (R + l0) / R_hat + cx.mu * l0, d + safety_length(a_design, l0, cx.g))
+    L_need = max(sized * (R + l0) / R_hat + cx.mu * l0, d + safety_length(a_design, l0, cx.g))
     ext_min = _extent_min(n, a)
     ext = max(_extent_for_L(n, L_need), ext_min)
-    side = max(2 * (ext + a + EDGE), min_side)
+    side = side_needed = max(2 * (ext + a + EDGE), min_side)
     if side > cx.side_max:                         # capped: the checks then say what is missing
         side = max(cx.side_max, min_side, 2 * (ext_min + a + EDGE))
     ext = side / 2 - a - EDGE                      # spread the grooves to the plate's edge
     spacing = _spacing_for_extent(n, ext)
     centres, L_cr = _layout(n, spacing)
-    return _Geometry(R, r, n, t, a, depth, spacing, centres, L_cr, side)
+    return _Geometry(R, r, n, t, a, depth, spacing, centres, L_cr, side, side_needed, need)
 
 
 def _fuse(geo: _Geometry, cx: _Context) -> dict:
@@ -453,7 +540,7 @@ def _evaluate(geo: _Geometry, a_design: float, d: float, cx: _Context) -> dict:
     a_lim = cx.a_lim
     limited = "groove rim" if cap_g <= cap_t else "top plate tipping"
     W = (cx.m + m_o) * g
-    P_allow = BALL_LOAD_TESTED * (r / BALL_TESTED) ** 2
+    P_allow = cx.ball_capacity * (r / BALL_TESTED) ** 2
     checks = [
         Check("plate acceleration below the statue's uplift limit", a_design <= a_lim, a_design, a_lim,
               f"felt {a_design:.4f} m/s^2 {'<=' if a_design <= a_lim else '>'} {cx.why_lim}", unit="m/s^2",
@@ -486,11 +573,11 @@ def _evaluate(geo: _Geometry, a_design: float, d: float, cx: _Context) -> dict:
               f"F(d) - F(d/2) = W d / (2 R_hat) = {d / (2 * R_hat):.4f} W vs {RESTORING:g} W (ASCE 7-16 "
               "§17.2.4.4); a weaker pendulum may drift and stay off centre", required=False, unit="m",
               key="recentring"),
-        Check("load per ball within the thesis' tests", W / n <= P_allow, W / n, P_allow,
-              f"{W / n:.0f} N on each of {n} balls vs {P_allow:.0f} N ({BALL_LOAD_TESTED:.0f} N on "
-              f"{BALL_TESTED * 1000:g} mm balls undamaged, ch. 6.4, scaled by (r / {BALL_TESTED:g} m)^2); heavier "
-              "loads leave pits in beech grooves that shorten the period (ch. 5.2): consider a harder groove "
-              "surface or a rubber layer", required=False, unit="N", key="ball_load"),
+        Check("load per ball within what the grooves carry", W / n <= P_allow, W / n, P_allow,
+              f"{W / n:.0f} N on each of {n} balls of {r * 1000:g} mm vs {P_allow:.0f} N ({cx.ball_capacity:.0f} N "
+              f"on a {BALL_TESTED * 1000:g} mm ball: {cx.ball_source}; scaled by (r / {BALL_TESTED:g} m)^2); "
+              "heavier loads leave pits that shorten the period and trap the balls (ch. 5.2): a harder groove "
+              "surface or insert, a rubber layer, more or larger balls raise it", unit="N", key="ball_load"),
     ]
     fuse = {}
     if cx.fuse_release is not None:
@@ -577,6 +664,94 @@ def _demand_fn(spectrum, motion, mu: float, g: float):
     return demand
 
 
+def _context(statue, mu, g, alpha, target, a_lim, a_lim_why, margin, side_max, wood_density, fuse_release,
+             fuse_ball, ball_capacity) -> _Context:
+    """The search's fixed numbers; the uplift limit min(alpha_L a_L, alpha_R a_R) or the given
+    ``a_lim``, lowered to ``target`` when that is stricter."""
+    if a_lim is None:
+        a_lim = min(alpha[0] * statue.a_L, alpha[1] * statue.a_R)
+        why_lim = f"min(alpha_L a_L, alpha_R a_R) = {a_lim:.4f} m/s^2"
+    elif not (isinstance(a_lim, (int, float)) and math.isfinite(a_lim) and a_lim > 0):
+        raise InputError(f"uplift limit a_lim must be a positive acceleration in m/s^2, got {a_lim!r}")
+    else:
+        why_lim = f"{a_lim_why or 'the given uplift limit'} = {a_lim:.4f} m/s^2"
+    if target is not None and target < a_lim:
+        a_lim, why_lim = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
+    if ball_capacity is None:
+        cap, source = BALL_LOAD_TESTED, BALL_CAPACITY_SOURCE
+    elif isinstance(ball_capacity, (int, float)) and math.isfinite(ball_capacity) and ball_capacity > 0:
+        cap, source = float(ball_capacity), "the given load test"
+    else:
+        raise InputError(f"ball capacity must be a positive load in N (per {BALL_TESTED * 1000:g} mm ball), "
+                         f"got {ball_capacity!r}")
+    return _Context(m=statue.m, h=statue.h, mu=mu, g=g, a_lim=a_lim, why_lim=why_lim, margin=margin,
+                    side_max=side_max, wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball,
+                    ball_capacity=cap, ball_source=source)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One evaluated device of a search (:attr:`Design.evaluated`), SI units: grooves R, balls r,
+    the plate (``side``; ``side_needed`` before the SIDE_MAX cap), the top plate's mass m_o, the
+    supported mass M, the period T, the travel capacity and the travel its opening was sized on
+    (``need``), and its checks."""
+
+    R: float
+    r: float
+    n_grooves: int
+    thickness: float
+    side: float
+    side_needed: float
+    m_o: float
+    M: float
+    T: float
+    R_hat: float
+    capacity: float
+    need: float
+    checks: tuple
+    ev: dict = field(repr=False, compare=False)
+    cx: _Context = field(repr=False, compare=False)
+
+    @property
+    def W(self) -> float:
+        """Weight on the balls, N."""
+        return self.M * self.cx.g
+
+    def check(self, key: str) -> Check:
+        return next(c for c in self.checks if c.key == key)
+
+    def passes(self, ignore=()) -> bool:
+        """Every required check passes, those keyed in ``ignore`` apart."""
+        return all(c.passed for c in self.checks if c.required and c.key not in ignore)
+
+    def row(self) -> dict:
+        """The candidate as design.json lists it (checks as [value, limit, ratio, passed])."""
+        return _row(self.ev)
+
+    def as_design(self, statue, *, spectrum=None, motion=None, target=None, alpha=(1.0, 1.0), tried: int = 1,
+                  candidates: dict | None = None, failure: str | None = None, notes=()) -> Design:
+        """The Design of this candidate (the input it was evaluated under)."""
+        return _design_from(self.ev, self.cx, statue, spectrum, motion, target, alpha, tried, candidates or {},
+                            failure, tuple(notes), self.cx.margin)
+
+
+def _candidate(ev: dict, cx: _Context) -> Candidate:
+    geo = ev["geo"]
+    return Candidate(R=geo.R, r=geo.r, n_grooves=geo.n, thickness=geo.thickness, side=geo.side,
+                     side_needed=geo.side_needed, m_o=ev["m_o"], M=cx.m + ev["m_o"], T=ev["T"],
+                     R_hat=2 * (geo.R - geo.r), capacity=ev["cap"], need=geo.need, checks=tuple(ev["checks"]),
+                     ev=ev, cx=cx)
+
+
+def longest_period(balls=BALLS, R_grid=R_GRID, g: float = G) -> float:
+    """The longest period (s) the search can pick: the largest R with the smallest ball.
+
+    >>> round(longest_period(), 3)
+    4.003
+    """
+    return 2 * math.pi * math.sqrt(2 * (max(R_grid) - min(balls)) / g)
+
+
 def _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_grid, side_max, margin):
     if (spectrum is None) == (motion is None):
         raise InputError("give exactly one design input: a response spectrum or a ground motion")
@@ -603,15 +778,37 @@ def _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_gri
         raise InputError(f"displacement margin must be >= 1, got {margin}")
 
 
+def fails_only_on_ball_load(design: dict | None) -> bool:
+    """True when a design's dict (design.json) fails its required checks on the ball load alone: the
+    device's mechanics (travel, felt acceleration, tipping, geometry) pass and only the grooves'
+    surface must carry more (``what_would_pass`` says how much). Such a design may be analysed
+    (the dynamics stage, the 3D cross-check); its plates are not written.
+
+    >>> fails_only_on_ball_load({"passed": False, "checks": [{"key": "ball_load", "required": True, "passed": False},
+    ...                                                      {"key": "travel", "required": True, "passed": True}]})
+    True
+    """
+    if not isinstance(design, dict) or design.get("passed") is True:
+        return False
+    checks = design.get("checks") if isinstance(design.get("checks"), list) else []
+    bad = {c.get("key") for c in checks if isinstance(c, dict) and c.get("required", True) and not c.get("passed")}
+    return bad == {"ball_load"}
+
+
 def design(statue, *, mu: float, spectrum=None, motion=None, target: float | None = None,
            alpha: tuple[float, float] = (1.0, 1.0), n_grooves: int | None = None, thickness=None,
            balls=BALLS, R_grid=R_GRID, wood_density: float = WOOD_DENSITY, fuse_release: float | None = None,
            fuse_ball: float | None = None, min_side: float | None = None, side_max: float = SIDE_MAX,
-           margin: float = DISPLACEMENT_MARGIN, g: float = G) -> Design:
+           margin: float = DISPLACEMENT_MARGIN, g: float = G, ball_capacity: float | None = None,
+           a_lim: float | None = None, a_lim_why: str | None = None, travel_floor: dict | None = None) -> Design:
     """Choose R, r, number of grooves, board, groove layout and plate size for ``statue``
     (RockingParams) under one design input; see the module for the checks and CRITERION.
     ``n_grooves`` None tries 3 and 4; ``thickness`` None tries THICKNESSES, a number (m)
-    or a sequence restricts the boards."""
+    or a sequence restricts the boards. ``ball_capacity``: N per 20 mm ball the grooves carry
+    (None: BALL_LOAD_TESTED, the thesis' beech). ``a_lim`` (m/s^2, described by ``a_lim_why``):
+    the uplift limit instead of min(alpha_L a_L, alpha_R a_R) (e.g. the low end of an uncertain
+    base's band). ``travel_floor``: {(R, r): m} a travel each such candidate's opening must
+    cover at least (the time histories' need, verify.py)."""
     if thickness is None:
         thicknesses = THICKNESSES
     elif isinstance(thickness, (int, float)):
@@ -621,15 +818,14 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
     _check_inputs(spectrum, motion, mu, alpha, thicknesses, target, balls, R_grid, side_max, margin)
     if n_grooves not in (None, 3, 4):
         raise InputError(f"number of grooves must be 3 or 4, got {n_grooves}")
+    floor = dict(travel_floor or {})
+    if not all(math.isfinite(v) and v >= 0 for v in floor.values()):
+        raise InputError("every travel the capacity must cover (travel_floor) must be a finite length >= 0 m")
     ns = (3, 4) if n_grooves is None else (n_grooves,)
-    a_lim = min(alpha[0] * statue.a_L, alpha[1] * statue.a_R)
-    why_lim = f"min(alpha_L a_L, alpha_R a_R) = {a_lim:.4f} m/s^2"
-    if target is not None and target < a_lim:
-        a_lim, why_lim = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
     if min_side is None:                 # the statue's base must fit on the top plate
         min_side = 2 * max(statue.b_L, statue.b_R) + 2 * EDGE
-    cx = _Context(m=statue.m, h=statue.h, mu=mu, g=g, a_lim=a_lim, why_lim=why_lim, margin=margin,
-                  side_max=side_max, wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball)
+    cx = _context(statue, mu, g, alpha, target, a_lim, a_lim_why, margin, side_max, wood_density, fuse_release,
+                  fuse_ball, ball_capacity)
     demand = _demand_fn(spectrum, motion, mu, g)
     evs = []
     for r in sorted(balls):
@@ -639,7 +835,8 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
             a_design, d = demand(R, r)
             for n in ns:
                 for t in thicknesses:
-                    evs.append(_evaluate(_size(R, r, n, t, a_design, d, cx, min_side), a_design, d, cx))
+                    geo = _size(R, r, n, t, a_design, d, cx, min_side, floor.get((R, r), 0.0))
+                    evs.append(_evaluate(geo, a_design, d, cx))
     if not evs:
         raise InputError("no groove radius in the grid is larger than the balls' diameter")
     passing = [ev for ev in evs if _passes(ev)]
@@ -669,8 +866,8 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
                   "checks": [{"key": c.key, "name": c.name, "unit": c.unit, "required": c.required} for c in head],
                   "check_columns": ["value", "limit", "ratio", "passed"],
                   "rows": [_row(ev) for ev in shown]}
-    return _design_from(best, cx, statue, spectrum, motion, target, alpha, len(evs), candidates, failure,
-                        tuple(notes), margin)
+    return replace(_design_from(best, cx, statue, spectrum, motion, target, alpha, len(evs), candidates, failure,
+                                tuple(notes), margin), evaluated=tuple(_candidate(ev, cx) for ev in evs))
 
 
 def _design_from(ev, cx, statue, spectrum, motion, target, alpha, tried, candidates, failure, notes,
@@ -688,30 +885,27 @@ def _design_from(ev, cx, statue, spectrum, motion, target, alpha, tried, candida
         depth=geo.depth, opening_radius=geo.a, groove_centres=tuple(geo.centres), fuse=ev["fuse"],
         checks=tuple(ev["checks"]), input=inp, candidates_tried=tried, notes=notes, capacity=ev["cap"],
         capacity_groove=ev["cap_g"], capacity_tip=ev["cap_t"], travel_need=ev["need"], margin=margin,
-        candidates=candidates, failure=failure)
+        candidates=candidates, failure=failure, ball_capacity=cx.ball_capacity, ball_capacity_source=cx.ball_source)
 
 
 def assess(statue, *, R: float, r: float, n_grooves: int, opening_radius: float, spacing: float, side: float,
            thickness: float, mu: float, spectrum=None, motion=None, target: float | None = None,
            alpha: tuple[float, float] = (1.0, 1.0), wood_density: float = WOOD_DENSITY,
            fuse_release: float | None = None, fuse_ball: float | None = None, side_max: float = SIDE_MAX,
-           margin: float = DISPLACEMENT_MARGIN, g: float = G) -> Design:
+           margin: float = DISPLACEMENT_MARGIN, g: float = G, ball_capacity: float | None = None) -> Design:
     """Check a given device (no search): grooves R, balls r, ``n_grooves`` grooves of
     opening radius ``opening_radius`` with centres ``spacing`` apart (layout as the
-    design's), a square plate ``side`` x ``thickness`` (m), under one design input."""
+    design's), a square plate ``side`` x ``thickness`` (m), under one design input;
+    ``ball_capacity`` as for :func:`design`."""
     _check_inputs(spectrum, motion, mu, alpha, (thickness,), target, (r,), (R,), side_max, margin)
     if not 0 < opening_radius <= R:
         raise InputError(f"opening radius must be in (0, R = {R:g}] m, got {opening_radius!r}")
-    a_lim = min(alpha[0] * statue.a_L, alpha[1] * statue.a_R)
-    why_lim = f"min(alpha_L a_L, alpha_R a_R) = {a_lim:.4f} m/s^2"
-    if target is not None and target < a_lim:
-        a_lim, why_lim = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
-    cx = _Context(m=statue.m, h=statue.h, mu=mu, g=g, a_lim=a_lim, why_lim=why_lim, margin=margin,
-                  side_max=side_max, wood_density=wood_density, fuse_release=fuse_release, fuse_ball=fuse_ball)
+    cx = _context(statue, mu, g, alpha, target, None, None, margin, side_max, wood_density, fuse_release,
+                  fuse_ball, ball_capacity)
     a_design, d = _demand_fn(spectrum, motion, mu, g)(R, r)
     centres, L_cr = _layout(n_grooves, spacing)
     geo = _Geometry(R, r, n_grooves, thickness, opening_radius, _cap_depth(R, opening_radius), spacing,
-                    centres, L_cr, side)
+                    centres, L_cr, side, side, margin * d + mu * 2 * (R - r))
     ev = _evaluate(geo, a_design, d, cx)
     ok = _passes(ev)
     failure = None if ok else _failure(ev["checks"])

@@ -11,13 +11,14 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
              glue_density, rod_density, front, previews                 (``slice``)
 [model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
              mu_static
-[isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments
+[isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments,
+             mu_low, mu_high (friction bounds), ball_capacity (N per 20 mm ball the grooves carry)
 [building]   floor, storeys, height, period, structure, damping, isolated, floor_spectrum
              (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
              an upper floor takes the floor spectrum of the Circolare / EC8, hazard/floor.py)
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
              fragility, fragility_records, fragility_duration,          time histories, fragility)
-             fragility_levels, fragility_samples
+             fragility_levels, fragility_samples, fragility_rounds
 [crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator
 [run]        stages, workers, scheduler                                 (what a plain ``run`` does
                                                                          and where sweeps run)
@@ -150,6 +151,14 @@ class IsolatorConfig:
     target: float | None = None         # stricter plate acceleration limit, m/s^2
     fuse_release: float | None = 0.075 * G   # m/s^2; None = no fuse
     segments: int = 256                 # groove tessellation of the plate solids
+    # the time-history verification (isolator/verify.py) runs every record at two friction bounds;
+    # auto = mu times the spread measured on the thesis' four-groove device (Table 25: 0.0039 to
+    # 0.0108 about 0.0073), as EN 15129 / ASCE 7-16 17.2.8.4 bound analyses ask
+    mu_low: float | None = None         # lower bound (the travel); auto = mu x 0.0039 / 0.0073
+    mu_high: float | None = None        # upper bound (the forces); auto = mu x 0.0108 / 0.0073
+    # N per ball the grooves carry, on a 20 mm ball (a load test on balls of radius r_t converts by
+    # (0.02 / r_t)^2); auto = the thesis' beech grooves, 30 kg on four 20 mm balls undamaged (73.6 N)
+    ball_capacity: float | None = None
 
 
 @dataclass(frozen=True)
@@ -181,8 +190,9 @@ class DynamicsConfig:
     fragility: bool = True              # fragility curves over a set matched to [isolator] spectrum
     fragility_records: int = 7          # records of the set (seeds 1..N)
     fragility_duration: float | None = None   # s, each record; auto = 25 s or 5 x the band's end
-    fragility_levels: str = "auto"      # PGA levels: auto (0.2-3 x the design PGA, 10) or START:STOP:N
-    fragility_samples: int = 7          # theta_R values of the imperfect model (thesis' sweep)
+    fragility_levels: str = "auto"      # coarse PGA levels: auto (0.2-3 x the design PGA, 10) or START:STOP:N
+    fragility_samples: int = 7          # parameter samples: theta_R, e, alpha (imperfect), e (Housner), mu bounds
+    fragility_rounds: int = 3           # rounds of adaptive levels around each curve's median (0: coarse only)
 
 
 @dataclass(frozen=True)
@@ -245,8 +255,15 @@ class ProjectConfig:
     source: str | None = None
 
     def section(self, name: str) -> dict:
-        """One section as a plain dict (None kept), for content hashes."""
-        return asdict(getattr(self, name))
+        """One section as a plain dict (None kept), for content hashes; ``"sec:key1,key2"`` only those
+        keys of it (a stage that reads two keys of a section is not recomputed when another changes).
+
+        >>> ProjectConfig().section("dynamics:fragility_records,fragility_duration")
+        {'fragility_records': 7, 'fragility_duration': None}
+        """
+        sec, _, keys = name.partition(":")
+        d = asdict(getattr(self, sec))
+        return {k: d[k] for k in keys.split(",")} if keys else d
 
     def to_dict(self) -> dict:
         return {name: self.section(name) for name in SECTIONS}
@@ -518,6 +535,15 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
     if not 16 <= i.segments <= 4096:
         bad(f"[isolator] segments must be in 16..4096, got {i.segments}")
+    for name, v in (("mu_low", i.mu_low), ("mu_high", i.mu_high)):
+        if v is not None and not 0 <= v < 0.5:
+            bad(f"[isolator] {name} must be in [0, 0.5), got {v}")
+    if i.mu_low is not None and i.mu_low > i.mu:
+        bad(f"[isolator] mu_low ({i.mu_low}) must not exceed mu ({i.mu}): it is the lower friction bound")
+    if i.mu_high is not None and i.mu_high < i.mu:
+        bad(f"[isolator] mu_high ({i.mu_high}) must not be below mu ({i.mu}): it is the upper friction bound")
+    if i.ball_capacity is not None and not i.ball_capacity > 0:
+        bad(f"[isolator] ball_capacity must be a positive load in N per 20 mm ball, got {i.ball_capacity}")
     try:
         site(cfg)
     except InputError as exc:
@@ -534,6 +560,8 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
             bad(f"[dynamics] fragility_duration must be in 5..120 s, got {d.fragility_duration}")
         if not 1 <= d.fragility_samples <= 1000:
             bad(f"[dynamics] fragility_samples must be in 1..1000, got {d.fragility_samples}")
+        if not 0 <= d.fragility_rounds <= 10:
+            bad(f"[dynamics] fragility_rounds must be in 0..10, got {d.fragility_rounds}")
         if str(d.fragility_levels).strip().lower() != "auto":
             fragility_levels(d.fragility_levels, f"{where}: [dynamics] fragility_levels")
     for name, spec, on in (("[dynamics] motion", d.motion, d.enabled), ("[crosscheck] motion", c.motion, c.enabled)):

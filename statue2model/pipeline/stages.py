@@ -82,12 +82,17 @@ class Context:
         return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R, mu_static=mu_s)
 
     def design(self) -> dict | None:
-        """The isolator design (dict) if the isolator stage ran and its design passed."""
-        man = self.manifests.get("isolator")
-        if not man or not man.get("data", {}).get("passed"):
+        """The isolator design (dict) if the isolator stage ran and its design passed, or failed on the ball
+        load alone (assessment.verdict.bearing_only: the device's mechanics pass; the verdict makes the
+        grooves' load capacity its condition)."""
+        from ..assessment.verdict import bearing_only
+
+        if not self.manifests.get("isolator"):
             return None
         d = read_json(self.dirs["isolator"] / "design.json")
-        return d if isinstance(d, dict) and d.get("passed") is True else None
+        if not isinstance(d, dict):
+            return None
+        return d if d.get("passed") is True or bearing_only(d) else None
 
 
 # --- params ---------------------------------------------------------------------------------------
@@ -136,27 +141,44 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
 
 # --- isolator -------------------------------------------------------------------------------------
 def isolator_stage(ctx: Context, d: Path) -> dict:
+    """The isolator designed on the [isolator] input and verified by time histories on the run's design
+    record set (the one the dynamics stage uses, :func:`_design_set`), against the statue's uplift limit
+    (the low end of the base-contact band when the params stage flagged the contact uncertain)."""
+    from ..assessment.limit_states import contact_limits
     from ..hazard.motions import parse_spec
-    from ..isolator.design import design
     from ..isolator.plates import PlateGeometry
+    from ..isolator.verify import verify
     from ..report.isolator_plots import write_plates_with_section
     from ..report.stage_sections import isolator_section
 
     c, m = ctx.config.isolator, ctx.config.model
     alpha = (m.alpha_L, m.alpha_R) if m.kind == "imperfect" else (1.0, 1.0)
-    res = design(ctx.params(), mu=c.mu, spectrum=site(ctx.config).target if c.spectrum else None,
+    rs, _ = _design_set(ctx)
+    band = _uplift_band(ctx)
+    a_lim = min(contact_limits(ctx.model(), band))
+    why = ("min over the sides of alpha_side min(a_side, the low end of the uncertain base's uplift band "
+           f"{band[0]:.4g}-{band[1]:.4g} m/s^2)" if band is not None else "min(alpha_L a_L, alpha_R a_R)")
+    info = {"source": "design set", "rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
+            "duration_s": max(r.duration for r in rs.records)}
+    res = verify(ctx.params(), records=rs.records, mu=c.mu, mu_low=c.mu_low, mu_high=c.mu_high, a_lim=a_lim,
+                 a_lim_why=why, records_info=info,
+                 spectrum=site(ctx.config).target if c.spectrum else None,
                  motion=parse_spec(c.motion)[0] if c.motion else None, target=c.target, alpha=alpha,
-                 n_grooves=c.grooves, thickness=c.thickness, fuse_release=c.fuse_release)
+                 n_grooves=c.grooves, thickness=c.thickness, fuse_release=c.fuse_release,
+                 ball_capacity=c.ball_capacity)
     dd = res.to_dict()
     write_json(d / "design.json", dd)
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
     if res.passed:
         write_plates_with_section(PlateGeometry.from_design(dd), d / "plates", segments=c.segments)
+    v = res.verification
     return {**isolator_section(res),
             "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
                      "side": res.side, "n_grooves": res.n_grooves, "a_design": res.a_design,
                      "d_design": res.d_design, "capacity": res.capacity, "travel_need": res.travel_need,
-                     "failure": res.failure}}
+                     "failure": res.failure, "th_margins": res.th_margins, "what_would_pass": res.what_would_pass,
+                     "mu_low": v["mu_low"], "mu_high": v["mu_high"], "a_lim": v["a_lim"],
+                     "ball_capacity": dd["ball_capacity"], "th_records": v["records"]["count"]}}
 
 
 # --- dynamics -------------------------------------------------------------------------------------
@@ -191,7 +213,7 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     r = DynamicsResults(model, motion, iso, period, c.pulse, freqs, amps, pgas, sp, spi, sw, swi, acc_i,
                         *histories(model, iso, motion, rtol))
     data = r.data()
-    rs, target = _design_set(ctx, d, iso)
+    rs, target = _design_set(ctx, d)
     ls = evaluate(model, rs.records, iso=iso, design=design, rtol=rtol, uplift_band=_uplift_band(ctx),
                   executor=ex)
     write_json(d / "limit_states.json", ls.to_dict())
@@ -210,20 +232,27 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     return {**section, "data": data}
 
 
-def _design_set(ctx: Context, d: Path, iso):
+def _design_set(ctx: Context, d: Path | None = None, iso=None):
     """The design record set (assessment/study.py, hazard/matching.py) of the project's design target
-    (the site's ground or floor spectrum), over the band of the building's and the isolator's
-    periods: writes records/ (record_NN.csv, set.json, spectra.png). Returns (RecordSet, target)."""
+    (the site's ground or floor spectrum), over the band of the building's period and, when the isolator
+    stage is enabled, of every period its search can pick (1.2 x the longest, isolator/design.py
+    longest_period): one set, deterministic by its seeds, for the isolator's verification and the
+    dynamics stage. ``d``: writes d/records/ (record_NN.csv, set.json, spectra.png); None writes nothing.
+    ``iso`` is not used (the band no longer follows the chosen device). Returns (RecordSet, target)."""
     from ..assessment.study import match_records, write_records
-    from ..report.fragility_section import records_title
-    from ..report.hazard_plots import plot_spectra
+    from ..isolator.design import longest_period
 
     c = ctx.config.dynamics
     hz = site(ctx.config)
     rs = match_records(hz.target, c.fragility_records, c.fragility_duration,
-                       T1=hz.building_period if hz.on_floor else None, T_is=iso.T if iso is not None else None)
-    write_records(d / "records", rs)
-    plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, hz.target))
+                       T1=hz.building_period if hz.on_floor else None,
+                       T_is=longest_period() if enabled("isolator", ctx.config) else None)
+    if d is not None:
+        from ..report.fragility_section import records_title
+        from ..report.hazard_plots import plot_spectra
+
+        write_records(d / "records", rs)
+        plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, hz.target))
     return rs, hz.target
 
 
@@ -240,13 +269,17 @@ def _uplift_band(ctx: Context):
 
 def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     """The dynamics stage's fragility study (assessment/study.py) on the design record set ``rs``:
-    writes fragility.json, .csv and .png."""
+    the isolator's friction at its bounds ([isolator] mu_low, mu_high when the config has them,
+    else mu times Table 25's spread, rocking.sampling.friction_bounds), ``fragility_rounds`` rounds of adaptive
+    levels; writes fragility.json, .csv and .png (one panel per limit state, the design PGA marked)."""
     from ..assessment.study import run_study
     from ..report.fragility_plots import plot_fragility
 
     c = ctx.config.dynamics
+    ic = ctx.config.isolator
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
-                      ctx.executor)
+                      ctx.executor, mu_low=getattr(ic, "mu_low", None), mu_high=getattr(ic, "mu_high", None),
+                      rounds=getattr(c, "fragility_rounds", 3))
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
     plot_fragility(study.result, d / "fragility.png", design_im=study.pga)
@@ -288,7 +321,8 @@ STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isol
 assert tuple(STAGES) == STAGE_NAMES, "a stage is named in config.STAGE_NAMES and run here"
 # stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
 DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),
-           "isolator": (("params",), (), ("model", "isolator", "building")),
+           "isolator": (("params",), (), ("model", "isolator", "building",
+                                          "dynamics:fragility_records,fragility_duration")),
            "dynamics": (("params",), ("isolator",), ("model", "isolator", "building", "dynamics")),
            "crosscheck": (("params",), ("isolator",), ("scan", "crosscheck"))}
 

@@ -87,12 +87,18 @@ def prototype_section(res, previews: bool) -> dict:
 
 def isolator_section(res) -> dict:
     """The isolator stage: an IsolatorDesign ``res`` (its plates were written when it passed)."""
+    from ..isolator.design import fails_only_on_ball_load
+
     figs, text, warnings = [], [], []
     if res.passed:
         figs.append(fig("plates/plates_section.png", "Section through the bottom and top plates, a groove and "
                                                      "its ball (dimensions in mm)"))
         text.append("CNC files: plates/bottom_plate.dxf, plates/top_plate.dxf (outline CUT_OUTSIDE, groove "
                     "openings POCKET, centres DRILL), solids as STL and 3MF.")
+    elif fails_only_on_ball_load(res.to_dict()):
+        warnings.append(f"The nearest device fails on the ball load alone: {res.failure}. Its mechanics pass every "
+                        "check, so the analyses on the isolator run on it; its plates are not written until "
+                        "[isolator] ball_capacity holds a load-tested capacity of the grooves that carries the load.")
     else:
         warnings.append(f"No isolator in range works: {res.failure}. No plates were written, and the analyses "
                         "on the isolator are skipped.")
@@ -100,7 +106,9 @@ def isolator_section(res) -> dict:
                  if not ck.required and not ck.passed]
     rows = [[ck.name, fmt(ck.value), fmt(ck.limit), ck.unit, fmt(ck.ratio, 3),
              "pass" if ck.passed else ("fail" if ck.required else "note"), ck.why] for ck in res.checks]
-    summary = {"design": "PASS" if res.passed else "FAIL",
+    summary = {"design": "PASS" if res.passed else (
+                   "FAIL on the ball load alone (the grooves must carry more; the mechanics pass)"
+                   if fails_only_on_ball_load(res.to_dict()) else "FAIL"),
                "grooves / balls": f"R {res.R:.3f} m, r {res.r:.4f} m, {res.n_grooves} grooves",
                "period T": f"{res.T:.2f} s",
                "plate": f"{res.side:.3f} x {res.side:.3f} x {res.thickness:.3f} m",
@@ -109,7 +117,35 @@ def isolator_section(res) -> dict:
                          f"(capacity {res.capacity:.4f} m, {res.capacity_limited_by})"}
     text.append(f"Chosen among {res.candidates.get('passing', 0)} passing of {res.candidates_tried} candidates: "
                 f"{res.criterion}.")
+    tables = [{"title": "Design checks (each passes when value <= limit; ratio = value / limit)",
+               "columns": ["check", "value", "limit", "unit", "ratio", "result", "why"],
+               "rows": rows, "status_column": 5}]
+    v = getattr(res, "verification", None) or {}
+    if v:
+        mg, rec = v["margins"], v["records"]
+        summary["time-history margins"] = (f"travel {fmt(mg['travel'], 3)}, acceleration {fmt(mg['acceleration'], 3)}, "
+                                           f"bearing {fmt(mg['bearing'], 3)} (limit / demand, > 1 passes)")
+        met = {True: "; the set's rules met", False: "; the set's rules NOT met", None: ""}[rec.get("rules_met")]
+        text.append(f"Verified by time histories ({v['model']}) on {rec['count']} records ({rec['source']}{met}): "
+                    f"the {v['statistic']} over the records, every record at mu_low {v['mu_low']:.4g} and mu_high "
+                    f"{v['mu_high']:.4g}, each demand at the bound that governs it. Margins: "
+                    + "; ".join(f"{k}: {d}" for k, d in v["definitions"].items())
+                    + f". The capacity covers the larger of the spectral and the time-history travel need (here "
+                      f"the {v['demand']['capacity_sized_on']}).")
+        if res.what_would_pass:
+            warnings.append(f"What would pass: {res.what_would_pass['text']}.")
+        cand = []
+        for row in res.candidates.get("rows") or []:
+            m = row.get("margins")
+            if m and len(cand) < 10:
+                cand.append([fmt(row["R"]), fmt(row["r"] * 1000), row["n_grooves"], fmt(row["T"], 3),
+                             fmt(row["side"], 3), fmt(row["m_o"], 3), fmt(m["travel"], 3), fmt(m["acceleration"], 3),
+                             fmt(m["bearing"], 3), fmt(row["balance"], 3), "pass" if row["passed"] else "fail"])
+        tables.append({"title": f"Candidates by the criterion with their time-history margins (first {len(cand)} "
+                                f"of {res.candidates.get('verified', 0)} verified, "
+                                f"{res.candidates.get('passing', 0)} pass)",
+                       "columns": ["R (m)", "r (mm)", "grooves", "T (s)", "side (m)", "top plate (kg)", "travel",
+                                   "acceleration", "bearing", "balance", "result"],
+                       "rows": cand, "status_column": 10})
     return {"summary": summary, "text": text + list(res.notes), "warnings": warnings, "figures": figs,
-            "tables": [{"title": "Design checks (each passes when value <= limit; ratio = value / limit)",
-                        "columns": ["check", "value", "limit", "unit", "ratio", "result", "why"],
-                        "rows": rows, "status_column": 5}]}
+            "tables": tables}

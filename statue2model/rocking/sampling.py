@@ -14,6 +14,16 @@ the intensity measure and the motion the body feels).
 * :func:`lognormal_factor` - ``im_factor`` = exp(beta z), z at the n stratified
   normal quantiles of a Latin hypercube: a lognormal(0, beta) amplification.
 * :func:`nominal` - n copies of the model (nothing varied).
+* :func:`study_design` - the default fragility study's joint design (assessment/study.py):
+  a Latin hypercube over theta_R (the thesis' range, imperfect model), the restitution
+  (``e_factor``), the uplift reduction (``alpha_factor``, imperfect model) and the isolator's
+  friction at its two bounds (``mu``, low and high, EN 15129 / ASCE 7-16 17.2.8.4 practice).
+
+Three more special names, not fields of a RockingModel: ``e_factor`` (> 0) multiplies both
+sides' restitution (every value of a velocity table; the result is capped at 1, so the
+asymmetry e_L != e_R is kept), ``alpha_factor`` (> 0) multiplies alpha_L and alpha_R (capped
+at 1), and ``mu`` (in [0, 1)) is the isolator's rolling friction of the sample
+(:meth:`ParameterSamples.mu_values`; the rocking models do not read it).
 
 Example
 -------
@@ -27,6 +37,11 @@ Example
 >>> f = lognormal_factor(0.3, 1000, seed=2).values["im_factor"]
 >>> round(float(np.log(f).std()), 3), round(float(np.median(f)), 3)    # dispersion 0.3, median 1
 (0.3, 1.0)
+>>> from statue2model.geometry.rocking_params import RockingParams
+>>> m = RockingModel.imperfect(RockingParams.rectangular_block(0.05, 0.25, 10.0), 0.5, 0.6)
+>>> d = study_design(m, 8, mu=0.01, mu_low=0.008, mu_high=0.015)
+>>> sorted(d.values), sorted(set(d.values["mu"].tolist())), int((d.values["mu"] == 0.008).sum())
+(['alpha_factor', 'e_factor', 'mu', 'theta_R'], [0.008, 0.015], 4)
 """
 from __future__ import annotations
 
@@ -40,9 +55,28 @@ from .model import RockingModel
 from .sweeps import SWEEPABLE
 
 IM_FACTOR = "im_factor"
-SAMPLEABLE = SWEEPABLE + (IM_FACTOR,)
+E_FACTOR = "e_factor"
+ALPHA_FACTOR = "alpha_factor"
+MU = "mu"
+FACTORS = (IM_FACTOR, E_FACTOR, ALPHA_FACTOR, MU)
+"""Sampleable names that are not fields of a RockingModel (module docstring)."""
+SAMPLEABLE = SWEEPABLE + FACTORS
 THESIS_THETA_R = (1.78e-2, 2.26e-2)
 """theta_R / delta_R range of the thesis' uncertainty sweep (Table 24, 49 values)."""
+E_RANGE = (0.95, 1.05)
+"""``e_factor`` range of the default study: +-5 % about the model's e_L, e_R, the scatter of the
+thesis' measured restitution about its mean (Table 23: e_R 0.911-0.947, e_L 0.909-0.992, mean
+0.924 and 0.963: -1.4/+2.5 % and -5.6/+3.0 %); capped at e = 1."""
+ALPHA_RANGE = (0.90, 1.10)
+"""``alpha_factor`` range of the default study (imperfect model): +-10 % about the config's
+alpha_L, alpha_R (Table 22 gives one identified value a side, no scatter: +-10 % is a stated
+assumption, the benchmarks' range 0.143-0.175 and 0.158-0.193 about 0.159 and 0.175); capped at 1."""
+MU_LOW_FACTOR, MU_HIGH_FACTOR = 0.0039 / 0.0073, 0.0108 / 0.0073
+"""Where the design gives no friction bounds: mu_low = mu x MU_LOW_FACTOR, mu_high = mu x
+MU_HIGH_FACTOR, the spread the thesis measured on its four-groove device (Table 25: 0.0039 to
+0.0108 about the nominal 0.0073; the same default as the isolator's time-history verification).
+The codes ask for bounds from the device's own tests (EN 15129 upper and lower design values,
+ASCE 7-16 17.2.8.4 lambda_min, lambda_max): set [isolator] mu_low and mu_high."""
 MAX_SAMPLES = 100_000
 
 
@@ -66,8 +100,10 @@ class ParameterSamples:
                 raise InputError(f"samples of {name}: expected {n} values, got shape {a.shape}")
             if not np.all(np.isfinite(a)):
                 raise InputError(f"samples of {name} must be finite")
-            if name == IM_FACTOR and np.any(a <= 0):
-                raise InputError("samples of im_factor must be > 0")
+            if name in (IM_FACTOR, E_FACTOR, ALPHA_FACTOR) and np.any(a <= 0):
+                raise InputError(f"samples of {name} must be > 0")
+            if name == MU and np.any((a < 0) | (a >= 1)):
+                raise InputError("samples of mu (the isolator's rolling friction) must lie in [0, 1)")
 
     @property
     def n(self) -> int:
@@ -77,11 +113,18 @@ class ParameterSamples:
         """(n,) multipliers of the ground motion (1 where im_factor is not sampled)."""
         return np.asarray(self.values.get(IM_FACTOR, np.ones(self.n)), dtype=float)
 
+    def mu_values(self, mu: float) -> np.ndarray:
+        """(n,) rolling friction of the isolator of each sample (``mu`` where it is not sampled)."""
+        return np.asarray(self.values.get(MU, np.full(self.n, float(mu))), dtype=float)
+
     def models(self, model: RockingModel) -> list[RockingModel]:
         """The n models: ``model`` with each sample's values ("alpha", "theta", "e" set both
-        sides). A value outside the model's domain is an InputError naming the sample."""
+        sides; ``e_factor``, ``alpha_factor`` scale both sides, capped at 1). A value outside the
+        model's domain is an InputError naming the sample."""
+        from .model import Restitution
+
         out = []
-        names = [k for k in self.values if k != IM_FACTOR]
+        names = [k for k in self.values if k not in FACTORS]
         for i in range(self.n):
             changes = {}
             for name in names:
@@ -90,6 +133,16 @@ class ParameterSamples:
                     changes[f"{name}_L"] = changes[f"{name}_R"] = v
                 else:
                     changes[name] = v
+            if E_FACTOR in self.values:
+                f = float(self.values[E_FACTOR][i])
+                for side in ("e_L", "e_R"):
+                    e = changes.get(side, getattr(model, side))
+                    e = Restitution.from_value(e, side)
+                    changes[side] = Restitution(e.speeds, tuple(min(1.0, v * f) for v in e.values), side)
+            if ALPHA_FACTOR in self.values:
+                f = float(self.values[ALPHA_FACTOR][i])
+                for side in ("alpha_L", "alpha_R"):
+                    changes[side] = min(1.0, float(changes.get(side, getattr(model, side))) * f)
             try:
                 out.append(model.with_(**changes) if changes else model)
             except InputError as exc:
@@ -169,3 +222,92 @@ def lognormal_factor(beta: float, n: int, seed: int = 0) -> ParameterSamples:
 def nominal(n: int = 1) -> ParameterSamples:
     """n samples of the model as it is (nothing varied)."""
     return ParameterSamples({}, _count(n, "number of samples"), "nominal", None)
+
+
+def friction_bounds(mu: float, mu_low: float | None = None, mu_high: float | None = None) -> tuple[float, float, str]:
+    """(mu_low, mu_high, where from) of an isolator of nominal friction ``mu``: the given bounds,
+    else mu x MU_LOW_FACTOR and mu x MU_HIGH_FACTOR (Table 25's spread; capped below 1). Refused
+    unless 0 <= mu_low <= mu <= mu_high < 1.
+
+    >>> [round(x, 4) for x in friction_bounds(0.0073)[:2]]          # Table 25: 0.0039 and 0.0108
+    [0.0039, 0.0108]
+    """
+    mu = float(mu)
+    src = "[isolator] mu_low, mu_high"
+    if mu_low is None or mu_high is None:
+        src = ("mu x 0.0039 / 0.0073 and mu x 0.0108 / 0.0073 (the spread of Table 25 about its nominal mu: the "
+               "design gives no bounds; EN 15129 and ASCE 7-16 17.2.8.4 ask for them from the device's tests)")
+        mu_low = mu * MU_LOW_FACTOR if mu_low is None else mu_low
+        mu_high = min(mu * MU_HIGH_FACTOR, 0.99) if mu_high is None else mu_high
+    lo, hi = float(mu_low), float(mu_high)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= mu <= hi < 1):
+        raise InputError(f"friction bounds must satisfy 0 <= mu_low <= mu <= mu_high < 1, got {lo:g}, {mu:g}, {hi:g}")
+    return lo, hi, src
+
+
+def study_design(model: RockingModel, n: int, mu: float | None = None, mu_low: float | None = None,
+                 mu_high: float | None = None, seed: int = 0) -> ParameterSamples:
+    """The default fragility study's n samples (``method`` "lhs", ``seed``): one Latin hypercube
+    (scipy.stats.qmc, seeded) over, jointly,
+
+    * ``theta_R`` over the thesis' range THESIS_THETA_R x delta_R (imperfect model only);
+    * ``e_factor`` over E_RANGE (both sides' restitution, capped at 1);
+    * ``alpha_factor`` over ALPHA_RANGE (imperfect model only: Housner's has no alpha to reduce);
+    * ``mu`` (with an isolator, ``mu`` not None): the friction at its LOW and HIGH bound
+      (:func:`friction_bounds`), a two-level factor: the hypercube's column ranked, the lower
+      ceil(n / 2) ranks at mu_low, the others at mu_high (balanced, deterministic for a seed).
+
+    n = 1 is the model as it is (:func:`nominal`, with ``mu`` as given): one sample varies nothing.
+    """
+    from scipy.stats import qmc
+
+    n = _count(n, "number of samples")
+    seed = _seed(seed)
+    if n == 1:
+        return nominal(1) if mu is None else ParameterSamples({MU: np.array([float(mu)])}, 1, "nominal", None)
+    ranges = {}
+    if model.kind == "imperfect":
+        d = model.params.delta_R
+        ranges["theta_R"] = (THESIS_THETA_R[0] * d, THESIS_THETA_R[1] * d)
+    ranges[E_FACTOR] = E_RANGE
+    if model.kind == "imperfect":
+        ranges[ALPHA_FACTOR] = ALPHA_RANGE
+    dims = len(ranges) + (mu is not None)
+    u = qmc.LatinHypercube(d=dims, seed=np.random.default_rng(seed)).random(n)
+    vals = {name: lo + (hi - lo) * u[:, j] for j, (name, (lo, hi)) in enumerate(ranges.items())}
+    if mu is not None:
+        lo, hi, _ = friction_bounds(mu, mu_low, mu_high)
+        rank = np.argsort(np.argsort(u[:, -1], kind="stable"), kind="stable")
+        vals[MU] = np.where(rank < (n + 1) // 2, lo, hi)
+    return ParameterSamples(vals, n, "lhs", seed)
+
+
+def describe(samples: ParameterSamples, model: RockingModel, mu_source: str | None = None) -> str:
+    """What ``samples`` vary, in words (the report's 'uncertain parameters')."""
+    v = samples.values
+    parts = []
+    if "theta_R" in v:
+        th = v["theta_R"]
+        parts.append(f"theta_R {th.min():.4g}-{th.max():.4g} rad (the thesis' range, Table 24: "
+                     f"{THESIS_THETA_R[0]:g}-{THESIS_THETA_R[1]:g} delta_R)")
+    if E_FACTOR in v:
+        f = v[E_FACTOR]
+        parts.append(f"the restitution e_L, e_R x {f.min():.3f}-{f.max():.3f} (capped at 1; Table 23's scatter)")
+    if ALPHA_FACTOR in v:
+        f = v[ALPHA_FACTOR]
+        parts.append(f"alpha_L, alpha_R x {f.min():.3f}-{f.max():.3f} (+-10 %, a stated assumption about "
+                     f"alpha_L {model.alpha_L:g}, alpha_R {model.alpha_R:g})")
+    for name in v:
+        if name not in ("theta_R", E_FACTOR, ALPHA_FACTOR, MU):
+            parts.append(f"{name} {v[name].min():.4g}-{v[name].max():.4g}")
+    text = ", ".join(parts) if parts else "no model parameter"
+    if MU in v:
+        lo, hi = float(v[MU].min()), float(v[MU].max())
+        k = int(np.sum(v[MU] == lo))
+        text += (f"; the isolator's friction at its bounds, mu {lo:.4g} ({k} samples) and {hi:.4g} "
+                 f"({samples.n - k})" + (f" from {mu_source}" if mu_source else ""))
+    if samples.method == "lhs":
+        text += f" (a Latin hypercube of {samples.n} samples, seed {samples.seed})"
+    if model.kind != "imperfect" and "theta_R" not in v:
+        text += "; Housner's model has no theta_R or alpha to vary: e only"
+    return text
