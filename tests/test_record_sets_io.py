@@ -218,3 +218,22 @@ def test_the_pipeline_takes_no_rejected_design(tmp_path):
     checks[0]["passed"] = False
     (tmp_path / "design.json").write_text(json.dumps({"R": 0.3, "passed": False, "checks": checks}))
     assert ctx.design() is None
+
+
+def test_a_design_failing_on_the_ball_load_alone_is_analysed_but_never_cut(tmp_path, capsys):
+    """Its mechanics pass every check (only the grooves' surface must carry more): `isolator simulate`
+    runs it with a note, `isolator plates` refuses it."""
+    dj = tmp_path / "heavy.json"
+    heavy = tmp_path / "heavy_params.json"
+    heavy.write_text(json.dumps({**PARAMS, "m": 400.0, "I_G": PARAMS["I_G"] * 400.0 / PARAMS["m"]}))
+    assert main(["isolator", "design", str(heavy), "--spectrum", "ec8:ag=0.25g,ground=C", "--mu", "0.0073",
+                 "--json", str(dj)]) == 2
+    data = json.loads(dj.read_text())
+    assert not data["passed"] and {c["key"] for c in data["checks"] if c["required"] and not c["passed"]} == {
+        "ball_load"}
+    capsys.readouterr()
+    assert main(["isolator", "plates", str(dj), "--out", str(tmp_path / "plates")]) == 2
+    assert "rejected this design" in only_line(capsys) and not (tmp_path / "plates").exists()
+    assert main(["isolator", "simulate", "--design", str(dj), "--motion", "free:u0=0.05", "--t-end", "1",
+                 "--json", str(tmp_path / "s.json")]) == 0
+    assert "fails on the ball load alone" in capsys.readouterr().err and (tmp_path / "s.json").is_file()

@@ -410,9 +410,10 @@ def _records(args, od, target, band) -> int:
     from ..report.hazard_plots import plot_spectra
 
     t0 = time.perf_counter()
+    matcher = match_set
     if args.method == "wavelet":
-        from ..hazard.wavelet_matching import match_set_wavelet as match_set
-    rs = match_set(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,
+        from ..hazard.wavelet_matching import match_set_wavelet as matcher
+    rs = matcher(target, n=args.n, seed=args.seed, duration=args.duration, dt=args.dt, band=band,
                    tolerance=args.tolerance, required_band=args.required_band, band_reason=args.band_reason)
     seconds = time.perf_counter() - t0
     c = rs.check()

@@ -48,6 +48,9 @@ def add_parsers(sub) -> None:
                    "even grid (one --vary only)")
     p.add_argument("--seed", type=int, default=0, metavar="K", help="seed of the samples and the bootstrap")
     p.add_argument("--boot", type=int, default=200, metavar="N", help="bootstrap replicates (default 200; 0: none)")
+    p.add_argument("--design-pga", type=_design_pga, metavar="A",
+                   help="the design PGA with a unit (0.287g, 2.82m/s2): marked on every panel of fragility.png "
+                        "(with --im pga)")
     p.add_argument("--isolator", metavar="DESIGN.json", help="also on this isolator (`statue2model isolator design`)")
     p.add_argument("--direction", type=finite_float, metavar="DEG", help="excitation direction of a scan "
                    "(default: weakest)")
@@ -221,6 +224,13 @@ def _cmd_fragility(args) -> int:
         return _study(args, od, model, records, levels, samples, study, iso)
 
 
+def _design_pga(text: str) -> float:
+    """A design PGA with its unit (0.287g, 2.82m/s2), m/s^2."""
+    from .isolator import _accel
+
+    return _accel(text)
+
+
 def _study(args, od, model, records, levels, samples, study, iso) -> int:
     import contextlib
 
@@ -244,7 +254,7 @@ def _study(args, od, model, records, levels, samples, study, iso) -> int:
     with group as g:
         res.write_json(g / "fragility.json")
         res.write_csv(g / "fragility.csv")
-        plot_fragility(res, g / "fragility.png")
+        plot_fragility(res, g / "fragility.png", design_im=args.design_pga if args.im == "pga" else None)
     for line in res.summary_lines():
         print(line)
     s = res.stats

@@ -108,12 +108,13 @@ def add_parsers(sub) -> None:
     i.set_defaults(func=_cmd_identify)
 
 
-def read_design(path, option: str = "--isolator") -> dict:
+def read_design(path, option: str = "--isolator", analyse: bool = True) -> dict:
     """The isolator design at ``path`` (the JSON of ``statue2model isolator design``, or one
     written by hand with R, r, M, mu, ...), refused with one line when ``isolator design``
-    rejected it: its ``passed`` is not true, or one of its required ``checks`` failed; a design that
-    fails on the ball load alone is taken, with a note on stderr (its mechanics pass: the grooves'
-    surface must carry the load, isolator.design.fails_only_on_ball_load). A design without
+    rejected it: its ``passed`` is not true, or one of its required ``checks`` failed; to ``analyse``
+    it (simulate, cross-check, fragility), a design that fails on the ball load alone is taken, with a
+    note on stderr (its mechanics pass: the grooves' surface must carry the load,
+    isolator.design.fails_only_on_ball_load); never to cut its plates. A design without
     ``passed`` (written by hand) is taken as it is."""
     import sys
 
@@ -126,7 +127,7 @@ def read_design(path, option: str = "--isolator") -> dict:
     checks = d.get("checks") if isinstance(d.get("checks"), list) else []
     failed = [str(c.get("name")) for c in checks
               if isinstance(c, dict) and c.get("required") and c.get("passed") is not True]
-    if fails_only_on_ball_load(d):
+    if analyse and fails_only_on_ball_load(d):
         print(f"statue2model: note: {path} fails on the ball load alone (the grooves must carry more, see its "
               "what_would_pass); its mechanics are analysed as designed", file=sys.stderr)
         return d
@@ -201,7 +202,7 @@ def _cmd_plates(args) -> int:
     from ..isolator.plates import PlateGeometry
     from ..report.isolator_plots import write_plates_with_section
 
-    geom = PlateGeometry.from_design(read_design(args.design, "DESIGN.json"), str(args.design))
+    geom = PlateGeometry.from_design(read_design(args.design, "DESIGN.json", analyse=False), str(args.design))
     if args.segments < 16 or args.segments > 4096:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
     with open_output(args.out, "plates", command="isolator plates", can_reuse=False) as od, \

@@ -35,9 +35,9 @@ spectral travel need has them (design.py); a_lim: the statue's uplift limit, the
 the base-contact band when the contact is flagged uncertain (the caller passes it); P_20:
 the grooves' per-ball capacity on a 20 mm ball (design.py). The capacity is sized so that it
 covers the larger of the spectral need and the time-history need: the opening is cut to
-that travel (design.py, ``travel_floor``), so the travel margin is >= 1 wherever the plate
-and its tipping allow, and exactly 1 where the time histories govern and the groove rim
-limits.
+that travel plus SIZING_CLEARANCE (1 %), the opening rounded up to 0.5 mm (design.py,
+``travel_floor``), so the travel margin is >= 1.01 wherever the plate and its tipping allow:
+never a margin resting on the last digit.
 
 A candidate passes when every spectral required check passes except the spectral felt
 acceleration Se(T) <= a_lim and the ball load (REPLACED: the time-history acceleration and
