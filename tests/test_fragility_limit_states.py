@@ -93,7 +93,7 @@ def test_coarse_grid_gives_a_step_and_no_probability(step_case):
     why = identified_reason(c)
     assert "jump between adjacent levels" in why
     e = curve_entry(c, 0.9 * a_star)
-    assert e["p_design"] is None and "not identified: spread not identified" in e["p_design_reason"]
+    assert e["p_design"] is None and e["p_design_reason"].startswith("spread not identified")
     assert e["beta"] is None and e["identified"] is False and e["partial_levels"] == 0
     data = fragility_data(plain, 0.9 * a_star, False)
     assert data["fragility_p_design_fixed"] is None and "jump" in data["fragility_p_design_fixed_reason"]
@@ -217,3 +217,37 @@ def test_fragility_rounds_is_checked_when_the_project_file_is_read():
     assert load_config_text("[dynamics]\nfragility_rounds = 0\n").dynamics.fragility_rounds == 0
     with pytest.raises(InputError, match=r"fragility_rounds must be in 0\.\.10, got 11"):
         load_config_text("[dynamics]\nfragility_rounds = 11\n")
+
+
+def test_fixed_base_uplift_is_fitted_on_each_records_exact_uplift_pga():
+    """Uplift on a fixed base needs no levels: record r scaled to PGA x lifts the block iff
+    x max(u_g'') / PGA_r > g b_L / h or x max(-u_g'') / PGA_r > g b_R / h. Hand values from the
+    records' own extremes: the median is the geometric mean of the thresholds, beta their log
+    standard deviation; a symmetric block lifts at g b / h under every record (a deterministic step)."""
+    from statue2model.assessment.fragility import EXACT
+    from statue2model.rocking.sampling import nominal
+
+    recs = [motions.synthetic_record(6.0, 0.01, 2.0, seed=s) for s in range(6)]
+    lv = np.geomspace(0.5, 8.0, 6)
+    asym = RockingModel.housner(RockingParams.from_dict({"m": 10.0, "h": 0.25, "b_L": 0.10, "b_R": 0.05,
+                                                          "I_G": 0.3}))
+    res = run_fragility(asym, recs, lv, nominal(1), FragilityStudy(n_boot=50))
+    up = res.curves["uplift"]
+    aL, aR = 9.81 * 0.10 / 0.25, 9.81 * 0.05 / 0.25
+    x = []
+    for rec in recs:
+        acc = np.asarray(rec.samples)
+        pga = float(np.max(np.abs(acc)))
+        x.append(pga * min(aL / acc.max(), aR / -acc.min()))
+    assert up.status == EXACT and up.spread is None
+    assert up.median == pytest.approx(math.exp(np.mean(np.log(x))), rel=1e-9)
+    assert up.beta == pytest.approx(max(np.std(np.log(x)), BETA_MIN), rel=1e-9)
+    entry = limit_state_data(res, 2.0)["full_contact"]["fixed"]
+    assert entry["identified"] and entry["p_design"] == pytest.approx(float(up.probability(2.0)))
+    # the counts per level are the same outcome: every level above the largest threshold lifts every run
+    assert all(f == n for f, n, level in zip(up.n_fail, up.n_trials, lv) if level > max(x))
+    sym = RockingModel.housner(RockingParams.rectangular_block(0.05, 0.25, 10.0))
+    cs = run_fragility(sym, recs, lv, nominal(1), FragilityStudy(n_boot=20)).curves["uplift"]
+    assert cs.median == pytest.approx(9.81 * 0.05 / 0.25, rel=1e-9) and cs.beta == BETA_MIN
+    assert cs.beta_ci_note.startswith("a deterministic threshold")
+    assert float(cs.probability(0.99 * cs.median)) < 1e-6 and float(cs.probability(1.01 * cs.median)) > 1 - 1e-6

@@ -140,9 +140,9 @@ LIMIT_STATE_CURVES = {"full_contact": {"fixed": "uplift", "isolated": "uplift_is
 """The curve of each limit state of assessment.limit_states on each base (its definitions: on the
 isolator a run that reached the capacity counts as overturned, so overturning there is
 ``failure_isolated``)."""
-ADAPT_ORDER = ("overturn", "uplift", "failure_isolated", "uplift_isolated", "capacity_exceeded",
-               "overturn_isolated")
-"""The order in which a base's curves ask for adaptive levels (the budget goes to the first)."""
+ADAPT_ORDER = ("overturn", "failure_isolated", "uplift_isolated", "capacity_exceeded", "overturn_isolated")
+"""The order in which a base's curves ask for adaptive levels (the budget goes to the first). The
+fixed-base uplift asks for none: it is fitted on each run's exact uplift PGA (:func:`exact_uplift`)."""
 BETA_MIN, BETA_MAX = 1e-3, 5.0
 MIN_PARTIAL = 2
 """Levels with a partial fraction of failures a curve needs for its spread to count as identified."""
@@ -558,8 +558,9 @@ def partial_levels(n_fail, n_trials) -> int:
 
 def median_reason(cv) -> str | None:
     """None when the fitted median of curve ``cv`` lies within the levels it ran (else the median is
-    an extrapolation of the fit: not identified, and why); None too for a curve without a fit."""
-    if not cv.fitted:
+    an extrapolation of the fit: not identified, and why); None too for a curve without a fit, and
+    for one fitted on exact thresholds (EXACT: its median is their geometric mean, not a fit's)."""
+    if not cv.fitted or cv.status == EXACT:
         return None
     lv = np.asarray(cv.levels, dtype=float)[np.asarray(cv.n_trials) > 0]
     if cv.median < lv.min():
@@ -585,7 +586,7 @@ def spread_reason(cv, confidence: float = 0.90) -> str | None:
     failures, a profile-likelihood band of beta with an end not identified, or a bootstrap band with
     an end not identified. None too for a curve without a fit (its ``reason`` says why). A
     probability from a fit whose spread is not identified is not known and is not stored."""
-    if not cv.fitted:
+    if not cv.fitted or cv.status == EXACT:     # exact thresholds: beta is their log standard deviation
         return None
     lv = np.asarray(cv.levels, dtype=float)
     zf, nt = np.asarray(cv.n_fail), np.asarray(cv.n_trials)
@@ -654,7 +655,7 @@ class FragilityCurve:
     @property
     def fitted(self) -> bool:
         """Whether median and beta are defined (status "ok" or "step")."""
-        return self.status in ("ok", "step")
+        return self.status in ("ok", "step", EXACT)
 
     @property
     def reason(self) -> str | None:
@@ -1173,6 +1174,9 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
             log["rounds_run"].append(entry)
         log["added"] = dict(added)
     curves, ratio = _fit_all(lv, fails, valid, study, unit, ran)
+    if "uplift" in curves:
+        curves["uplift"], ratio = exact_uplift(curves["uplift"], uplift_thresholds(model, records, samples, ims),
+                                               valid["fixed"], study, unit, ratio, curves.get("uplift_isolated"))
     if log is not None:
         log["identified"] = {k: bool(c.fitted and c.spread is None) for k, c in curves.items()}
         log["why_not"] = {k: (c.reason or c.spread) for k, c in curves.items()
@@ -1181,6 +1185,90 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     stats["wall_s"] = time.perf_counter() - t0
     return FragilityResult(study.im, lv, [r.label for r in records], ims, samples, study, fails, valid, curves,
                            ratio, unit, model, isolator, stats, ran, log)
+
+
+EXACT = "exact"
+"""Status of the fixed-base uplift curve: fitted to each run's exact uplift PGA, not to counts."""
+
+
+def uplift_thresholds(model, records, samples, ims) -> np.ndarray:
+    """(records, samples) PGA (in the study's IM, m/s^2 for PGA) at which each record, scaled to it
+    (times the sample's im_factor), first lifts the sample's model on a fixed base:
+
+        x* = IM_r / f_s x min(lim_up,s / max u_g'', lim_down,s / max -u_g'')
+
+    (inf on a side the record never pushes). It is exactly the fixed-base uplift outcome of the study
+    (the complement of its ``quiet`` test: uplift at level x iff x > x*), with no levels needed: the
+    uplift of a rigid block starts when the ground acceleration reaches the uplift limit on its side.
+
+    >>> from statue2model.geometry.rocking_params import RockingParams
+    >>> from statue2model.hazard import motions
+    >>> from statue2model.rocking import RockingModel
+    >>> from statue2model.rocking.sampling import nominal
+    >>> m = RockingModel.housner(RockingParams.rectangular_block(0.05, 0.25, 10.0))   # lifts at 1.962 m/s^2
+    >>> rec = motions.sine_pulse(3.0, 2.0)                                            # +-3 m/s^2, PGA 3
+    >>> [round(float(x), 4) for x in uplift_thresholds(m, [rec], nominal(1), np.array([3.0]))[0]]
+    [1.962]
+    """
+    lims = np.array([m.uplift_limits for m in samples.models(model)], dtype=float)      # (S, 2)
+    fac = samples.im_factors()
+    out = np.empty((len(records), samples.n))
+    for r, rec in enumerate(records):
+        hi, lo = (float(v) for v in rec.extremes())
+        up = lims[:, 0] / hi if hi > 0 else np.full(samples.n, np.inf)
+        dn = lims[:, 1] / -lo if lo < 0 else np.full(samples.n, np.inf)
+        out[r] = float(ims[r]) / fac * np.minimum(up, dn)
+    return out
+
+
+def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None):
+    """The fixed-base uplift curve refitted on the exact thresholds ``x`` (records, samples) of
+    :func:`uplift_thresholds` (runs the study counted, ``valid`` at any level): the lognormal's
+    maximum-likelihood fit to exact values, median exp(mean ln x*), beta the standard deviation of
+    ln x*; equal thresholds (a symmetric base under records that push both ways to their PGA) are a
+    deterministic threshold: beta 0 there (BETA_MIN in the fit: P steps from 0 to 1 at x*). Its band:
+    the bootstrap over the records (or samples) of the same estimates. The counts per level stay
+    (the plot's points; they are the same outcome). The ratio "uplift" is re-taken on this median,
+    without a band (the isolated median's band is in its own row). Returns (curve, ratio)."""
+    ok = valid.any(axis=2)                       # runs counted at some level (applicable)
+    x = np.where(ok, x, np.nan)
+    fin = np.isfinite(x)
+    if fin.sum() < 2:
+        return cv, ratio
+    lx = np.log(x[fin])
+    med, beta = float(np.exp(lx.mean())), float(lx.std())
+    note = None
+    if beta < BETA_MIN:
+        beta, note = BETA_MIN, "a deterministic threshold: every run lifts at the same PGA"
+    rng = np.random.default_rng(study.seed)
+    axis_n = x.shape[0] if unit == "records" else x.shape[1]
+    meds, betas = [], []
+    for _ in range(study.n_boot if axis_n >= 2 else 0):
+        pick = rng.integers(0, axis_n, axis_n)
+        xb = x[pick] if unit == "records" else x[:, pick]
+        lb = np.log(xb[np.isfinite(xb)])
+        if lb.size >= 2:
+            meds.append(float(np.exp(lb.mean())))
+            betas.append(max(float(lb.std()), BETA_MIN))
+    lo_q, hi_q = 50 * (1 - study.confidence), 50 * (1 + study.confidence)
+    mci = tuple(float(v) for v in np.percentile(meds, [lo_q, hi_q])) if meds else (float("nan"),) * 2
+    bci = tuple(float(v) for v in np.percentile(betas, [lo_q, hi_q])) if betas else (float("nan"),) * 2
+    band = np.full((2, cv.levels.size), np.nan)
+    if meds:
+        P = np.array([lognormal_cdf(cv.levels, m_, b_) for m_, b_ in zip(meds, betas)])
+        band = np.percentile(P, [lo_q, hi_q], axis=0)
+    exact = FragilityCurve(cv.outcome, cv.levels, cv.n_fail, cv.n_trials, med, beta, EXACT, median_ci=mci,
+                           beta_ci=bci, band_lo=band[0], band_hi=band[1],
+                           median_ci_note=None if meds else "no band: one unit to resample", beta_ci_note=note,
+                           beta_profile=(float(beta), float(beta)),
+                           beta_profile_note="exact thresholds: beta is their log standard deviation, no profile")
+    ratio = dict(ratio)
+    if iso_cv is not None and "uplift" in ratio:
+        value = iso_cv.median / med if iso_cv.fitted and math.isfinite(iso_cv.median) else None
+        ratio["uplift"] = {**ratio["uplift"], "value": value, "ci": [None, None],
+                           "ci_note": "no band: the fixed-base uplift median is exact per record; the isolated "
+                                      "median's band is in its own row"}
+    return exact, ratio
 
 
 def _merge(lv, fails, valid, ran, side, x, out, v):

@@ -309,7 +309,8 @@ def curve_entry(cv, pga: float) -> dict:
             "beta": _num(cv.beta) if spread is None else None, "beta_reason": spread,
             "beta_ci": bci if spread is None else None, "beta_profile": prof,
             "beta_profile_note": getattr(cv, "beta_profile_note", None),
-            "p_design": p, "p_design_reason": None if p is not None else f"not identified: {spread}",
+            "p_design": p, "p_design_reason": None if p is not None else (
+                spread if "not identified" in spread else f"not identified: {spread}"),
             "identified": spread is None, "spread_identified": beta_why is None}
 
 
