@@ -153,6 +153,7 @@ def design_set_data(rs) -> dict:
     the rules it breaks, its tolerance window and its realism (mean PGD against d_g)."""
     real = rs.realism()
     return dict(records_n=len(rs.records), records_duration_s=max(m.duration for m in rs.records),
+                records_mean_pga=float(np.mean([m.pga for m in rs.records])),
                 records_band_s=list(rs.band), records_required_band_s=list(rs.required_band),
                 records_met=bool(rs.check()["met"]), records_failed_rules=[r["rule"] for r in rs.rules() if not r["ok"]],
                 records_window=rs.window, records_mean_pgd_m=real["mean_pgd_m"], records_d_g_m=real["d_g_m"],

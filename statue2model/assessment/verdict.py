@@ -441,8 +441,15 @@ def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
         if bits:
             parts.append(f"{FRAGILITY_TITLES[name]}: " + ", ".join(bits))
     varied = dyn.get("fragility_varied")
+    pga, mean_pga = _finite(dyn.get("fragility_design_pga")), _finite(dyn.get("records_mean_pga"))
+    read = ""
+    if pga is not None and mean_pga is not None:
+        read = (f" The curves scale each record to a PGA; P is read at the design PGA {_g(pga)}, while the design "
+                f"records as matched have PGAs averaging {_g(mean_pga)} ({mean_pga / pga:.2f} x; EC8 asks the mean "
+                "for at least a_g S): the limit states above, taken on the records as matched, can be more severe "
+                "than P at the design PGA suggests.")
     return (f"Fragility per limit state over the design records ({runs}" + (f"; varied: {varied}" if varied else "")
-            + "): " + "; ".join(parts) + ".")
+            + "): " + "; ".join(parts) + "." + read)
 
 
 def _finite(x) -> float | None:
