@@ -441,7 +441,12 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     rows = _fixed_rows(fixed, lim, band, statistic)
     if iso is not None:
         if design is not None and design.get("passed") is False:
-            warnings.append("the isolator design does not pass its own required checks")
+            from ..isolator.design import fails_only_on_ball_load
+
+            warnings.append("the isolator design fails its ball-load check alone (the grooves' surface must carry "
+                            "more): its mechanics are analysed here, the bearing row says by how much"
+                            if fails_only_on_ball_load(design) else
+                            "the isolator design does not pass its own required checks")
         rows += _isolated_rows(isolated, lim, iso, design, statistic,
                                mu_offset=None if mu_bounds is None else mu_bounds[1])
         if mu_bounds is not None:
