@@ -180,3 +180,18 @@ def test_contact_landing_matches_quarter_period(sign):
     assert abs(r.impact_times[0] - q2) < 2 * SET.dt                   # measured 0.32 ms (dt 0.5 ms)
     # the diagnostic (sign change of theta) sees the same impact, a fraction of a step later
     assert abs(r.sign_change_times[0] - r.impact_times[0]) < SET.dt
+
+
+def test_no_rotation_peak_is_compared_where_neither_model_lifts_off():
+    """A squat body in full contact: 3D reads ~1e-4 rad of contact compliance, 2D exactly 0; the peak
+    rotation is 'not applicable' with that reason, never a 100 % miss."""
+    from types import SimpleNamespace
+
+    from statue2model.crosscheck.statue_cases import no_lift_case
+
+    r2 = SimpleNamespace(uplift_time=None, theta_max_L=0.0, theta_max_R=0.0, overturned=False)
+    r3 = SimpleNamespace(uplift_time=None, theta_max_L=1.1e-4, theta_max_R=-0.6e-4, overturned=False)
+    c = no_lift_case("El Centro", r2, r3)
+    assert c.status == "not applicable" and not c.counted
+    assert c.name == "El Centro: peak rotation" and c.value_3d == pytest.approx(1.1e-4)
+    assert c.why.startswith("not applicable: neither model lifts off") and "1.10e-04 rad" in c.why

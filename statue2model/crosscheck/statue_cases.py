@@ -63,6 +63,17 @@ def threshold_time_2d(model: RockingModel, motion, angle: float, t_end: float, d
     return first_crossing(r.history["t"], np.abs(r.history["theta"]), angle)
 
 
+def no_lift_case(tag: str, r2, r3) -> Case:
+    """The peak rotation where neither model lifts off: not compared ('not applicable'), with the
+    reason; the 3D rotation of a body in full contact is the contact's compliance (a fraction of a
+    milliradian), not rocking, and the 2D model's is zero by definition."""
+    q3 = max(abs(r3.theta_max_L), abs(r3.theta_max_R))
+    return Case(f"{tag}: peak rotation", "peak rotation", 0.0, q3, math.inf, 0.05, False, kind="relative", unit="rad",
+                status="not applicable",
+                why=f"not applicable: neither model lifts off (2D in full contact; 3D's {q3:.2e} rad is the "
+                    "contact's compliance, not rocking)")
+
+
 def lift_angle(params, height: float = LIFT_HEIGHT) -> float:
     """|theta| (rad) at which the non-pivot base edge of the 2D body is ``height`` m above the
     floor: (b_L + b_R) sin|theta| = height."""
@@ -170,14 +181,17 @@ def pulse_cases(scene: StatueScene, settings: SimSettings, contact: ContactSetti
         scr = screen(model, m, r3, contact, t_end)
         cs = [Case.equal(f"{tag}: overturn", r2.overturned, r3.overturned, quantity="overturn")]
         cs += _liftoff_cases(tag, model, m, r2, r3, m.end)
+        lifts = r2.uplift_time is not None or r3.uplift_time is not None
         p2, p3 = peak_before_first_impact_2d(r2), peak_before_first_impact_3d(r3)
-        if p2 is not None or p3 is not None:
+        if lifts and (p2 is not None or p3 is not None):
             cs.append(Case.relative(f"{tag}: peak rotation before the first impact", "rad", p2, p3, 0.05,
                                     quantity="peak rotation",
                                     note="each read before its own first impact (theta changes sign)"))
-        if not r2.overturned and not r3.overturned:
+        if lifts and not r2.overturned and not r3.overturned:
             cs.append(Case.relative(f"{tag}: peak rotation", "rad", max(r2.theta_max_L, r2.theta_max_R),
                                     max(r3.theta_max_L, r3.theta_max_R), 0.05, quantity="peak rotation"))
+        if not lifts:
+            cs.append(no_lift_case(tag, r2, r3))
         if diag_model is not None:
             rd = simulate_2d(diag_model, m, t_end=t_end)
             cs.append(Case.equal(f"{tag}: overturn (2D given 3D's e)", rd.overturned, r3.overturned,
@@ -213,6 +227,8 @@ def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: Con
     cases = [Case.equal(f"{tag}: overturn", r2.overturned, r3.overturned, quantity="overturn")]
     cases += _liftoff_cases(tag, model, motion, r2, r3, t_end)
     runs = {tag: r3.to_dict() | {"screen": scr}}
+    if r2.uplift_time is None and r3.uplift_time is None:
+        cases.append(no_lift_case(tag, r2, r3))
     if not r2.overturned and not r3.overturned and r2.uplift_time is not None:
         q2, q3 = max(r2.theta_max_L, r2.theta_max_R), max(r3.theta_max_L, r3.theta_max_R)
         case = Case.relative(f"{tag}: peak rotation", "rad", q2, q3, 0.05, quantity="peak rotation")
