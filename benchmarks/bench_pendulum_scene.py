@@ -1,0 +1,86 @@
+"""Speed and agreement of the pendulum isolator scene (crosscheck.pendulum_scene) against the ball scenes.
+
+    python3 benchmarks/bench_pendulum_scene.py [--design isolator/design.json] [--duration 10]
+
+The default scan's isolator design (made now by ``statue2model run --stages isolator`` unless --design is
+given) under a synthetic record (``--duration`` s at 0.1 g, seed 1) + 0.5 s, plate alone and with the
+default scan's statue standing free on it (mount 'contact'). Columns: real-time factor (simulated s per
+CPU s, one core) of the pendulum scene (dt 2 ms, its default; and dt 0.5 ms), the ball-lattice scene and
+the tiles scene (dt 0.5 ms, their default); peak travel and peak plate acceleration (20 Hz low-pass) with
+their % difference against the ball-lattice scene.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from statue2model.crosscheck.isolator_cases import lowpass
+from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
+from statue2model.crosscheck.pendulum_scene import PendulumIsolator, simulate_pendulum
+from statue2model.crosscheck.statue_scene import StatueScene
+from statue2model.crosscheck.world import SimSettings
+from statue2model.geometry.body import load_body
+from statue2model.hazard import motions
+from statue2model.io.paths import default_scan
+
+
+def design_json(path: str | None) -> dict:
+    if path:
+        return json.loads(Path(path).read_text())
+    out = Path(tempfile.mkdtemp(prefix="s2m_pend_")) / "run"
+    subprocess.run([sys.executable, "-m", "statue2model", "run", str(default_scan()), "--stages", "isolator",
+                    "--out", str(out)], check=True, stdout=subprocess.DEVNULL)
+    return json.loads((out / "isolator" / "design.json").read_text())
+
+
+def timed(fn):
+    c0 = time.process_time()
+    r = fn()
+    return r, time.process_time() - c0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--design", help="isolator/design.json of a pipeline run (default: made now)")
+    ap.add_argument("--duration", type=float, default=10.0)
+    ap.add_argument("--pga", type=float, default=0.1, help="record PGA, g")
+    a = ap.parse_args(argv)
+    design = design_json(a.design)
+    sc = StatueScene.from_body(load_body(default_scan()))
+    m = motions.synthetic_record(duration=a.duration, pga=a.pga * 9.81, seed=1)
+    t_end = a.duration + 0.5
+    pend = PendulumIsolator.from_design(design)
+    print(f"design R_hat {pend.R_hat:g} m, mu {pend.mu:g}, m_o {pend.m_o:.2f} kg, capacity {pend.travel_capacity:.3f} m; "
+          f"statue {sc.mass:.1f} kg; synthetic record {a.duration:g} s at {a.pga:g} g + 0.5 s; RTF = simulated s / CPU s")
+    print(f"{'load':>7s} {'scene':>16s} {'dt ms':>6s} {'RTF':>7s} {'u max mm':>9s} {'diff':>7s} {'acc20 m/s2':>10s} "
+          f"{'diff':>7s} outcome")
+    for label, statue in (("alone", None), ("statue", sc)):
+        rows = []
+        for name, dt in (("pendulum", 2e-3), ("pendulum", 5e-4), ("ball lattice", 5e-4), ("ball tiles", 5e-4)):
+            s = SimSettings(dt=dt)
+            if name == "pendulum":
+                r, cpu = timed(lambda: simulate_pendulum(pend, m, statue, s, t_end=t_end, stop_at_capacity=False))
+            else:
+                iso = IsolatorScene.from_design(design, statue=statue, groove=name.split()[1])
+                r, cpu = timed(lambda: simulate_isolator(iso, m, t_end=t_end, settings=s, stop_at_capacity=False))
+            acc20 = float(np.abs(lowpass(r.acc_step, dt)).max())
+            rows.append((name, dt, r.steps * dt / cpu, r.u_max, acc20, r.outcome))
+        ref = rows[2]
+        for name, dt, rtf, u, acc, out in rows:
+            du = (u - ref[3]) / ref[3] * 100 if ref[3] else math.nan
+            da = (acc - ref[4]) / ref[4] * 100 if ref[4] else math.nan
+            print(f"{label:>7s} {name:>16s} {dt * 1e3:6.2f} {rtf:7.1f} {u * 1e3:9.2f} {du:6.1f}% {acc:10.3f} {da:6.1f}% {out}")
+        print(f"{'':>7s} speed-up pendulum (2 ms) / ball lattice: {rows[0][2] / rows[2][2]:.0f} x, "
+              f"/ tiles: {rows[0][2] / rows[3][2]:.0f} x")
+
+
+if __name__ == "__main__":
+    main()
