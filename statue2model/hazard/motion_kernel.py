@@ -37,6 +37,23 @@ def as_samples(samples) -> np.ndarray:
     return a
 
 
+@njit(cache=True, inline="always")
+def record_index(t, ts, dt, n):
+    """The index k of the record piece [ts + k dt, ts + (k + 1) dt) that holds t, clamped to
+    0..n - 2 and corrected by one where the floor of (t - ts) / dt rounded across a sample time
+    (scalars only: the kernels' helpers take no array)."""
+    k = int(math.floor((t - ts) / dt))
+    if k < 0:
+        k = 0
+    if k > n - 2:
+        k = n - 2
+    if t < ts + k * dt and k > 0:
+        k -= 1
+    if t >= ts + (k + 1) * dt and k < n - 2:
+        k += 1
+    return k
+
+
 @njit(cache=True)
 def segment(t, kind, M, samples, seg):
     """Fill ``seg`` = [c0, c1, t0, A, w, ts, phi, u_end] for the smooth piece of the
@@ -66,15 +83,7 @@ def segment(t, kind, M, samples, seg):
     # record: samples at ts + k dt, linear in between
     dt = M[MDT]
     n = samples.shape[0]
-    k = int(math.floor((t - ts) / dt))
-    if k < 0:
-        k = 0
-    if k > n - 2:
-        k = n - 2
-    if t < ts + k * dt and k > 0:
-        k -= 1
-    if t >= ts + (k + 1) * dt and k < n - 2:
-        k += 1
+    k = record_index(t, ts, dt, n)
     tk = ts + k * dt
     seg[0] = M[MA] * samples[k]
     seg[1] = M[MA] * (samples[k + 1] - samples[k]) / dt

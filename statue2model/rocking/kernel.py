@@ -53,6 +53,7 @@ from numba import types as nt
 from ..hazard.motion_kernel import (  # noqa: F401  (re-exported: the motion encoding the kernels read)
     M_HARMONIC, M_NONE, M_RECORD, M_RECT, MA, MDT, MPH, MT0, MT1, MW, N_M, SAMPLES, as_samples, ground_acc,
     segment)
+from ..hazard.motion_kernel import record_index
 from ..hazard.motion_kernel import seg_acc as _acc
 from . import dop853 as D8
 from .dop853 import STATUS_MAX_STEPS, STATUS_OK, STATUS_STALLED  # noqa: F401  (re-exported)
@@ -203,15 +204,7 @@ def _piece(t, kind, M, samples):
         return te, (M[MA], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan)
     dt = M[MDT]
     n = samples.shape[0]
-    k = int(math.floor((t - ts) / dt))
-    if k < 0:
-        k = 0
-    if k > n - 2:
-        k = n - 2
-    if t < ts + k * dt and k > 0:
-        k -= 1
-    if t >= ts + (k + 1) * dt and k < n - 2:
-        k += 1
+    k = record_index(t, ts, dt, n)
     tk = ts + k * dt
     piece = (M[MA] * samples[k], M[MA] * (samples[k + 1] - samples[k]) / dt, tk, 0.0, 0.0, 0.0, 0.0,
              M[MA] * samples[k + 1])
