@@ -237,6 +237,21 @@ def _tiles_body(world, v: np.ndarray, *, mass: float, inertia: list[float], iner
         os.unlink(path)
 
 
+def run_outcome(r) -> str:
+    """The outcome of a 3D isolator run ``r`` (this scene's or the pendulum scene's result: finite,
+    ball_left_groove, t_capacity, statue_overturned), the first that holds of: "non-finite state",
+    "ball left its groove", "isolator capacity exceeded", "statue overturned", "ok"."""
+    if not r.finite:
+        return "non-finite state"
+    if r.ball_left_groove:
+        return "ball left its groove"
+    if r.t_capacity is not None:
+        return "isolator capacity exceeded"
+    if r.statue_overturned:
+        return "statue overturned"
+    return "ok"
+
+
 @dataclass(frozen=True, eq=False)
 class Isolator3DResult:
     """A 3D run of the isolator (SI units).
@@ -291,15 +306,7 @@ class Isolator3DResult:
 
     @property
     def outcome(self) -> str:
-        if not self.finite:
-            return "non-finite state"
-        if self.ball_left_groove:
-            return "ball left its groove"
-        if self.capacity_exceeded:
-            return "isolator capacity exceeded"
-        if self.statue_overturned:
-            return "statue overturned"
-        return "ok"
+        return run_outcome(self)
 
     def to_dict(self) -> dict:
         d = {"outcome": self.outcome, "u_max": self.u_max, "acc_abs_max": self.acc_abs_max, "pga": self.pga,

@@ -47,7 +47,7 @@ import numpy as np
 
 from ..errors import InputError
 from .contact import ContactSettings
-from .isolator_scene import _peaks
+from .isolator_scene import _peaks, run_outcome
 from .statue_scene import STATUE_SETTINGS, StatueScene, add_statue, inertia_frame
 from .world import SimSettings, World, matrix_from_quat, step_mean_acc
 
@@ -180,13 +180,7 @@ class PendulumResult:
 
     @property
     def outcome(self) -> str:
-        if not self.finite:
-            return "non-finite state"
-        if self.capacity_exceeded:
-            return "isolator capacity exceeded"
-        if self.statue_overturned:
-            return "statue overturned"
-        return "ok"
+        return run_outcome(self)           # ball_left_groove is always False here: no balls
 
     def to_dict(self) -> dict:
         d = {"outcome": self.outcome, "model": "pendulum", "u_max": self.u_max, "acc_abs_max": self.acc_abs_max,
