@@ -12,11 +12,8 @@ their % difference against the ball-lattice scene.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -33,12 +30,11 @@ from statue2model.io.paths import default_scan
 
 
 def design_json(path: str | None) -> dict:
-    if path:
-        return json.loads(Path(path).read_text())
-    out = Path(tempfile.mkdtemp(prefix="s2m_pend_")) / "run"
-    subprocess.run([sys.executable, "-m", "statue2model", "run", str(default_scan()), "--stages", "isolator",
-                    "--out", str(out)], check=True, stdout=subprocess.DEVNULL)
-    return json.loads((out / "isolator" / "design.json").read_text())
+    """design.json at ``path``, or the default scan's made now (bench_crosscheck_speed.design_json)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench_crosscheck_speed import design_json as made
+
+    return made(path)
 
 
 def timed(fn):
