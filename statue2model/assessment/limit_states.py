@@ -157,19 +157,22 @@ class IsolatedRecord:
         return _clean(asdict(self))
 
 
-def run_record(item: tuple) -> tuple[FixedRecord, IsolatedRecord | None]:
-    """The per-record numbers of one record: ``item`` = (model, iso or None, motion, rtol); the
-    fixed-base run and, with an isolator, the coupled statue-on-isolator run (module level: an
-    executor can map it)."""
+def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
+    """The per-record numbers of one record: ``item`` = (model, iso or None, motion, rtol[, fixed]);
+    the fixed-base run (unless ``fixed`` is False: the record's run at another friction bound of
+    the same isolator, whose fixed base is already run; then None) and, with an isolator, the
+    coupled statue-on-isolator run (module level: an executor can map it)."""
     from ..isolator.coupled import simulate_coupled
     from ..rocking.engine import simulate
 
-    model, iso, motion, rtol = item
-    hi, lo = motion.extremes()
-    r = simulate(model, motion, rtol=rtol)
-    fixed = FixedRecord(motion.label, float(hi), float(-lo), r.uplift_time is not None, r.uplift_time,
-                        float(r.theta_max_over_delta), r.n_impacts, bool(r.overturned), r.outcome,
-                        bool(r.applicable))
+    model, iso, motion, rtol = item[:4]
+    fixed = None
+    if len(item) < 5 or item[4]:
+        hi, lo = motion.extremes()
+        r = simulate(model, motion, rtol=rtol)
+        fixed = FixedRecord(motion.label, float(hi), float(-lo), r.uplift_time is not None, r.uplift_time,
+                            float(r.theta_max_over_delta), r.n_impacts, bool(r.overturned), r.outcome,
+                            bool(r.applicable))
     if iso is None:
         return fixed, None
     c = simulate_coupled(iso, model, motion, rtol=rtol, dt_out=0.05)
@@ -413,7 +416,7 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     from dataclasses import replace
 
     isos = [iso] if iso is None or mu_bounds is None else [replace(iso, mu=mu_bounds[0]), replace(iso, mu=mu_bounds[1])]
-    items = [(model, i, rec, float(rtol)) for i in isos for rec in records]
+    items = [(model, i, rec, float(rtol), k == 0) for k, i in enumerate(isos) for rec in records]
     if executor is None:
         runs = [run_record(it) for it in items]
     else:
