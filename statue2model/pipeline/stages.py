@@ -83,16 +83,16 @@ class Context:
 
     def design(self) -> dict | None:
         """The isolator design (dict) if the isolator stage ran and its design passed, or failed on the ball
-        load alone (assessment.verdict.bearing_only: the device's mechanics pass; the verdict makes the
-        grooves' load capacity its condition)."""
-        from ..assessment.verdict import bearing_only
+        load alone (isolator.design.fails_only_on_ball_load: the device's mechanics pass; the verdict makes
+        the grooves' load capacity its condition)."""
+        from ..isolator.design import fails_only_on_ball_load
 
         if not self.manifests.get("isolator"):
             return None
         d = read_json(self.dirs["isolator"] / "design.json")
         if not isinstance(d, dict):
             return None
-        return d if d.get("passed") is True or bearing_only(d) else None
+        return d if d.get("passed") is True or fails_only_on_ball_load(d) else None
 
 
 # --- params ---------------------------------------------------------------------------------------
@@ -232,13 +232,13 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     return {**section, "data": data}
 
 
-def _design_set(ctx: Context, d: Path | None = None, iso=None):
+def _design_set(ctx: Context, d: Path | None = None):
     """The design record set (assessment/study.py, hazard/matching.py) of the project's design target
     (the site's ground or floor spectrum), over the band of the building's period and, when the isolator
     stage is enabled, of every period its search can pick (1.2 x the longest, isolator/design.py
     longest_period): one set, deterministic by its seeds, for the isolator's verification and the
     dynamics stage. ``d``: writes d/records/ (record_NN.csv, set.json, spectra.png); None writes nothing.
-    ``iso`` is not used (the band no longer follows the chosen device). Returns (RecordSet, target)."""
+    Returns (RecordSet, target)."""
     from ..assessment.study import match_records, write_records
     from ..isolator.design import longest_period
 
@@ -269,8 +269,8 @@ def _uplift_band(ctx: Context):
 
 def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     """The dynamics stage's fragility study (assessment/study.py) on the design record set ``rs``:
-    the isolator's friction at its bounds ([isolator] mu_low, mu_high when the config has them,
-    else mu times Table 25's spread, rocking.sampling.friction_bounds), ``fragility_rounds`` rounds of adaptive
+    the isolator's friction at its bounds ([isolator] mu_low, mu_high; auto: mu times Table 25's
+    spread, rocking.sampling.friction_bounds), ``fragility_rounds`` rounds of adaptive
     levels; writes fragility.json, .csv and .png (one panel per limit state, the design PGA marked)."""
     from ..assessment.study import run_study
     from ..report.fragility_plots import plot_fragility
@@ -278,8 +278,7 @@ def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     c = ctx.config.dynamics
     ic = ctx.config.isolator
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
-                      ctx.executor, mu_low=getattr(ic, "mu_low", None), mu_high=getattr(ic, "mu_high", None),
-                      rounds=getattr(c, "fragility_rounds", 3))
+                      ctx.executor, mu_low=ic.mu_low, mu_high=ic.mu_high, rounds=c.fragility_rounds)
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
     plot_fragility(study.result, d / "fragility.png", design_im=study.pga)
