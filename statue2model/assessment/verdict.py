@@ -349,12 +349,9 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     mf, mi = _finite(dyn.get("fragility_median_fixed")), _finite(dyn.get("fragility_median_isolated"))
     pf, pi = _finite(dyn.get("fragility_p_design_fixed")), _finite(dyn.get("fragility_p_design_isolated"))
 
-    def prob(x):
-        return "< 0.01" if x < 0.005 else "> 0.99" if x > 0.995 else f"{x:.2f}"
-
     def p_text(what, p, side):
         if p is not None:
-            return f", P({what}) at the design PGA {prob(p)}"
+            return f", P({what}) at the design PGA {_prob(p)}"
         why = dyn.get(f"fragility_p_design_{side}_reason")
         return f", P({what}) at the design PGA not known ({why})" if why else ""
 
