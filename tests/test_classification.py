@@ -53,7 +53,7 @@ def test_peak_comparison_and_levels():
     assert cl.peak_comparison(up2, up3)["ratio"] == pytest.approx(1.5)
     ot = {"uplift": True, "overturned": True, "peak": math.inf}
     assert "3D overturns" in cl.peak_comparison(up2, ot)["status"]
-    assert cl.default_levels(1.0, 4.0, (0.5, 1.0, 2.0)) == [0.5, 1.0, 2.0, 4.0, 8.0]
+    assert cl.default_levels(1.0, 4.0, factors=(0.5, 1.0, 2.0)) == [0.5, 1.0, 2.0, 4.0, 8.0]
     with pytest.raises(InputError):
         cl.default_levels(math.inf, None)
 

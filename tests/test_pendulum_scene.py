@@ -106,7 +106,7 @@ def test_a_record_matches_the_2d_plate_model():
     """Under a record the exact-kinematics plate is the 2D plate model (isolator/time_history: the same
     translating pendulum with Coulomb friction mu W): peak travel within 1 %, peak absolute acceleration
     low-passed at 20 Hz within 2 % (measured 0.1 % and 0.3 % on the default design; the ball scenes'
-    facet contact is 27-47 % off in acceleration, benchmarks/bench_pendulum_scene.py)."""
+    facet contact is 27-87 % off in acceleration, benchmarks/bench_pendulum_scene.py)."""
     from statue2model.crosscheck.isolator_cases import lowpass
     from statue2model.isolator.device import Isolator
     from statue2model.isolator.time_history import simulate as plate_2d
@@ -121,3 +121,28 @@ def test_a_record_matches_the_2d_plate_model():
     a2 = float(np.abs(lowpass(r2.acc_abs, 5e-4)).max())
     a3 = float(np.abs(lowpass(r3.acc_step, dt)).max())
     assert a3 == pytest.approx(a2, rel=0.02)
+
+
+def test_agrees_with_ball_scene_on_a_record():
+    """Under a record (4 s at 0.2 g, seed 1; plate alone, 50 kg on four 9.5 mm balls - 0.2 % of the plate's
+    mass, which the pendulum leaves out) the ball scene on tangent tiles (1 r, dt 0.5 ms, 50 solver iterations:
+    ~0.7 s CPU) and the pendulum scene agree: peak travel within 5 %, peak plate acceleration low-passed at
+    20 Hz within 10 % (the issue's tolerances). Measured 0.973 and 1.005; converged tiles (dt 0.25 ms, 200
+    iterations) 0.991 and 0.979; the 4 mm lattice 0.984 and 0.942 (2.8 s CPU). At 0.1 g (15 mm travel, under
+    two tiles) the tiles' staircase restoring force shows: converged 1.047 and 1.167."""
+    from statue2model.crosscheck.isolator_cases import lowpass
+    from statue2model.crosscheck.isolator_scene import IsolatorScene, simulate_isolator
+
+    mu, dt = 0.01, 5e-4
+    m = motions.synthetic_record(duration=4.0, pga=0.2 * G, seed=1)
+    ball = IsolatorScene.simple(R=0.30, r=0.0095, mu=mu, m_o=50.0, travel=0.05, groove="tiles")
+    rb = simulate_isolator(ball, m, t_end=4.5, settings=SimSettings(dt=dt, solver_iterations=50),
+                           stop_at_capacity=False)
+    rp = simulate_pendulum(PendulumIsolator(R_hat=ball.R_hat, mu=mu, m_o=50.0), m, None, SimSettings(dt=dt),
+                           t_end=4.5, stop_at_capacity=False)
+    assert rb.outcome == "ok" and rp.outcome == "ok"
+    assert rp.u_max > 0.03                                  # a record that moves the plate over several tiles
+    assert rb.u_max == pytest.approx(rp.u_max, rel=0.05)
+    ab = float(np.abs(lowpass(rb.acc_step, dt)).max())
+    ap = float(np.abs(lowpass(rp.acc_step, dt)).max())
+    assert ab == pytest.approx(ap, rel=0.10)

@@ -180,13 +180,24 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
     s = cc["summary"]
     assert s["n_cases"] + s["n_not_applicable"] + s["n_diagnostic"] == len(cc["cases"]) and s["n_cases"] > 3
     assert s["n_cases"] == sum(c["status"] in ("met", "missed") for c in cc["cases"])
+    # the 2D/3D classification over the design records (>= 7 records), fixed base and the exact isolator
+    cls = json.loads((out / "crosscheck" / "classification.json").read_text())
+    for base in ("fixed", "isolated"):
+        info = cls[base]["info"]
+        assert info["n_records"] >= 7 and info["n_runs"] == info["n_records"] * len(info["levels_g"])
+        assert {s: a["status"] for s, a in cls[base]["states"].items()}.keys() == {"uplift", "overturning", "capacity"}
+    assert cls["fixed"]["states"]["capacity"]["status"] == "not applicable"
+    assert cls["isolated"]["states"]["capacity"]["status"] != "not applicable"
     assert load_config(out / "config.toml").to_dict() == small_config().to_dict()
     run = json.loads((out / "run.json").read_text())
     assert run["stages"]["dynamics"]["status"] == "done"
     page = res.report.read_text()
     for title in ("Rocking parameters", "Prototype: layers and sheets", "Rolling-ball isolator",
-                  "2D analyses", "3D cross-check", "2D model against 3D physics", "Design checks"):
+                  "2D analyses", "3D cross-check", "2D model against 3D physics", "Design checks",
+                  "2D model against 3D physics over the design records"):
         assert title in page
+    a = cls["fixed"]["states"]["uplift"]["accuracy"]           # the report prints the json's numbers
+    assert f"{a['value']:.2f} [{a['lo']:.2f}-{a['hi']:.2f}]" in page
 
 
 @pytest.mark.slow

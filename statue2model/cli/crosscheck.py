@@ -36,9 +36,11 @@ def add_parsers(sub) -> None:
     p.add_argument("--iterations", type=int, default=50, metavar="N", help="solver iterations (default 50)")
     p.add_argument("--grid", type=float, default=4.0, metavar="MM", help="grooves as a triangular lattice of MM "
                    "on the sphere (default 4; 0: the CNC mesh with --segments per ring)")
-    p.add_argument("--groove", choices=("lattice", "tiles"), default="lattice",
-                   help="groove model: the lattice of --grid (default), or flat tangent tiles of r (6-8 x faster, "
-                   "the plate acceleration at 2D's, the period 1-3 %% long: docs/crosscheck.md, Speed)")
+    p.add_argument("--groove", choices=("exact", "lattice", "tiles"), default="exact",
+                   help="isolator model: exact (default: the top plate as a translating spherical pendulum, "
+                   "rolling resistance mu N, ~40 x real time with the statue), or ball contacts - the detailed "
+                   "mode - in grooves as the lattice of --grid or as flat tangent tiles of r (1-5 x real time: "
+                   "docs/crosscheck.md, Speed)")
     p.add_argument("--segments", type=int, default=128, metavar="N",
                    help="groove tessellation of the CNC mesh, with --grid 0 (default 128)")
     p.add_argument("--pulse-freq", type=positive_float, default=1.5, metavar="HZ",
@@ -84,9 +86,14 @@ def _cmd_crosscheck(args) -> int:
     iso = None
     if args.isolator:
         d = read_design(args.isolator)            # a design `isolator design` rejected is refused
-        iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
-                                        grid=args.grid / 1000 if args.grid > 0 else None,
-                                        groove="tiles" if args.groove == "tiles" else None)
+        if args.groove == "exact":
+            from ..crosscheck.pendulum_scene import PendulumIsolator
+
+            iso = PendulumIsolator.from_design(d, statue=scene)
+        else:
+            iso = IsolatorScene.from_design(d, statue=scene, segments=args.segments,
+                                            grid=args.grid / 1000 if args.grid > 0 else None,
+                                            groove="tiles" if args.groove == "tiles" else None)
     if args.records and not 2 <= args.records <= 1000:
         raise InputError(f"--records must be 0 or in 2..1000, got {args.records}")
     # only once the inputs are read (a bad input leaves no folder), before any work: a folder with

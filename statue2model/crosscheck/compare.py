@@ -12,7 +12,10 @@ the calibration or the statistics) and :func:`compare` joins them, in this order
 * the overturning boundary of one-sine pulses at each frequency of a small grid, ratio 3D / 2D
   within 10 % (:mod:`~statue2model.crosscheck.boundary`);
 * with an isolator scene: its free vibration and the isolated statue
-  (:mod:`~statue2model.crosscheck.isolator_cases`);
+  (:mod:`~statue2model.crosscheck.isolator_cases`); the exact-kinematics scene
+  (:class:`~statue2model.crosscheck.pendulum_scene.PendulumIsolator`, the default) runs with the statue
+  scenes' engine settings and always includes the free-standing statue; the ball scene (the detailed
+  mode) with the isolator settings, and the free-standing statue only without ``quick``;
 * asked for (``imperfect``, ``records``): the imperfect base (:mod:`~statue2model.crosscheck.imperfect`)
   and the record ensemble (:mod:`~statue2model.crosscheck.ensemble`); the command line reaches them
   with ``statue2model crosscheck ... --imperfect --records N``.
@@ -29,7 +32,7 @@ from .case import Comparison
 from .contact import ContactSettings
 from .ensemble import LEVELS, ensemble_cases, json_safe
 from .imperfect import imperfect_cases
-from .isolator_cases import isolated_statue_cases, isolator_free_cases
+from .isolator_cases import is_exact, isolated_statue_cases, isolator_free_cases
 from .restitution import calibrate_restitution, model_2d, restitution_cases, user_model
 from .statue_cases import free_rocking_cases, motion_cases, pulse_cases
 from .statue_scene import STATUE_SETTINGS, StatueScene
@@ -44,9 +47,9 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
     """All cases of the module docstring for one statue (and isolator, if given). ``e_L``, ``e_R``:
     the user's restitution (a prototype test; default eq. 15); ``boundary_freqs``: the frequencies of
     the overturning-boundary cases (default BOUNDARY_FREQS[quick]). Engine settings: ``statue_settings``
-    for the statue scenes (default :data:`~.statue_scene.STATUE_SETTINGS`, dt 2 ms), ``settings`` for
-    the isolator scenes, the imperfect base and the record ensemble (default ``SimSettings()``, dt
-    0.5 ms). ``imperfect``: also the imperfect-base cases; ``records``: also the ensemble of that many
+    for the statue scenes and the exact isolator scene (default :data:`~.statue_scene.STATUE_SETTINGS`,
+    dt 2 ms), ``settings`` for the ball isolator scene, the imperfect base and the record ensemble
+    (default ``SimSettings()``, dt 0.5 ms). ``imperfect``: also the imperfect-base cases; ``records``: also the ensemble of that many
     records (0: none) at ``levels`` (default ensemble.LEVELS) on ``workers`` processes; their run
     details (``runs['imperfect base: ...']``, ``runs['records']``) with non-finite numbers as null."""
     say = progress or (lambda msg: None)
@@ -73,7 +76,8 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
         parts.append(motion_cases(scene, motion, settings, contact, free_time=1.0 if quick else 3.0, model=user,
                                   calib=rest, spread=not quick, e_user=(e_L, e_R)))
     if iso_scene is not None:
-        parts += _isolator_parts(iso_scene, motion, iso_settings, contact, quick, user, say)
+        parts += _isolator_parts(iso_scene, motion, settings if is_exact(iso_scene) else iso_settings, contact,
+                                 quick, user, say)
     if imperfect:
         imp = imperfect_cases(scene, iso_settings, contact, bool(quick), pulse_freq=pulse_freq,
                               progress=progress)
@@ -87,9 +91,10 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
 
 def _isolator_parts(iso_scene, motion, settings: SimSettings, contact: ContactSettings, quick: bool, user,
                     say) -> list:
-    """The isolator's cases: its free vibration (which calibrates the 3D rolling friction), the
-    isolated statue fixed to the plate under ``motion`` and, without ``quick``, free-standing
-    (against the coupled 2D model ``user``); the calibration last (``runs['calibration']``)."""
+    """The isolator's cases: its free vibration (which calibrates the ball scene's rolling friction), the
+    isolated statue fixed to the plate under ``motion`` and free-standing (against the coupled 2D
+    model ``user``; on the ball scene only without ``quick``); the calibration last
+    (``runs['calibration']``)."""
     say("isolator free vibration")
     free = isolator_free_cases(iso_scene, settings, contact, cycles=1.2 if quick else 2.2)
     calib = free.calibration
@@ -99,7 +104,7 @@ def _isolator_parts(iso_scene, motion, settings: SimSettings, contact: ContactSe
         parts.append(isolated_statue_cases(iso_scene, motion, settings, contact, mu_3d=calib.get("mu_3d"),
                                            free_time=1.0 if quick else 2.0, mount="rigid",
                                            label="isolated statue (fixed to the plate)"))
-        if not quick:
+        if not quick or is_exact(iso_scene):
             say("isolated statue, free-standing")
             parts.append(isolated_statue_cases(iso_scene, motion, settings, contact, mu_3d=calib.get("mu_3d"),
                                                free_time=2.0, mount="contact",

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
@@ -49,7 +49,7 @@ from ..errors import InputError
 from .contact import ContactSettings
 from .isolator_scene import _peaks, run_outcome
 from .statue_scene import STATUE_SETTINGS, StatueScene, add_statue, inertia_frame
-from .world import SimSettings, World, matrix_from_quat, step_mean_acc
+from .world import SimSettings, World, step_mean_acc
 
 EPS_MASS = 1e-6
 """Mass of each of the two carriages (x, y joints) per kg of plate: adds 2e-6 to the horizontal inertia."""
@@ -66,6 +66,8 @@ class PendulumIsolator:
     m_o       : top plate mass, kg
     capacity  : largest |u| (m); None: unlimited
     side, thickness : the top plate's square side and thickness, m (the statue stands on its upper face)
+    r         : ball radius, m (names the device: R = R_hat / 2 + r; the kinematics depend on R_hat alone)
+    statue    : the StatueScene standing on the plate, or None (the plate alone)
     """
 
     R_hat: float
@@ -74,6 +76,8 @@ class PendulumIsolator:
     capacity: float | None = None
     side: float = 1.0
     thickness: float = 0.03
+    r: float = 0.0095
+    statue: StatueScene | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         if not (math.isfinite(self.R_hat) and 0.01 <= self.R_hat <= 100):
@@ -88,6 +92,18 @@ class PendulumIsolator:
             v = getattr(self, name)
             if not (math.isfinite(v) and 1e-3 <= v <= 20):
                 raise InputError(f"plate {name} must be in 1 mm..20 m, got {v!r}")
+        if not (math.isfinite(self.r) and 0 < self.r < 1):
+            raise InputError(f"ball radius r must be in (0, 1) m, got {self.r!r}")
+
+    @property
+    def R(self) -> float:
+        """Groove radius R = R_hat / 2 + r, m."""
+        return self.R_hat / 2 + self.r
+
+    @property
+    def M(self) -> float:
+        """Supported mass: top plate + statue (kg)."""
+        return self.m_o + (self.statue.mass if self.statue is not None else 0.0)
 
     @property
     def period(self) -> float:
@@ -106,9 +122,9 @@ class PendulumIsolator:
         return self.R_hat - np.sqrt(np.maximum(self.R_hat**2 - u * u, 0.0))
 
     @classmethod
-    def from_design(cls, design: dict) -> PendulumIsolator:
+    def from_design(cls, design: dict, statue: StatueScene | None = None) -> PendulumIsolator:
         """From the JSON of ``statue2model isolator design`` (a dict): R, r, mu, m_o (or M), capacity
-        (or d_max), side, thickness."""
+        (or d_max), side, thickness; ``statue`` stands on it."""
         try:
             R, r = float(design["R"]), float(design["r"])
             m_o = float(design["m_o"] if "m_o" in design else design["M"])
@@ -116,12 +132,15 @@ class PendulumIsolator:
             cap = design.get("d_max") if cap is None else cap
             return cls(R_hat=2.0 * (R - r), mu=float(design["mu"]), m_o=m_o,
                        capacity=None if cap is None else float(cap),
-                       side=float(design.get("side", 1.0)), thickness=float(design.get("thickness", 0.03)))
+                       side=float(design.get("side", 1.0)), thickness=float(design.get("thickness", 0.03)),
+                       r=r, statue=statue)
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not an isolator design ({exc})") from None
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        """The parameters (the statue by its mass)."""
+        d = {k: v for k, v in asdict(replace(self, statue=None)).items() if k != "statue"}
+        return d | {"model": "pendulum", "R": self.R, "statue_mass": None if self.statue is None else self.statue.mass}
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,6 +153,9 @@ class PendulumResult:
     theta         : the statue's rotation (rad) every dt_out, if a statue rides on the plate
     acc_step      : absolute plate acceleration (x) of every engine step, for filtering
     tilt_max      : largest rotation of the plate seen (rad; 0 by construction)
+    uplift_time, max_lift, max_pivot_slip, yaw_max, theta_max_L, theta_max_R : the statue on the plate,
+                    read as the fixed-base scene reads them (statue_scene.Statue3DResult), relative to
+                    the plate (s or None, m, m, rad, rad, rad)
     wall_time, cpu_time : s; real_time_factor is simulated s per CPU s
     """
 
@@ -164,6 +186,12 @@ class PendulumResult:
     u_at_capacity: float | None = None
     t_overturn: float | None = None
     ball_left_groove: bool = False
+    uplift_time: float | None = None
+    max_lift: float = 0.0
+    max_pivot_slip: float = 0.0
+    yaw_max: float = 0.0
+    theta_max_L: float = 0.0
+    theta_max_R: float = 0.0
 
     @property
     def capacity_exceeded(self) -> bool:
@@ -194,6 +222,8 @@ class PendulumResult:
              "isolator": self.scene.to_dict(), "settings": self.settings.to_dict(), "notes": list(self.notes)}
         if self.theta is not None:
             d["theta_max"] = float(np.max(np.abs(self.theta))) if self.theta.size else 0.0
+            d |= {"uplift_time": self.uplift_time, "max_lift": self.max_lift, "max_pivot_slip": self.max_pivot_slip,
+                  "yaw_max": self.yaw_max, "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R}
         return d
 
 
@@ -204,9 +234,11 @@ def _box_inertia(m: float, a: float, b: float, c: float) -> list[float]:
 def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | None = None,
                       settings: SimSettings | None = None, *, u0: float = 0.0, t_end: float | None = None,
                       contact: ContactSettings | None = None, dt_out: float = 0.005, free_time: float = 10.0,
-                      stop_at_capacity: bool = True) -> PendulumResult:
+                      stop_at_capacity: bool = True, mount: str = "contact") -> PendulumResult:
     """Run the pendulum scene under ``motion`` (GroundMotion along +x): the plate released from rest
     at u = u0 (m, along x, on its sphere), with ``statue`` (StatueScene) standing free on it or None.
+    ``mount='rigid'``: the statue is fixed to the plate (its mass joins the plate link's: what the 2D
+    plate model assumes; no rotation is then followed).
     Stops where |u| passes the capacity (``stop_at_capacity``), the statue overturns or the state
     stops being finite. ``t_end`` (s): default motion.end + free_time. ``settings``: default
     statue_scene.STATUE_SETTINGS (dt 2 ms: ~40 x real time with the default scan's statue, 140 x alone).
@@ -218,6 +250,11 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
     """
     contact = ContactSettings() if contact is None else contact
     settings = STATUE_SETTINGS if settings is None else settings
+    if mount not in ("contact", "rigid"):
+        raise InputError(f"mount must be 'contact' or 'rigid', got {mount!r}")
+    m_plate = scene.m_o
+    if mount == "rigid" and statue is not None:
+        m_plate, statue = scene.m_o + statue.mass, None
     Rh, t_pl = scene.R_hat, scene.thickness
     cap = scene.travel_capacity
     if not (math.isfinite(u0) and abs(u0) < min(cap, 0.99 * Rh)):
@@ -231,18 +268,18 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
     every = max(1, round(dt_out / dt))
     acc_g = step_mean_acc(motion, 0.0, dt, n + 1)
     g = settings.g
-    m_tot = scene.m_o + (statue.mass if statue is not None else 0.0)
+    m_tot = m_plate + (statue.mass if statue is not None else 0.0)
     notes = []
     t0, c0 = time.perf_counter(), time.process_time()
     with World(settings) as world:
         p = world.p
         box = world.call("createCollisionShape", p.GEOM_BOX,
                          halfExtents=[scene.side / 2, scene.side / 2, t_pl / 2])
-        eps = EPS_MASS * scene.m_o
+        eps = EPS_MASS * m_plate
         zero, ident = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]
         plate = world.call(
             "createMultiBody", 0.0, -1, -1, [0.0, 0.0, 0.0], ident,
-            linkMasses=[eps, eps, scene.m_o], linkCollisionShapeIndices=[-1, -1, box],
+            linkMasses=[eps, eps, m_plate], linkCollisionShapeIndices=[-1, -1, box],
             linkVisualShapeIndices=[-1, -1, -1], linkPositions=[zero, zero, [0.0, 0.0, t_pl / 2]],
             linkOrientations=[ident] * 3, linkInertialFramePositions=[zero] * 3,
             linkInertialFrameOrientations=[ident] * 3, linkParentIndices=[0, 1, 2],
@@ -252,8 +289,8 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
             world.call("changeDynamics", plate, j, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0,
                        lateralFriction=contact.friction, restitution=0.0, rollingFriction=0.0,
                        spinningFriction=0.0)
-        world.call("changeDynamics", plate, 2, mass=scene.m_o,
-                   localInertiaDiagonal=_box_inertia(scene.m_o, scene.side, scene.side, t_pl))
+        world.call("changeDynamics", plate, 2, mass=m_plate,
+                   localInertiaDiagonal=_box_inertia(m_plate, scene.side, scene.side, t_pl))
         world.call("changeDynamics", plate, -1, linearDamping=0.0, angularDamping=0.0)
         z_0 = float(scene.rise(u0))
         world.call("resetJointState", plate, 0, u0, 0.0)
@@ -265,12 +302,13 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
             pos, orn = world.call("getBasePositionAndOrientation", body)
             world.call("resetBasePositionAndOrientation", body, [pos[0] + u0, pos[1], pos[2]], orn)
             _, V = inertia_frame(statue.inertia)
+            v_up = tuple(float(c) for c in V[2, :])
         f_z = Z_MOTOR_FORCE * m_tot * g
         joints = [0, 1, 2]
         ctrl = p.VELOCITY_CONTROL
         N = m_tot * g                      # vertical load of the previous step (first: the weight)
         ts, us, uys, zs, Ns, aa, th = [], [], [], [], [], [], []
-        af = []
+        af, P, Q = [], [], []
         finite = True
         overturned = False
         steps = 0
@@ -278,6 +316,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
         t_cap = u_cap = t_ot = None
         v_prev = 0.0
         get_states, set_motors, apply_force = p.getJointStates, p.setJointMotorControlArray, p.applyExternalForce
+        get_pose = p.getBasePositionAndOrientation
         cid = world.client
         for k in range(n + 1):
             (x, vx, _, _), (y, vy, _, _), (z, vz, _, fz) = get_states(plate, joints, physicsClientId=cid)
@@ -298,9 +337,10 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                 notes.append(f"the plate passed the capacity {cap * 1000:.1f} mm at t = {k * dt:.4f} s "
                              f"(|u| = {uh * 1000:.1f} mm)")
             if body is not None:
-                _, orn = world.call("getBasePositionAndOrientation", body)
-                Rm = matrix_from_quat(orn) @ V.T
-                theta = math.atan2(Rm[0, 2], Rm[2, 2])
+                pos, orn = get_pose(body, physicsClientId=cid)
+                P.append((pos[0] - x, pos[1] - y, pos[2] - t_pl - z))   # relative to the plate's upper face
+                Q.append(orn)
+                theta = _theta_of(orn, v_up)
                 d = statue.params.delta_R if theta > 0 else statue.params.delta_L
                 if abs(theta) >= d:
                     overturned = True
@@ -341,9 +381,48 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     t_arr, u_arr = np.asarray(ts), np.asarray(us)
     pk_t, pk_u = _peaks(t_arr, u_arr)
+    rocking = {}
+    if body is not None and P:
+        rocking = _statue_on_plate(statue, V, np.asarray(P, dtype=float), np.asarray(Q, dtype=float), dt)
     return PendulumResult(
         scene=scene, settings=settings, t=t_arr, u=u_arr, uy=np.asarray(uys), z=np.asarray(zs), N=np.asarray(Ns),
         acc_abs=np.asarray(aa), theta=np.asarray(th) if statue is not None else None, peaks_t=pk_t, peaks_u=pk_u,
         u_max=u_max, acc_abs_max=a_abs_max, pga=motion.pga, statue_overturned=overturned, finite=finite,
         wall_time=wall, cpu_time=cpu, steps=steps, tilt_max=tilt_max, notes=tuple(notes), acc_step=np.asarray(af),
-        capacity=cap, t_capacity=t_cap, u_at_capacity=u_cap, t_overturn=t_ot)
+        capacity=cap, t_capacity=t_cap, u_at_capacity=u_cap, t_overturn=t_ot, **rocking)
+
+
+def _theta_of(q, v: tuple) -> float:
+    """The statue's rotation theta (rad) from its PyBullet quaternion q (x, y, z, w): atan2 of the (0, 2)
+    and (2, 2) entries of R(q) V^T, V's third row ``v`` (statue_scene._theta, in plain arithmetic: every step).
+
+    >>> round(_theta_of((0.0, math.sin(0.05), 0.0, math.cos(0.05)), (0.0, 0.0, 1.0)), 12)
+    0.1
+    """
+    x, y, z, w = q
+    n = x * x + y * y + z * z + w * w
+    s = 2.0 / n if n > 0 else 0.0
+    r02 = (1.0 - s * (y * y + z * z)) * v[0] + s * (x * y - z * w) * v[1] + s * (x * z + y * w) * v[2]
+    r22 = s * (x * z - y * w) * v[0] + s * (y * z + x * w) * v[1] + (1.0 - s * (x * x + y * y)) * v[2]
+    return math.atan2(r02, r22)
+
+
+def _statue_on_plate(statue: StatueScene, V: np.ndarray, P: np.ndarray, Q: np.ndarray, dt: float) -> dict:
+    """The statue's lift-off, slip and yaw relative to the plate, read from its per-step poses P (m, 3)
+    (relative to the plate's upper face: the plate translates without rotating) and Q (m, 4) exactly as
+    the fixed-base scene reads them (statue_scene: geometric lift-off at LIFT_HEIGHT for LIFT_STEPS
+    steps, pivot slip from touch-down)."""
+    from .statue_scene import _histories, _lift_off_time
+
+    base_v = statue.hull[:, 2] == 0.0
+    piv = {"R": np.flatnonzero(base_v & (statue.hull[:, 0] == statue.x_R)),
+           "L": np.flatnonzero(base_v & (statue.hull[:, 0] == statue.x_L))}
+    ok = np.isfinite(P).all(axis=1) & np.isfinite(Q).all(axis=1)
+    m = int(np.argmin(ok)) if not ok.all() else len(P)
+    h = _histories(P[:m], Q[:m], statue, V, statue.hull - statue.com, base_v, piv, dt)
+    th = h["theta"]
+    return {"uplift_time": _lift_off_time(h["lift"], dt),
+            "max_lift": max(0.0, h["lift_max"]), "max_pivot_slip": float(h["slip"]),
+            "yaw_max": float(np.abs(h["yaw"]).max(initial=0.0)),
+            "theta_max_L": float(np.abs(th[th <= 0]).max(initial=0.0)),
+            "theta_max_R": float(th[th > 0].max(initial=0.0))}

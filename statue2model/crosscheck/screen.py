@@ -8,6 +8,28 @@ screen (:func:`validity_screen`); :func:`screen` and :func:`screen_values` feed 
 restitution cases and the overturning boundary their own numbers. A case the screen rejects is
 'not applicable' (:meth:`statue2model.crosscheck.case.Case.screened`).
 
+What counts as slip (:func:`slip_of`). The 2D model's assumption is a pivot that does not slide while
+it carries the body: the slip is the pivot vertices' horizontal travel on the floor from where they
+last touched down (Statue3DResult.max_pivot_slip: each contact phase on its own; from rest it covers
+a standing base that slides) and, before the body first lifts off, the base centre's slide from its
+start (sliding instead of rocking). After the first lift-off the base centre's displacement is not
+slip: it sums the pivot slips of every contact phase (each already checked) and the base's turn about
+a pivot vertex (a yaw of psi moves the centre by up to (b_L + b_R) / 2 x psi with no slip at all;
+the yaw has its own limit), and a rigid drift of the whole body along a uniform floor leaves the
+rocking unchanged. Measured on the default scan's design set (7 records x 10 PGA levels around the
+2D medians; issue 28): the old reading (base centre over the whole run) dropped 17 of
+70 runs as 'slips > 2 mm', 14 of them with every contact phase's pivot slip < 2 mm (drifts of 2-131 mm
+grown over 2-56 upright phases, 4-19 s into the records); before lift-off no run slid more than 0.04 mm.
+
+Slip and the outcome's decision. An overturning 3D run stops at |theta| = delta (statue_scene:
+stop_on_overturn), the instant the 2D model calls overturning and where its contact demand
+(:func:`contact_demand_2d`) stops too: slip during the fall past delta is never counted. Slip before
+it is, however close to delta (during the excitation a body may pass a large theta and be pulled
+back, MODEL.md section 3). Measured on the
+same set: the three runs whose pivot slipped > 2 mm did so at theta / delta 0.04-0.28, 1.3-11 s before
+overturning, and every yaw > 2 deg came at theta / delta < 0.48, >= 0.13 s before it; no earlier cut
+(a fraction of delta) would keep any of them, so none is made.
+
 Example
 -------
 >>> s = validity_screen(0.4, 0.8, 1e-3, 0.0, 1.0)
@@ -22,6 +44,7 @@ import math
 
 import numpy as np
 
+from ..errors import InputError
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from .contact import ContactSettings
@@ -64,9 +87,24 @@ def contact_demand_2d(model: RockingModel, motion, t_end: float, dt: float = 2e-
 
 
 def slip_of(r3) -> float:
-    """The 3D run's slip, m: the pivot's (from touch-down) or the standing base's (from rest)."""
-    sl = np.abs(r3.slide[np.isfinite(r3.slide)]) if r3.slide.size else np.zeros(0)
-    return max(r3.max_pivot_slip, float(sl.max(initial=0.0)))
+    """The 3D run's slip, m (module docstring): the pivot's (each contact phase from its touch-down,
+    Statue3DResult.max_pivot_slip) or the standing base's slide from rest before the first lift-off
+    (``uplift_time``; the whole run when it never lifts).
+
+    >>> import numpy as np
+    >>> from types import SimpleNamespace as R
+    >>> r = R(t=np.array([0.0, 1.0, 2.0, 3.0]), slide=np.array([0.0, 5e-4, np.nan, 9e-3]),
+    ...       uplift_time=1.5, max_pivot_slip=3e-3)
+    >>> slip_of(r), slip_of(R(t=r.t, slide=r.slide, uplift_time=None, max_pivot_slip=1e-3))
+    (0.003, 0.009)
+    """
+    t = np.asarray(r3.t, dtype=float)
+    sl = np.asarray(r3.slide, dtype=float)
+    if sl.size != t.size:
+        raise InputError(f"slip_of: slide has {sl.size} samples for {t.size} times")
+    up = getattr(r3, "uplift_time", None)
+    before = np.isfinite(sl) & (t < (math.inf if up is None else up))
+    return max(float(r3.max_pivot_slip), float(np.abs(sl[before]).max(initial=0.0)))
 
 
 def _jf(x: float) -> float | None:

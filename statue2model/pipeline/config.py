@@ -19,7 +19,7 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
              fragility, fragility_records, fragility_duration,          time histories, fragility)
              fragility_levels, fragility_samples, fragility_rounds
-[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator
+[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator, ensemble
 [run]        stages, workers, scheduler                                 (what a plain ``run`` does
                                                                          and where sweeps run)
 
@@ -206,9 +206,12 @@ class CrosscheckConfig:
     statue_dt: float = 2e-3             # s, the statue scenes
     iterations: int = 50
     grid: float = 0.004                 # groove lattice spacing on the sphere, m; 0 = the CNC mesh
-    groove: str = "lattice"             # or "tiles" (flat tangent tiles: faster, see docs/crosscheck.md)
+    groove: str = "exact"               # the isolator: "exact" (translating spherical pendulum, fast) or ball
+                                        # contacts on "lattice" grooves or "tiles" (the detailed mode)
     pulse_freq: float = 1.5             # Hz
     isolator: bool = True               # also the statue on the isolator
+    ensemble: bool = True               # also the 2D/3D classification over the design record set (needs the
+                                        # dynamics stage's fragility medians; exact isolator scene only)
 
 
 @dataclass(frozen=True)
@@ -235,7 +238,7 @@ _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("prototype", "policy"): ("mid", "envelope", "core"),
             ("model", "kind"): ("housner", "imperfect"),
             ("dynamics", "pulse"): ("cosine", "sine"),
-            ("crosscheck", "groove"): ("lattice", "tiles"),
+            ("crosscheck", "groove"): ("exact", "lattice", "tiles"),
             ("building", "structure"): ("masonry", "concrete-frame", "steel-frame", "other"),
             ("building", "floor_spectrum"): ("auto", "ec8", "ntc2018", "ntc2018-framed")}
 

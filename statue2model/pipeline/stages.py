@@ -25,7 +25,8 @@ prototype    [scan] [prototype]         layers/, sheets/ (CNC DXF + previews), b
 isolator     params, [model] [isolator] design.json, design.txt, plates/ (STL, 3MF, DXF, section)
 dynamics     params, isolator,          spectrum_fixed|isolated.json/.png, variability.json/.png,
              [model] [dynamics]         history.json/.png, fragility.json/.csv/.png, records/
-crosscheck   params, isolator,          crosscheck.json, overlay plots
+crosscheck   params, isolator,          crosscheck.json, overlay plots, classification.json (2D/3D over
+             dynamics, [model]          the design records, around the dynamics stage's fragility medians)
              [scan] [crosscheck]
 """
 from __future__ import annotations
@@ -289,6 +290,7 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.isolator_scene import IsolatorScene
     from ..crosscheck.compare import compare
+    from ..crosscheck.pendulum_scene import PendulumIsolator
     from ..crosscheck.statue_scene import StatueScene
     from ..crosscheck.world import SimSettings
     from ..hazard.motions import parse_spec
@@ -299,8 +301,12 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     motion = parse_spec(c.motion)[0]
     scene = StatueScene.from_body(ctx.load_body(), ctx.config.scan.direction)
     design = ctx.design() if c.isolator else None
-    iso = (IsolatorScene.from_design(design, statue=scene, grid=c.grid or None,
-                                     groove="tiles" if c.groove == "tiles" else None) if design else None)
+    iso = None
+    if design and c.groove == "exact":
+        iso = PendulumIsolator.from_design(design, statue=scene)
+    elif design:
+        iso = IsolatorScene.from_design(design, statue=scene, grid=c.grid or None,
+                                        groove="tiles" if c.groove == "tiles" else None)
     settings, contact = SimSettings(dt=c.dt, solver_iterations=c.iterations), ContactSettings()
     statue_settings = SimSettings(dt=c.statue_dt, solver_iterations=c.iterations)
     comp = compare(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
@@ -311,8 +317,48 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
                                        "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(),
                                        "contact": contact.to_dict(),
                                        "motion": motion.to_dict()})
-    return crosscheck_section(comp, paths, isolator_wanted=c.isolator, design=design,
-                              isolator_enabled=enabled("isolator", ctx.config))
+    section = crosscheck_section(comp, paths, isolator_wanted=c.isolator, design=design,
+                                 isolator_enabled=enabled("isolator", ctx.config))
+    if c.ensemble:
+        from ..report.crosscheck_section import add_classification
+
+        add_classification(section, *_set_classification(ctx, d, scene, iso, statue_settings, contact))
+    return section
+
+
+def _set_classification(ctx: Context, d: Path, scene, iso, settings, contact):
+    """The 2D/3D classification over the design record set (crosscheck/set_classification.py) around the
+    dynamics stage's 2D fragility medians; writes d/classification.json. Returns (SetClassification or
+    None, why it was not made or None)."""
+    from ..crosscheck.pendulum_scene import PendulumIsolator
+    from ..crosscheck.set_classification import QUICK_FACTORS, classify_design_set
+    from ..crosscheck.classification import FACTORS
+
+    frag = ctx.dirs.get("dynamics") and ctx.dirs["dynamics"] / "fragility.json"
+    if not frag or not frag.is_file():
+        return None, ("the classification over the design records needs the dynamics stage's fragility medians: "
+                      "run the dynamics stage with [dynamics] fragility = true")
+    fj = read_json(frag)
+    curves = fj.get("curves") or {}
+    top = max((x for x in (fj.get("levels") or []) if isinstance(x, (int, float))), default=None)
+
+    def med(k):
+        return (curves.get(k) or {}).get("median")
+
+    if iso is not None and not isinstance(iso, PendulumIsolator):
+        iso_note = "the isolated classification runs on the exact isolator scene only ([crosscheck] groove = \"exact\")"
+        iso = None
+    else:
+        iso_note = None
+    rs, _ = _design_set(ctx)
+    factors = QUICK_FACTORS if ctx.config.crosscheck.quick else FACTORS
+    sc = classify_design_set(scene, ctx.model(), rs, (med("uplift"), med("overturn")), iso_scene=iso,
+                             medians_isolated=(med("uplift_isolated"), med("overturn_isolated"),
+                                               med("capacity_exceeded")),
+                             settings=settings, contact=contact, executor=ctx.executor, factors=factors,
+                             top_level=top, progress=lambda msg: ctx.say(f"3D: classification over the design records, {msg} ..."))
+    write_json(d / "classification.json", sc.to_dict())
+    return sc, iso_note
 
 
 STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isolator_stage,
@@ -323,7 +369,8 @@ DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "protot
            "isolator": (("params",), (), ("model", "isolator", "building",
                                           "dynamics:fragility_records,fragility_duration")),
            "dynamics": (("params",), ("isolator",), ("model", "isolator", "building", "dynamics")),
-           "crosscheck": (("params",), ("isolator",), ("scan", "crosscheck"))}
+           "crosscheck": (("params",), ("isolator", "dynamics"),
+                          ("model", "scan", "crosscheck", "building", "dynamics:fragility_records,fragility_duration"))}
 
 
 def enabled(name: str, cfg: ProjectConfig) -> bool:

@@ -174,3 +174,70 @@ def crosscheck_section(comp, paths: dict, *, isolator_wanted: bool, design, isol
                                     "how compared", "why missed / not counted"],
                         "rows": rows, "status_column": 6}],
             "data": {"n_cases": s["n_cases"], "n_met": s["n_met"]}}
+
+
+_STATE_WORDS = {"uplift": "uplift", "overturning": "overturning", "capacity": "isolator capacity exceeded"}
+
+
+def _rate_text(r: dict) -> str:
+    """A rate of classification.Rate.to_dict as 'value [lo-hi]' (or 'undefined ...')."""
+    if r.get("value") is None:
+        return plain(r.get("why") or "undefined")
+    return f"{r['value']:.2f} [{r['lo']:.2f}-{r['hi']:.2f}]"
+
+
+def add_classification(section: dict, sc, note: str | None = None) -> dict:
+    """Add to the stage manifest ``section`` the 2D/3D classification over the design records
+    (crosscheck.set_classification.SetClassification ``sc``, or None with ``note`` saying why it was
+    not made): a table (one row per base and limit state: counts, accuracy, precision and recall with
+    95 % intervals, the 2D and 3D medians, the result and why), a text on the rule, the summary line
+    and a warning for every limit state missed. Returns ``section``."""
+    if sc is None:
+        section["text"].append("The 2D/3D classification over the design records was not made: " + plain(note or ""))
+        section["warnings"].append("3D classification over the design records not made: " + plain(note or ""))
+        return section
+    rows, missed, heads = [], [], []
+    for key, base, cl in (("fixed", "fixed base", sc.fixed), ("isolated", "on the isolator", sc.isolated)):
+        if cl is None:
+            continue
+        d = cl.to_dict()
+        frm = sc.levels_from.get(key, {})
+        heads.append(f"{base}: {d['info']['n_counted']} of {d['info']['n_runs']} runs counted "
+                     f"({d['info']['n_records']} records x {len(d['info']['levels_g'])} PGA levels, "
+                     f"{', '.join(f'{x:.3f}' for x in d['info']['levels_g'])} g: "
+                     f"{', '.join(f'{f:g}' for f in frm.get('factors', []))} x {frm.get('what', 'the 2D medians')})")
+        for state, a in d["states"].items():
+            f = d["fragility"].get(state, {})
+            m2, m3 = (f.get(k, {}).get("median_g") for k in ("2d", "3d"))
+            status = a["status"]
+            rows.append([base, _STATE_WORDS.get(state, state), f"{a['tp']}/{a['fp']}/{a['fn']}/{a['tn']}",
+                         _rate_text(a["accuracy"]) if status != "not applicable" else "-",
+                         _rate_text(a["precision"]) if status != "not applicable" else "-",
+                         _rate_text(a["recall"]) if status != "not applicable" else "-",
+                         "-" if m2 is None else f"{m2:.3f}", "-" if m3 is None else f"{m3:.3f}",
+                         {"met": "pass", "missed": "fail"}.get(status, status), plain(a.get("why") or "")])
+            if status == "missed":
+                missed.append(f"{base}, {_STATE_WORDS.get(state, state)}: {plain(a.get('why') or '')}")
+    rule = sc.fixed.info.get("rule", "")
+    section["text"].append(
+        "Over the design records: every record of the design set scaled to PGA levels around the 2D fragility "
+        "medians, run in the 2D model and in 3D (3D taken as the reference). Per limit state, TP/FP/FN/TN count "
+        "the runs where both say yes / only 2D / only 3D / neither; accuracy, precision and recall with their "
+        f"95 % intervals. Rule: {plain(rule)}. " + "; ".join(heads) + ". The medians in this table are fitted "
+        "to these runs alone, with uplift read in both models as the base edge lifted "
+        f"{sc.fixed.info.get('lift_height_m', 2e-4) * 1000:g} mm (what the 3D contact resolves), on these few "
+        "levels: they compare the two models with each other; the assessment's fragility medians (2D analyses) "
+        "read uplift at its exact onset over many more levels and stay the ones to use.")
+    if note:
+        section["text"].append(plain(note))
+    section["tables"].append({"title": "2D model against 3D physics over the design records (yes/no per limit state)",
+                              "columns": ["base", "limit state", "TP/FP/FN/TN", "accuracy", "precision", "recall",
+                                          "2D median g (these runs)", "3D median g (these runs)", "result", "why"],
+                              "rows": rows, "status_column": 8})
+    n_met = sum(r[8] == "pass" for r in rows)
+    n_app = sum(r[8] in ("pass", "fail") for r in rows)
+    section["summary"]["2D/3D over the design records"] = (f"{n_met} of {n_app} applicable limit states agree"
+                                                          + (f" (missed: {len(missed)})" if missed else ""))
+    section["warnings"] += [f"2D/3D classification over the design records missed: {m}" for m in missed]
+    section.setdefault("data", {})["classification_met"] = bool(sc.met)
+    return section
