@@ -5,6 +5,7 @@ A rectangular block (b 0.1 m, h 0.5 m, 100 kg: lifts at g b / h = 0.2 g on a fix
 isolator (R_hat 0.3 m, T 1.10 s, capacity 30 mm), 8 short records x 2 levels: 16 runs of ~0.05 s each."""
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import replace
 
@@ -88,3 +89,19 @@ def test_isolated_capacity_agrees_and_a_wrong_capacity_fails(block, recs):
     w = wrong.states["capacity"]
     assert w.status == "missed" and w.fn >= 3 and "3D reaches the capacity, 2D does not" in wrong.table()
     assert "peak plate travel 2D" in wrong.table()
+
+
+def test_budget_too_small_skips_and_says_why(block, recs):
+    """One timed 3D run per base gives the estimate; a budget under the quick levels' estimate runs nothing
+    and says so; the quick levels cost less than the full ones (3 vs 5 factors per median)."""
+    from statue2model.crosscheck.set_classification import QUICK_FACTORS, classify_design_set
+
+    sc = classify_design_set(block, user_model(block), recs, (2.0, 6.0), iso_scene=_iso(block),
+                             medians_isolated=(None, None, 2.5), executor=SerialExecutor(), free_time=1.0,
+                             budget_s=1e-3)
+    assert sc.fixed is None and sc.isolated is None and not sc.met
+    assert "over the budget of 0.001 s" in sc.skipped and "ensemble_budget" in sc.skipped
+    est = sc.budget["estimate_s"]
+    full, quick = est["0.5,0.8,1,1.25,2"], est[",".join(f"{f:g}" for f in QUICK_FACTORS)]
+    assert 0 < quick < full and set(sc.budget["wall_per_simulated_s"]) == {"fixed", "isolated"}
+    assert json.dumps(sc.to_dict(), allow_nan=False)

@@ -105,6 +105,8 @@ def test_default_file_round_trips(tmp_path):
     ("[isolator]\nthickness = \"-30mm\"\n", "[isolator] thickness"),
     ("[model]\nkind = \"imperfect\"\nalpha_L = 0.5\nalpha_R = 0.5\ntheta_L = -1\n", "theta_L must be > 0"),
     ("[crosscheck]\niterations = 0\n", "iterations must be >= 1"),
+    ("[crosscheck]\nensemble_budget = 0\n", "ensemble_budget must be a positive number of seconds"),
+    ("[crosscheck]\ngroove = \"balls\"\n", "[crosscheck] groove"),
     ("[dynamics]\nmotion = \"sine:amp=0,freq=2\"\n", "must be a ground motion"),
 ])
 def test_bad_project_files_name_the_problem(text, words):

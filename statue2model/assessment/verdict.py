@@ -209,6 +209,12 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     out["recommendation"] = (recommend_from_limit_states(fixed, isolated, ls) if ls
                              else recommend(fixed, isolated, pga))
     out["status"] = status(out["recommendation"])
+    cc = crosscheck_line((_data(stages, "crosscheck") or {}).get("classification"))
+    if cc:
+        out["crosscheck"] = cc
+        lines.append(cc["line"])
+        if cc["missed"] and out["status"] == "ok":
+            out["status"] = "warn"         # the 2D answer is not confirmed by the 3D physics: doubt carried
     out.update(basis(ls, hz, model))
     return out
 
@@ -391,6 +397,47 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
 
 FRAGILITY_TITLES = {"full_contact": "full contact lost (uplift)", "overturning": "overturning",
                     "capacity": "isolator capacity exceeded"}
+
+
+_BASE = {"fixed": "fixed base", "isolated": "on the isolator"}
+_STATE = {"uplift": "uplift", "overturning": "overturning", "capacity": "capacity exceeded"}
+
+
+def crosscheck_line(cls: dict | None) -> dict | None:
+    """The 3D cross-check's classification over the design records (crosscheck stage data
+    ``classification``: base -> limit state -> status, accuracy, its lower bound, runs, why) as one
+    line of the verdict: where the 2D model's yes/no agrees with the 3D physics and, with its size,
+    where agreement is not shown. None without a classification.
+
+    >>> c = crosscheck_line({"fixed": {"uplift": {"status": "met", "accuracy": 1.0, "accuracy_lo": 0.95, "n": 70},
+    ...                      "overturning": {"status": "missed", "accuracy": 0.7, "accuracy_lo": 0.58, "n": 70,
+    ...                                      "why": "recall 2/9"}}})
+    >>> c["missed"], c["line"].split(": ")[1]
+    (['fixed base overturning'], 'the 2D model agrees with the 3D physics on fixed base uplift (accuracy 1.00, lower bound 0.95, 70 runs); NOT shown on fixed base overturning (accuracy 0.70, lower bound 0.58, 70 runs')
+    """
+    if not cls:
+        return None
+    met, missed, parts_met, parts_missed = [], [], [], []
+    for base, states in cls.items():
+        for st, a in (states or {}).items():
+            if a.get("status") not in ("met", "missed"):
+                continue
+            name = f"{_BASE.get(base, base)} {_STATE.get(st, st)}"
+            size = (f"accuracy {_n(a.get('accuracy'))}, lower bound {_n(a.get('accuracy_lo'))}, "
+                    f"{a.get('n', 0)} runs")
+            if a["status"] == "met":
+                met.append(name)
+                parts_met.append(f"{name} ({size})")
+            else:
+                missed.append(name)
+                parts_missed.append(f"{name} ({size}: {a.get('why') or 'agreement not shown'})")
+    if not (met or missed):
+        return None
+    line = "3D cross-check over the design records: "
+    line += ("the 2D model agrees with the 3D physics on " + ", ".join(parts_met)) if met else "no limit state agrees"
+    if missed:
+        line += "; NOT shown on " + "; ".join(parts_missed) + ": the 2D answer there is not confirmed by 3D"
+    return {"line": line + ".", "met": met, "missed": missed}
 
 
 def _prob(p: float) -> str:

@@ -19,7 +19,8 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
              fragility, fragility_records, fragility_duration,          time histories, fragility)
              fragility_levels, fragility_samples, fragility_rounds
-[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator, ensemble
+[crosscheck] enabled, quick, motion, dt, statue_dt, iterations, grid, groove, pulse_freq, isolator, ensemble,
+             ensemble_budget
 [run]        stages, workers, scheduler                                 (what a plain ``run`` does
                                                                          and where sweeps run)
 
@@ -212,6 +213,7 @@ class CrosscheckConfig:
     isolator: bool = True               # also the statue on the isolator
     ensemble: bool = True               # also the 2D/3D classification over the design record set (needs the
                                         # dynamics stage's fragility medians; exact isolator scene only)
+    ensemble_budget: float = 600.0      # s of wall time its 3D runs may take (fewer levels, or none, if not)
 
 
 @dataclass(frozen=True)
@@ -577,6 +579,8 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
     if c.iterations < 1 or not c.pulse_freq > 0:
         bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
+    if not (math.isfinite(c.ensemble_budget) and c.ensemble_budget > 0):
+        bad(f"[crosscheck] ensemble_budget must be a positive number of seconds, got {c.ensemble_budget}")
     from ..crosscheck.world import check_user_dt
 
     for name in ("dt", "statue_dt"):

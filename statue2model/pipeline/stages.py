@@ -356,7 +356,7 @@ def _set_classification(ctx: Context, d: Path, scene, iso, settings, contact):
                              medians_isolated=(med("uplift_isolated"), med("overturn_isolated"),
                                                med("capacity_exceeded")),
                              settings=settings, contact=contact, executor=ctx.executor, factors=factors,
-                             top_level=top, progress=lambda msg: ctx.say(f"3D: classification over the design records, {msg} ..."))
+                             top_level=top, budget_s=ctx.config.crosscheck.ensemble_budget, progress=lambda msg: ctx.say(f"3D: classification over the design records, {msg} ..."))
     write_json(d / "classification.json", sc.to_dict())
     return sc, iso_note
 

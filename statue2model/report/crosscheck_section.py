@@ -192,9 +192,10 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
     not made): a table (one row per base and limit state: counts, accuracy, precision and recall with
     95 % intervals, the 2D and 3D medians, the result and why), a text on the rule, the summary line
     and a warning for every limit state missed. Returns ``section``."""
-    if sc is None:
-        section["text"].append("The 2D/3D classification over the design records was not made: " + plain(note or ""))
-        section["warnings"].append("3D classification over the design records not made: " + plain(note or ""))
+    if sc is None or sc.skipped:
+        why = plain(note or "") if sc is None else plain(sc.skipped)
+        section["text"].append("The 2D/3D classification over the design records was not made: " + why)
+        section["warnings"].append("3D classification over the design records not made: " + why)
         return section
     rows, missed, heads = [], [], []
     for key, base, cl in (("fixed", "fixed base", sc.fixed), ("isolated", "on the isolator", sc.isolated)):
@@ -228,6 +229,11 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
         f"{sc.fixed.info.get('lift_height_m', 2e-4) * 1000:g} mm (what the 3D contact resolves), on these few "
         "levels: they compare the two models with each other; the assessment's fragility medians (2D analyses) "
         "read uplift at its exact onset over many more levels and stay the ones to use.")
+    b = sc.budget or {}
+    if b.get("budget_s") and b.get("estimate_s"):
+        est = ", ".join(f"{v:.0f} s at {k} x the medians" for k, v in b["estimate_s"].items())
+        section["text"].append(f"Time budget {b['budget_s']:g} s on {b.get('workers', 1)} workers: estimated {est} "
+                               f"(one timed 3D run per base); run at {', '.join(f'{f:g}' for f in b['factors'])} x.")
     if note:
         section["text"].append(plain(note))
     section["tables"].append({"title": "2D model against 3D physics over the design records (yes/no per limit state)",
@@ -239,5 +245,10 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
     section["summary"]["2D/3D over the design records"] = (f"{n_met} of {n_app} applicable limit states agree"
                                                           + (f" (missed: {len(missed)})" if missed else ""))
     section["warnings"] += [f"2D/3D classification over the design records missed: {m}" for m in missed]
-    section.setdefault("data", {})["classification_met"] = bool(sc.met)
+    data = section.setdefault("data", {})
+    data["classification_met"] = bool(sc.met)
+    data["classification"] = {
+        key: {st: {"status": a.status, "accuracy": a.accuracy.value, "accuracy_lo": a.accuracy.lo,
+                   "n": a.accuracy.n, "why": a.why} for st, a in cl.states.items()}
+        for key, cl in (("fixed", sc.fixed), ("isolated", sc.isolated)) if cl is not None}
     return section
