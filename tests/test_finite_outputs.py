@@ -265,3 +265,20 @@ def test_reversed_fragility_levels_refused_at_once(tmp_path, capsys):
         cfg.write_text(f'[dynamics]\nfragility_levels = "{bad}"\n')
         assert main(["run", str(MARIA), "--config", str(cfg), "--out", str(tmp_path / "out")]) == 2
         assert "fragility_levels" in capsys.readouterr().err
+
+
+def test_failure_text_never_prints_inf():
+    """A check with no finite ratio (a fuse that cannot release: value inf) reads 'not met', never 'inf'
+    (found on Maria on an upper floor: 'release inf m/s^2 (inf g) ... (ratio inf)')."""
+    import math
+
+    from statue2model.isolator.design import Check, failure_text
+
+    checks = [Check("fuse releases before the statue rocks", False, math.inf, 3.44, "no room for a fuse ball"),
+              Check("load per ball", False, 1334.0, 460.0, "1334 N vs 460 N"),
+              Check("advisory", False, math.inf, 1.0, "x", required=False)]
+    text = failure_text(checks)
+    assert "inf" not in text.replace("information", "")
+    assert text.startswith("fuse releases before the statue rocks: no room for a fuse ball (not met); load per ball")
+    assert "(ratio 2.90)" in text and "advisory" not in text
+    assert failure_text(checks, shown=1).endswith("; and 1 more")

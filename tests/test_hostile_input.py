@@ -103,7 +103,7 @@ def test_collection_csv_has_whole_rows_and_no_formulas(hostile_collection):
         for cell in r:
             if cell.startswith(FORMULA_START):
                 float(cell)                          # only numbers may start with a sign
-    scans = sorted(r[0] for r in body)
+    scans = sorted(r[header.index("scan")] for r in body)
     assert scans == sorted(("'" + n if n[0] in "=@-" else n) + ".stl" for n in names)
     mass = header.index("mass [kg]")
     assert [float(r[mass]) for r in body] == pytest.approx([2650.0 * 0.3 * 0.2 * 1.0] * len(body), rel=1e-3)

@@ -349,7 +349,7 @@ def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
         b = json.loads((tmp_path / "dask" / sub / "dynamics" / "spectrum_isolated.json").read_text())
         assert np.array_equal(a["codes"], b["codes"]) and a["theta_max_over_delta"] == b["theta_max_over_delta"]
     csv = (tmp_path / "local" / "collection.csv").read_text().splitlines()
-    assert len(csv) == 4 and csv[0].startswith("scan,mass [kg]")
+    assert len(csv) == 4 and csv[0].startswith("rank,object,scan,room,floor,")
     # a re-run takes every stage of every scan from the cache
     again = run_collection(collection, tmp_path / "local", cfg, executor=None, say=quiet)
     assert all({r["status"][s] for s in ("params", "isolator", "dynamics")} == {"cached"} for r in again["scans"])

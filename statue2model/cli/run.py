@@ -77,8 +77,8 @@ def _cmd_run(args) -> int:
             data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex,
                                   reuse=args.reuse)
             print(_collection_table(data))
-            print(f"\n{len(data['scans'])} scans in {time.perf_counter() - t0:.1f} s; wrote {out}/collection.json, "
-                  f"collection.csv and one folder (with report.html) per scan")
+            print(f"\n{len(data['scans'])} scans in {time.perf_counter() - t0:.1f} s; wrote {out}/collection.html "
+                  f"(ranked by risk), collection.csv, collection.json and one folder (with report.html) per scan")
             warned = [(r["scan"], w) for r in data["scans"] for w in r.get("warnings", ())]
             if warned:
                 print(f"\n{len(warned)} warning{'s' if len(warned) != 1 else ''} (also in each scan's run.json "
@@ -108,15 +108,26 @@ def _cmd_run(args) -> int:
 
 
 def _collection_table(data) -> str:
-    rows = data["table"]
-    cols = [c for c in rows[0] if c != "error"] if rows else []
+    """The ranked objects (collection.json ``rows``), most urgent first, and the summary line."""
+    cols = (("rank", "rank"), ("object", "object"), ("where", "where"), ("status", "status"),
+            ("state", "fixed base"), ("device_state", "isolator"), ("sheets", "sheets"))
+    rows = data.get("rows") or []
 
-    def cell(v):
-        return "-" if v is None else (f"{v:.4g}" if isinstance(v, float) else str(v))
+    def cell(r, k):
+        v = r.get(k)
+        if k == "state" and not r.get("assessed"):
+            return "not assessed: " + str(r.get("reason") or "")
+        return "-" if v is None or v == "" else str(v)
 
-    width = {c: max(len(c), *(len(cell(r.get(c))) for r in rows)) for c in cols}
-    lines = ["  ".join(f"{c:>{width[c]}}" for c in cols)]
-    lines += ["  ".join(f"{cell(r.get(c)):>{width[c]}}" for c in cols) for r in rows]
+    width = {k: max(len(h), *(len(cell(r, k)) for r in rows)) for k, h in cols} if rows else {}
+    lines = ["  ".join(f"{h:<{width[k]}}" for k, h in cols)] if rows else []
+    lines += ["  ".join(f"{cell(r, k):<{width[k]}}" for k, _ in cols) for r in rows]
+    s = data.get("summary") or {}
+    if s:
+        lines.append(f"\n{s.get('objects', 0)} objects: {s.get('needing_protection', 0)} need protection, "
+                     f"{s.get('not_assessed', 0)} not assessed; {s.get('devices_passed', 0)} isolators pass, "
+                     f"{s.get('devices_conditional', 0)} conditional on the ball load; "
+                     f"{s.get('prototype_sheets', 0)} prototype sheets, {s.get('isolator_plates', 0)} isolator plates")
     return "\n".join(lines)
 
 

@@ -583,13 +583,15 @@ def _evaluate(geo: _Geometry, a_design: float, d: float, cx: _Context) -> dict:
     if cx.fuse_release is not None:
         fuse = _fuse(geo, cx)
         back = math.inf if fuse["release"] is None else fuse["release"]
+        no_ball = (f"no room for a fuse ball: the plates touch (gap 2 (r - depth) = {fuse['gap']:.4f} m)"
+                   if fuse["release"] is None else "")
         checks.append(Check("fuse releases before the statue rocks", back < a_lim, back, a_lim,
-                            f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2", unit="m/s^2",
-                            key="fuse"))
+                            no_ball or f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2",
+                            unit="m/s^2", key="fuse"))
         seats, wall = _fuse_layout(geo, fuse) if fuse["ball_radius"] > 0 else ((), -math.inf)
         fuse["centres"] = [list(p) for p in seats]
         checks.append(Check("fuse seats and drop holes fit between the grooves", MIN_WALL <= wall + 1e-12,
-                            MIN_WALL, wall, f"least wood between the cutouts {wall:.4f} m, at least "
+                            MIN_WALL, wall, no_ball or f"least wood between the cutouts {wall:.4f} m, at least "
                             f"{MIN_WALL:.3f} m needed", unit="m", key="fuse_layout"))
     return {"geo": geo, "T": 2 * math.pi * math.sqrt(R_hat / g), "a_lim": a_lim, "a_design": a_design, "d": d,
             "m_o": m_o, "l": l, "a_s": a_s, "d_max": d_max, "cap": cap, "cap_g": cap_g, "cap_t": cap_t,
@@ -611,10 +613,13 @@ def _passes(ev: dict) -> bool:
     return all(c.passed for c in ev["checks"] if c.required)
 
 
-def _failure(checks, shown: int = 3) -> str:
-    """The failing required checks, worst ratio first: what fails and by how much."""
+def failure_text(checks, shown: int | None = 3) -> str:
+    """The failing required checks, worst ratio first: what fails and by how much (``shown``: at most
+    that many, the rest counted; None: all)."""
     bad = sorted((c for c in checks if c.required and not c.passed), key=lambda c: -c.ratio)
-    text = "; ".join(f"{c.name}: {c.why} (ratio {c.ratio:.2f})" for c in bad[:shown])
+    shown = len(bad) if shown is None else shown
+    text = "; ".join(f"{c.name}: {c.why}" + (f" (ratio {c.ratio:.2f})" if math.isfinite(c.ratio) else " (not met)")
+                     for c in bad[:shown])
     return text + (f"; and {len(bad) - shown} more" if len(bad) > shown else "")
 
 
@@ -855,7 +860,7 @@ def design(statue, *, mu: float, spectrum=None, motion=None, target: float | Non
         shown = ranked[:SHOWN_PASSING] + failing[:SHOWN_FAILING]
     else:
         best = failing[0]
-        failure = _failure(best["checks"]) + f" [nearest of {len(evs)} candidates; {ranges}]"
+        failure = failure_text(best["checks"]) + f" [nearest of {len(evs)} candidates; {ranges}]"
         notes.append("no candidate meets every required check: the nearest one (fewest failing required checks, "
                      "then the smallest worst ratio) is shown")
         shown = failing[:SHOWN_PASSING + SHOWN_FAILING]
@@ -908,7 +913,7 @@ def assess(statue, *, R: float, r: float, n_grooves: int, opening_radius: float,
                     centres, L_cr, side, side, margin * d + mu * 2 * (R - r))
     ev = _evaluate(geo, a_design, d, cx)
     ok = _passes(ev)
-    failure = None if ok else _failure(ev["checks"])
+    failure = None if ok else failure_text(ev["checks"])
     cands = {"criterion": "given device (no search)", "tried": 1, "passing": int(ok), "shown": 1,
              "checks": [{"key": c.key, "name": c.name, "unit": c.unit, "required": c.required} for c in ev["checks"]],
              "check_columns": ["value", "limit", "ratio", "passed"], "rows": [_row(ev)]}

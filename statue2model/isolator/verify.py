@@ -98,6 +98,7 @@ from .design import (
     SHOWN_PASSING,
     Check,
     design,
+    failure_text,
 )
 from .device import G, Isolator
 
@@ -378,7 +379,7 @@ def verify(statue, *, records, mu: float, mu_low: float | None = None, mu_high: 
     passed = best.passed
     ranges = sized.candidates.get("ranges", "")
     n_pass = sum(v.passed for v in entries)
-    failure = None if passed else (_failure(best.checks)
+    failure = None if passed else (failure_text(best.checks, shown=None)
                                    + f" [nearest of {len(entries)} candidates verified; {ranges}]")
     wwp = None if passed else what_would_pass(best, demands, a_lim_used, cx.ball_capacity, cx.side_max)
     info = dict(records_info or {})
@@ -426,12 +427,6 @@ def verify(statue, *, records, mu: float, mu_low: float | None = None, mu_high: 
                                  tried=len(sized.evaluated), candidates=table, failure=failure, notes=notes)
     return replace(d, checks=best.checks, criterion=CRITERION, verification=verification, what_would_pass=wwp,
                    evaluated=sized.evaluated)
-
-
-def _failure(checks) -> str:
-    """One sentence per failing required check, worst ratio first (design.py's style)."""
-    bad = sorted((c for c in checks if c.required and not c.passed), key=lambda c: -c.ratio)
-    return "; ".join(f"{c.name}: {c.why} (ratio {c.ratio:.2f})" for c in bad)
 
 
 def _row(v: Verified) -> dict:

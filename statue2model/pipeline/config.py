@@ -16,6 +16,10 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [building]   floor, storeys, height, period, structure, damping, isolated, floor_spectrum
              (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
              an upper floor takes the floor spectrum of the Circolare / EC8, hazard/floor.py)
+[rooms.NAME] the [building] keys of one room that differ from [building] (floor = 2, ...)
+[objects]    scan file name (or its stem, or a pattern: "maria_*") = a room name, or inline
+             [building] keys ({ floor = 1 }): each scan of a folder on its own floor
+             (pipeline/rooms.py; an exact name wins over a pattern)
 [dynamics]   enabled, pulse, freq, amp, motion, pga, isolated,          (spectra, variability,
              fragility, fragility_records, fragility_duration,          time histories, fragility)
              fragility_levels, fragility_samples, fragility_rounds
@@ -257,6 +261,10 @@ class ProjectConfig:
     dynamics: DynamicsConfig = field(default_factory=DynamicsConfig)
     crosscheck: CrosscheckConfig = field(default_factory=CrosscheckConfig)
     run: RunConfig = field(default_factory=RunConfig)
+    # [rooms.NAME] and [objects] (pipeline/rooms.py): ((room, ((key, value), ...)), ...) and
+    # ((scan name or pattern, room name or ((key, value), ...)), ...); values as [building]'s
+    rooms: tuple = ()
+    objects: tuple = ()
     source: str | None = None
 
     def section(self, name: str) -> dict:
@@ -271,7 +279,13 @@ class ProjectConfig:
         return {k: d[k] for k in keys.split(",")} if keys else d
 
     def to_dict(self) -> dict:
-        return {name: self.section(name) for name in SECTIONS}
+        """Every section; ``rooms`` and ``objects`` too when the file has them."""
+        out = {name: self.section(name) for name in SECTIONS}
+        if self.rooms:
+            out["rooms"] = {name: dict(keys) for name, keys in self.rooms}
+        if self.objects:
+            out["objects"] = {k: v if isinstance(v, str) else dict(v) for k, v in self.objects}
+        return out
 
     def to_toml(self) -> str:
         """The resolved configuration: every key, None written as "auto"."""
@@ -284,7 +298,14 @@ class ProjectConfig:
                 return list(v)
             return v
 
-        data = {name: {k: clean(v) for k, v in sec.items()} for name, sec in self.to_dict().items()}
+        data = {name: {k: clean(v) for k, v in sec.items()} for name, sec in self.to_dict().items()
+                if name in SECTIONS}
+        table = self.to_dict()
+        if "rooms" in table:
+            data["rooms"] = {name: {k: clean(v) for k, v in keys.items()} for name, keys in table["rooms"].items()}
+        if "objects" in table:
+            data["objects"] = {k: v if isinstance(v, str) else {kk: clean(vv) for kk, vv in v.items()}
+                               for k, v in table["objects"].items()}
         data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
         for sec, key in _ACCELS:                # accelerations with their unit, as the user writes them
             v = getattr(getattr(self, sec), key)
@@ -309,9 +330,10 @@ def _whole(parse, value):
         raise ValueError(str(exc)) from None
 
 
-def _convert(sec: str, key: str, value, default, where: str, nullable: bool = False):
-    """One TOML value -> the field's type, or an InputError naming it."""
-    name = f"{where}: [{sec}] {key}"
+def _convert(sec: str, key: str, value, default, where: str, nullable: bool = False, shown: str | None = None):
+    """One TOML value -> the field's type, or an InputError naming it (in table ``shown``, default
+    ``sec``: a room's keys are read as [building]'s and named as [rooms.NAME]'s)."""
+    name = f"{where}: [{shown or sec}] {key}"
     if isinstance(value, str) and value.strip().lower() in (AUTO, "none"):
         if (sec, key) in _CHOICES and AUTO in _CHOICES[sec, key] or (sec, key) in _AUTO_GRIDS:
             return AUTO
@@ -375,6 +397,89 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
     return v
 
 
+# --- [rooms.NAME] and [objects]: each object of a folder on its own floor (pipeline/rooms.py) ---
+_ROOM_KEYS = tuple(f.name for f in fields(BuildingConfig))
+_MAX_NAME = 255                      # characters of a room name or an [objects] key
+
+
+def _label(text: str) -> str:
+    """A table name as TOML writes it: bare when it can be, else quoted."""
+    bare = text and all(c.isascii() and (c.isalnum() or c in "_-") for c in text)
+    return text if bare else '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _check_name(kind: str, name: str, where: str) -> None:
+    if not name or not name.isprintable() or len(name) > _MAX_NAME or name != name.strip():
+        raise InputError(f"{where}: {kind} {name!r} must be 1 to {_MAX_NAME} printable characters, without "
+                         "leading or trailing spaces")
+
+
+def _building_keys(table, shown: str, where: str) -> tuple:
+    """The [building] keys of a room or an inline [objects] table, converted as [building]'s."""
+    defaults = {f.name: f.default for f in fields(BuildingConfig)}
+    nullable = {f.name: "None" in str(f.type) for f in fields(BuildingConfig)}
+    out = []
+    for key, value in table.items():
+        if key not in defaults:
+            near = difflib.get_close_matches(key, _ROOM_KEYS, 1)
+            hint = f" (did you mean '{near[0]}'?)" if near else f" (the keys of [building]: {', '.join(_ROOM_KEYS)})"
+            raise InputError(f"{where}: unknown key '{key}' in [{shown}]{hint}")
+        out.append((key, _convert("building", key, value, defaults[key], where, nullable[key], shown=shown)))
+    return tuple(sorted(out, key=lambda kv: kv[0]))
+
+
+def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tuple]:
+    """The ``[rooms]`` and ``[objects]`` tables of a project file (parsed TOML: dicts, or None
+    when absent) as ProjectConfig's ``rooms`` ((name, ((key, value), ...)), ...) and
+    ``objects`` ((key, room name or ((key, value), ...)), ...), each sorted by name; values
+    converted as ``[building]``'s. The rooms named in ``[objects]`` are checked by :func:`check_rooms`."""
+    room_rows, object_rows = [], []
+    if rooms is not None:
+        if not isinstance(rooms, dict):
+            raise InputError(f"{where}: rooms must be tables [rooms.NAME] of [building] keys")
+        for name, table in rooms.items():
+            _check_name("room name", name, where)
+            if not isinstance(table, dict):
+                raise InputError(f"{where}: [rooms] {_label(name)} = {table!r}: a room is a table "
+                                 f"[rooms.{_label(name)}] of [building] keys (floor = 2, ...)")
+            room_rows.append((name, _building_keys(table, f"rooms.{_label(name)}", where)))
+    if objects is not None:
+        if not isinstance(objects, dict):
+            raise InputError(f"{where}: objects must be a table [objects] of scan name = room")
+        for key, value in objects.items():
+            _check_name("[objects] key", key, where)
+            if "/" in key or "\\" in key:
+                raise InputError(f"{where}: [objects] {_label(key)}: a key is a scan's file name or a pattern "
+                                 "on it, not a path")
+            if isinstance(value, dict):
+                object_rows.append((key, _building_keys(value, f"objects.{_label(key)}", where)))
+            elif isinstance(value, str):
+                object_rows.append((key, value))
+            else:
+                raise InputError(f"{where}: [objects] {_label(key)} = {value!r}: give a room name "
+                                 "(\"gallery_2\") or [building] keys ({ floor = 1 })")
+    return tuple(sorted(room_rows)), tuple(sorted(object_rows, key=lambda row: row[0]))   # file order is no meaning
+
+
+def check_rooms(cfg: ProjectConfig, where: str = "project file") -> None:
+    """Every room and inline table of ``cfg`` checked as ``[building]`` is (the floor
+    spectrum can be built), and every room named in ``[objects]`` defined."""
+    names = [name for name, _ in cfg.rooms]
+    for key, value in cfg.objects:
+        if isinstance(value, str) and value not in names:
+            near = difflib.get_close_matches(value, names, 1)
+            hint = (f" (did you mean '{near[0]}'?)" if near else
+                    f" (rooms: {', '.join(names)})" if names else " (the file defines no [rooms.NAME])")
+            raise InputError(f"{where}: [objects] {_label(key)} = {value!r}: unknown room{hint}")
+    shown = [(f"rooms.{_label(n)}", k) for n, k in cfg.rooms]
+    shown += [(f"objects.{_label(n)}", v) for n, v in cfg.objects if not isinstance(v, str)]
+    for table, keys in shown:
+        try:
+            site(replace(cfg, building=replace(cfg.building, **dict(keys))))
+        except InputError as exc:
+            raise InputError(f"{where}: [{table}] (the [building] with its keys): {exc}") from None
+
+
 def load_config_text(text: str, where: str = "project file", base_dir: Path | None = None) -> ProjectConfig:
     """Parse TOML text (unknown sections or keys are errors, with a suggestion);
     relative paths of ``file:`` motions are taken from ``base_dir`` (default: the
@@ -383,11 +488,12 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{where} is not valid TOML: {exc}") from None
-    kw = {}
+    kw = dict(zip(("rooms", "objects"), parse_rooms(data.pop("rooms", None), data.pop("objects", None), where)))
     for sec, table in data.items():
         if sec not in SECTIONS:
-            near = difflib.get_close_matches(sec, SECTIONS, 1)
-            hint = f" (did you mean [{near[0]}]?)" if near else f" (sections: {', '.join(SECTIONS)})"
+            known = [*SECTIONS, "rooms", "objects"]
+            near = difflib.get_close_matches(sec, known, 1)
+            hint = f" (did you mean [{near[0]}]?)" if near else f" (sections: {', '.join(known)})"
             raise InputError(f"{where}: unknown section [{sec}]{hint}")
         if not isinstance(table, dict):
             raise InputError(f"{where}: {sec} must be a [section]")
@@ -553,6 +659,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         site(cfg)
     except InputError as exc:
         bad(str(exc))
+    check_rooms(cfg, where)
     freqs = linspace_spec(d.freq, f"{where}: [dynamics] freq")
     amps = linspace_spec(d.amp, f"{where}: [dynamics] amp", accel=True)
     pgas = linspace_spec(d.pga, f"{where}: [dynamics] pga", accel=True)
@@ -665,4 +772,15 @@ def site(cfg: ProjectConfig):
 def default_toml() -> str:
     """The project file with every key at its default, and this module's notes on top."""
     head = "\n".join("# " + line if line else "#" for line in __doc__.split("Example")[0].strip().splitlines())
-    return head + "\n\n" + ProjectConfig().to_toml()
+    return head + "\n\n" + ProjectConfig().to_toml() + ROOMS_EXAMPLE
+
+
+ROOMS_EXAMPLE = """
+# Objects on other floors (a folder of scans; pipeline/rooms.py, docs/run.md):
+# [rooms.gallery_2]                 # a room: the [building] keys that differ from [building]
+# floor = 2
+#
+# [objects]                         # scan file name, its stem or a pattern -> a room, or [building] keys
+# "maria_*" = "gallery_2"
+# "dancing_girl.ply" = { floor = 1 }
+"""

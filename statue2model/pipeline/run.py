@@ -46,6 +46,10 @@ from ..io.files import atomic_write, open_output, write_json
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, check_stage_names, motion_files, stage_list
 from .stages import DEPENDS, STAGES, Context, enabled
+from .rooms import PLACEMENT_COLUMNS, check_scans, config_for, object_placement, where_text
+from ..assessment.collection import RANKING_RULE, csv_rows, object_row, rank
+from ..assessment.collection import summary as collection_summary
+from ..report.collection_page import write_collection_page
 from ..assessment.verdict import assess
 from ..geometry.scan import SCAN_SUFFIXES
 
@@ -120,6 +124,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     mesh = Path(mesh)
     if not mesh.is_file():
         raise InputError(f"scan not found: {mesh}")
+    cfg = config_for(cfg, mesh.name)            # [objects]: this scan's room (single scans and collections)
     asked = check_stage_names(stages) if stages else [n for n in stage_list(cfg.run.stages) if enabled(n, cfg)]
     off = [n for n in asked if not enabled(n, cfg)]
     if off and stages:
@@ -289,9 +294,11 @@ def _scan_task(task) -> dict:
                           say=lambda m: None, reuse=bool(rest and rest[0]))
     except InputError as exc:
         return {"scan": Path(mesh).name, "error": str(exc)}
+    except Exception as exc:        # one object's internal error must not cost the others their assessment
+        return {"scan": Path(mesh).name, "error": f"internal error ({type(exc).__name__}: {exc})", "internal": True}
     return {"scan": Path(mesh).name, "out": str(res.out), "report": str(res.report) if res.report else None,
             "status": {k: v["status"] for k, v in res.stages.items()}, "warnings": res.warnings,
-            "data": {k: v.get("data", {}) for k, v in res.stages.items()}}
+            "data": {k: v.get("data", {}) for k, v in res.stages.items()}, "verdict": res.verdict}
 
 
 COLLECTION_COLUMNS = (("params", "m", "mass [kg]", 1.0), ("params", "h", "h [m]", 1.0),
@@ -318,27 +325,34 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
     names = [s.stem for s in scans]
     if len(set(names)) != len(names):
         raise InputError(f"two scans in {folder} share a name ({', '.join(names)}); rename one")
+    # two rooms for one scan stop the run before any work; a pattern that places nothing is a warning
+    room_warnings = check_scans(ProjectConfig() if config is None else config, [s.name for s in scans])
     def older(f: Path) -> list[str]:          # a collection written before output manifests
         subs = [n for n in names if (f / n).is_dir() and older_run(f / n)]
-        return subs + [n for n in ("collection.json", "collection.csv", "config.toml") if subs and (f / n).is_file()]
+        return subs + [n for n in ("collection.json", "collection.csv", "collection.html", "config.toml")
+                       if subs and (f / n).is_file()]
 
     with open_output(out, "collection", reuse=reuse, command="run", adopt=older) as od:
         od.clean()
-        od.claim([*names, "config.toml", "collection.json", "collection.csv"])
+        od.claim([*names, "config.toml", "collection.json", "collection.csv", "collection.html"])
         return _run_collection(folder, Path(out), config, scans, stages=stages, force=force, executor=executor,
-                               say=say, reuse=reuse)
+                               say=say, reuse=reuse, room_warnings=room_warnings)
 
 
-def _run_collection(folder, out: Path, config, scans, *, stages, force, executor, say, reuse) -> dict:
+def _run_collection(folder, out: Path, config, scans, *, stages, force, executor, say, reuse,
+                    room_warnings=()) -> dict:
     cfg = ProjectConfig() if config is None else config
-    tasks = [(s, out / s.stem, cfg, stages, force, reuse) for s in scans]
+    for w in room_warnings:
+        say(f"warning: {w}")
+    tasks = [(s, out / s.stem, config_for(cfg, s.name), stages, force, reuse) for s in scans]
     say(f"{len(scans)} scans in {folder} on {executor.describe() if executor is not None else 'this process'}")
     t0 = time.perf_counter()
     rows = executor.map(_scan_task, tasks, desc="scans") if executor is not None else [_scan_task(t) for t in tasks]
     wall = time.perf_counter() - t0
+    places = {r["scan"]: object_placement(cfg, r["scan"]) for r in rows}
     table = []
     for r in rows:
-        row = {"scan": r["scan"]}
+        row = {"scan": r["scan"], **{label: places[r["scan"]][k] for k, label in PLACEMENT_COLUMNS}}
         if "error" in r:
             row["error"] = r["error"]
         for stage, key, label, factor in COLLECTION_COLUMNS:
@@ -346,15 +360,22 @@ def _run_collection(folder, out: Path, config, scans, *, stages, force, executor
             row[label] = v if (v is None or factor is None) else v * factor
         row["warnings"] = len(r.get("warnings", ()))
         table.append(row)
-    data = {"schema": "statue2model.collection/1", "folder": str(folder), "scans": rows, "table": table,
-            "seconds": wall, "executor": executor.describe() if executor is not None else "this process"}
+    objects = []
+    for r in rows:
+        o, place = object_row(r, out), places[r["scan"]]
+        o.update(room=place.get("room"), floor=place.get("floor"), where=where_text(place))
+        objects.append(o)
+    ranked = rank(objects)
+    summ = collection_summary(ranked)
+    data = {"schema": "statue2model.collection/2", "folder": str(folder), "ranking_rule": RANKING_RULE,
+            "summary": summ, "rows": ranked, "scans": rows, "table": table, "seconds": wall,
+            "executor": executor.describe() if executor is not None else "this process",
+            "placement": places, "warnings": list(room_warnings)}
     write_config(cfg, out / "config.toml", Path(folder), out)
     write_json(out / "collection.json", data)
-    cols = ["scan"] + [c[2] for c in COLLECTION_COLUMNS] + ["warnings"]
-
-    def cell(v):
-        return "" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v))
-
+    header, cells = csv_rows(ranked)
     # the csv module quotes commas and quotes in scan names; safe_cell neutralises formulas
-    write_csv(out / "collection.csv", cols, ([cell(row.get(c)) for c in cols] for row in table))
+    write_csv(out / "collection.csv", header, cells)
+    write_collection_page(ranked, summ, out / "collection.html", title=f"Collection: {Path(folder).name}",
+                          config_text=(out / "config.toml").read_text(encoding="utf-8"))
     return data

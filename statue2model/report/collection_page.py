@@ -1,0 +1,302 @@
+"""The collection page: a museum's objects in one self-contained HTML file, ranked by risk.
+
+:func:`write_collection_page` writes ONE file (inline CSS and script, the report's
+Content-Security-Policy: nothing is loaded from anywhere), with, from the top: the summary
+(objects, assessed, needing protection, devices, sheets, plates), the ranking rule
+(:data:`statue2model.assessment.collection.RANKING_RULE`), a filter (a text box matching
+anywhere in a row, one checkbox per status) and the table, one row per object
+(:func:`statue2model.assessment.collection.object_row`) in rank order. A click on a column's
+header sorts by it (again: the other way); the object's name links to its report
+(relative: the page works wherever the collection folder is copied). Status cells are
+coloured as the per-object report's verdict box (ok green, warn amber, fail red); a row not
+assessed shows why in place of its recommendation.
+
+Every text from the inputs (scan names above all) is HTML-escaped, attributes quoted, and links
+are relative paths percent-encoded: a scan named ``<script>`` shows as text.
+
+Browser check contract: the load handler (and every sort or filter after it) writes on ``<body>``
+
+* ``data-rows``: the number of rows, ``data-visible``: those shown by the filter,
+* ``data-sorted-by`` (a column key, "rank" at load) and ``data-sort-dir`` (asc or desc),
+* ``data-order``: a JSON list of the visible rows' object names, in their order on screen,
+* ``data-filter``: the filter text, ``data-statuses``: a JSON list of the statuses ticked.
+
+Column keys (``data-key`` of each header button): see :data:`COLUMNS`.
+
+Example
+-------
+>>> import tempfile, pathlib
+>>> from statue2model.assessment.collection import object_row, rank, summary
+>>> rows = rank([object_row({"scan": "<script>alert(1)</script>.ply", "error": "scan not found"})])
+>>> page = write_collection_page(rows, summary(rows), pathlib.Path(tempfile.mkdtemp()) / "index.html",
+...                              title="Collection")
+>>> text = page.read_text(encoding="utf-8")
+>>> "<script>alert" in text, "&lt;script&gt;alert(1)&lt;/script&gt;" in text
+(False, True)
+"""
+from __future__ import annotations
+
+import html
+import math
+import os
+from pathlib import Path
+from urllib.parse import quote
+
+from ..assessment.collection import NOT_ASSESSED, RANKING_RULE, TIER_TEXT, TIERS
+from ..io.files import atomic_write
+from ..version import __version__
+from .html import CSP, CSS
+
+STATUS_ORDER = ("fail", "warn", "ok", NOT_ASSESSED)
+"""The statuses in the filter, and their sort order (a sort by status puts the worst first)."""
+
+COLUMNS = (
+    ("rank", "Rank", "num"), ("object", "Object", "text"), ("where", "Where (room, floor, design PGA)", "text"),
+    ("status", "Status", "num"),
+    ("state", "Fixed base, design level", "num"),
+    ("governing_fixed", "Governing, fixed (demand/ capacity)", "num"),
+    ("governing_isolated", "Governing, isolated (demand/ capacity)", "num"),
+    ("p_uplift_fixed", "P(uplift) fixed", "num"),
+    ("p_overturning_fixed", "P(overturn) fixed", "num"),
+    ("p_failure_isolated", "P(failure) isolated", "num"),
+    ("uplift_g", "Uplift [g]", "num"), ("weakest_deg", "Weakest [deg]", "num"),
+    ("device", "Isolator", "text"), ("sheets", "Sheets", "num"),
+    ("doubts", "Doubts", "text"), ("recommendation", "Recommendation", "text"),
+)
+"""(key, header, sort type) of the table's columns, in order."""
+NUMBER_COLUMNS = {"rank", "p_uplift_fixed", "p_overturning_fixed", "p_failure_isolated", "uplift_g", "weakest_deg",
+                  "sheets"}
+NUM_ATTR = ' class="num"'
+
+PAGE_CSS = """
+main { max-width: none; }
+.tiles { display: flex; flex-wrap: wrap; gap: .5rem; margin: 1rem 0; }
+.tile { border: 1px solid var(--line); border-radius: 6px; padding: .35rem .7rem; background: var(--bg-alt);
+        max-width: 15rem; font-size: .85rem; line-height: 1.25; }
+.tile .n { display: block; font-size: 1.35rem; font-weight: 700; }
+.tile .what { color: var(--muted); }
+.rule { border: 1px solid var(--line); border-radius: 6px; padding: .5rem 1rem; margin: 1rem 0; font-size: .92rem; }
+.rule h2 { font-size: 1rem; margin: 0 0 .3rem; border: 0; padding: 0; }
+.controls { display: flex; flex-wrap: wrap; gap: .5rem 1.25rem; align-items: center; margin: 1rem 0 .5rem; }
+.controls input[type=search] { font: inherit; padding: .25rem .5rem; min-width: 18rem; border: 1px solid var(--line);
+                               border-radius: 4px; }
+.controls label { white-space: nowrap; }
+#collection { font-size: .8rem; width: 100%; }
+#collection th, #collection td { padding: .3rem .4rem; }
+#collection th button { font: inherit; font-weight: 600; background: none; border: 0; padding: 0; cursor: pointer;
+                        text-align: left; color: inherit; }
+#collection th[aria-sort=ascending] button::after { content: " \\25B2"; }
+#collection th[aria-sort=descending] button::after { content: " \\25BC"; }
+#collection td.rec { min-width: 16rem; }
+#collection td.num { white-space: normal; }
+#collection td.dev { min-width: 9rem; }
+#collection td.obj { font-weight: 600; }
+td.st-ok { color: var(--ok); background: var(--ok-bg); font-weight: 600; }
+td.st-warn { color: var(--warn); background: var(--warn-bg); font-weight: 600; }
+td.st-fail { color: var(--bad); background: var(--bad-bg); font-weight: 600; }
+td.st-na { color: var(--bad); font-weight: 600; }
+td.reason { color: var(--bad); }
+.muted { color: var(--muted); }
+@media print { .controls { display: none; } #collection th button::after { content: none !important; } }
+"""
+
+SCRIPT = """
+(function () {
+  var body, table, input;
+  function rows() { return Array.prototype.slice.call(table.tBodies[0].rows); }
+  function record() {
+    var shown = rows().filter(function (r) { return !r.hidden; });
+    body.dataset.rows = String(rows().length);
+    body.dataset.visible = String(shown.length);
+    body.dataset.order = JSON.stringify(shown.map(function (r) { return r.dataset.object; }));
+  }
+  function value(row, i, type) {
+    var v = row.cells[i].getAttribute("data-v");
+    if (v === null || v === "") return null;
+    return type === "num" ? parseFloat(v) : v.toLowerCase();
+  }
+  function sortBy(key, dir) {
+    var ths = Array.prototype.slice.call(table.tHead.rows[0].cells), i = -1, type = "text";
+    ths.forEach(function (th, j) {
+      if (th.dataset.key === key) {
+        i = j; type = th.dataset.type; th.setAttribute("aria-sort", dir === "asc" ? "ascending" : "descending");
+      }
+      else th.removeAttribute("aria-sort");
+    });
+    if (i < 0) return;
+    var sign = dir === "asc" ? 1 : -1, tb = table.tBodies[0];
+    rows().map(function (r, k) { return [r, value(r, i, type), parseInt(r.dataset.rank, 10) || k]; })
+      .sort(function (a, b) {
+        if (a[1] === null && b[1] === null) return a[2] - b[2];
+        if (a[1] === null) return 1;                  /* unknown last, either way */
+        if (b[1] === null) return -1;
+        if (a[1] < b[1]) return -sign;
+        if (a[1] > b[1]) return sign;
+        return a[2] - b[2];
+      })
+      .forEach(function (t) { tb.appendChild(t[0]); });
+    body.dataset.sortedBy = key;
+    body.dataset.sortDir = dir;
+    record();
+  }
+  function filter() {
+    var q = input.value.trim().toLowerCase(), on = {};
+    var boxes = Array.prototype.slice.call(document.querySelectorAll("input.status-filter"));
+    boxes.forEach(function (b) { on[b.value] = b.checked; });
+    rows().forEach(function (r) {
+      r.hidden = !(on[r.dataset.status] && (!q || r.textContent.toLowerCase().indexOf(q) >= 0));
+    });
+    body.dataset.filter = q;
+    body.dataset.statuses = JSON.stringify(boxes.filter(function (b) { return b.checked; })
+                                                .map(function (b) { return b.value; }));
+    record();
+  }
+  window.addEventListener("load", function () {
+    body = document.body; table = document.getElementById("collection"); input = document.getElementById("filter");
+    Array.prototype.forEach.call(table.tHead.rows[0].cells, function (th) {
+      var b = th.querySelector("button");
+      if (!b) return;
+      b.addEventListener("click", function () {
+        var dir = body.dataset.sortedBy === th.dataset.key && body.dataset.sortDir === "asc" ? "desc" : "asc";
+        sortBy(th.dataset.key, dir);
+      });
+    });
+    input.addEventListener("input", filter);
+    Array.prototype.forEach.call(document.querySelectorAll("input.status-filter"), function (b) {
+      b.addEventListener("change", filter);
+    });
+    filter();
+    sortBy("rank", "asc");
+  });
+})();
+"""
+
+
+def _esc(text) -> str:
+    return html.escape(str(text), quote=True)
+
+
+def _num(x) -> float | None:
+    if isinstance(x, bool) or x is None:
+        return None
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) else None
+
+
+def _p(p, lo, hi) -> str:
+    p, lo, hi = _num(p), _num(lo), _num(hi)
+    if p is None:
+        return "-"
+
+    def f(x):
+        return "< 0.01" if x < 0.005 else "> 0.99" if x > 0.995 else f"{x:.2f}"
+    if lo is None or hi is None or f(lo) == f(hi):
+        return f(p)
+    return f"{f(p)} ({f(lo)} to {f(hi)})"
+
+
+def _td(text: str, sort=None, cls: str = "", raw: bool = False, title: str = "") -> str:
+    v = "" if sort is None else (f"{sort:.12g}" if isinstance(sort, float) else str(sort))
+    c = f' class="{cls}"' if cls else ""
+    t = f' title="{_esc(title)}"' if title else ""
+    return f'<td{c}{t} data-v="{_esc(v)}">{text if raw else _esc(text)}</td>'
+
+
+def _row_html(r: dict) -> str:
+    status = r.get("status") if r.get("status") in STATUS_ORDER else NOT_ASSESSED
+    assessed = bool(r.get("assessed"))
+    name = str(r.get("object", ""))
+    link = r.get("link")
+    obj = (f'<a href="{_esc(quote(str(link), safe="/"))}">{_esc(name)}</a>' if link else _esc(name))
+    st_cls = {"ok": "st-ok", "warn": "st-warn", "fail": "st-fail"}.get(status, "st-na")
+    state = r.get("state") if r.get("state") in TIERS else NOT_ASSESSED
+    where = str(r.get("where") or "-")
+    cells = [_td(str(r.get("rank", "")), r.get("rank"), "num"), _td(obj, name, "obj", raw=True),
+             _td(where, where), _td(status, STATUS_ORDER.index(status), st_cls)]
+    if not assessed:
+        cells.append(_td("not assessed", 0))
+        cells += [_td("-") for _ in range(len(COLUMNS) - 6)]
+        cells.append(_td("not assessed: " + str(r.get("reason") or "unknown"), None, "rec reason"))
+    else:
+        state_text = state + ("" if r.get("basis") != "quasi-static" else " (quasi-static)")
+        cells.append(_td(state_text, TIERS.index(state), title=TIER_TEXT.get(state, state)))
+        for base in ("fixed", "isolated"):
+            g, ratio = r.get(f"governing_{base}"), _num(r.get(f"governing_{base}_ratio"))
+            text = "-" if g is None else f"{g}: {ratio:.2f}" if ratio is not None else str(g)
+            if g is not None and r.get(f"governing_{base}_text"):
+                text += f" ({r[f'governing_{base}_text']})"
+            cells.append(_td(text, ratio))
+        for key in ("uplift_fixed", "overturning_fixed", "failure_isolated"):
+            cells.append(_td(_p(r.get(f"p_{key}"), r.get(f"p_{key}_lo"), r.get(f"p_{key}_hi")),
+                             _num(r.get(f"p_{key}")), "num"))
+        u, w = _num(r.get("uplift_g")), _num(r.get("weakest_deg"))
+        cells.append(_td("-" if u is None else f"{u:.3f}", u, "num"))
+        cells.append(_td("-" if w is None else f"{w:.0f}", w, "num"))
+        cells.append(_td(r.get("device") or "-", r.get("device_state") or "", "dev", title=r.get("device_note") or ""))
+        s = r.get("sheets")
+        cells.append(_td("-" if s is None else str(s), s, "num"))
+        doubts = "; ".join(str(d) for d in r.get("doubts") or ()) or "-"
+        cells.append(_td(doubts, "" if doubts == "-" else doubts))
+        cells.append(_td(r.get("recommendation") or "-", r.get("recommendation") or "", "rec"))
+    return (f'<tr data-status="{_esc(status)}" data-object="{_esc(name)}" data-rank="{_esc(r.get("rank", ""))}">'
+            + "".join(cells) + "</tr>")
+
+
+SUMMARY_LABELS = (("objects", "objects"), ("assessed", "assessed"), ("not_assessed", "not assessed: fix the scan"),
+                  ("needing_protection", "need protection (not \"no isolator needed\")"),
+                  ("to_consider", "no isolator needed by the mean, but single records lift them"),
+                  ("devices_passed", "isolators that pass every check"),
+                  ("devices_conditional", "isolators conditional on the ball load"),
+                  ("no_device", "need protection, no device in range"),
+                  ("prototype_sheets", "prototype sheets to cut"),
+                  ("isolator_plates", "isolator plates to cut (2 per passing device)"))
+
+
+def render_collection_page(rows: list[dict], summary: dict, *, title: str, config_text: str | None = None) -> str:
+    """The page as a string (see :func:`write_collection_page`)."""
+    summ = "".join(f'<div class="tile" id="sum-{key}"><span class="n">{_esc(summary.get(key, 0))}</span> '
+                   f'<span class="what">{_esc(label)}</span></div>' for key, label in SUMMARY_LABELS if key in summary)
+    boxes = "".join(f'<label><input type="checkbox" class="status-filter" id="status-{_esc(s.replace(" ", "-"))}" '
+                    f'value="{_esc(s)}" checked> {_esc(s)}</label>' for s in STATUS_ORDER)
+    head = "".join(f'<th scope="col" data-key="{k}" data-type="{t}"{NUM_ATTR if k in NUMBER_COLUMNS else ""}>'
+                   f'<button type="button">{_esc(label)}</button></th>' for k, label, t in COLUMNS)
+    body_rows = "\n".join(_row_html(r) for r in rows)
+    n = len(rows)
+    config = (f"<details><summary>Configuration of the run</summary><pre>{_esc(config_text)}</pre></details>"
+              if config_text else "")
+    return "\n".join([
+        "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+        f'<meta http-equiv="Content-Security-Policy" content="{CSP}">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        '<meta name="generator" content="statue2model">', f"<title>{_esc(title)}</title>",
+        f"<style>{CSS}{PAGE_CSS}</style>", f"<script>{SCRIPT}</script>", "</head>",
+        f'<body data-rows="{n}">', "<main>",
+        f"<header><h1>{_esc(title)}</h1><p class=\"subtitle\">{n} object{'s' if n != 1 else ''}, most urgent first; "
+        f"each name opens the object's report. statue2model {_esc(__version__)}.</p></header>",
+        f'<div class="tiles" id="summary">{summ}</div>',
+        f'<div class="rule" id="ranking-rule"><h2>How the objects are ranked</h2><p>{_esc(RANKING_RULE)}</p>'
+        "<p>P: the fragility study's probability at the design PGA; in brackets, its band from the confidence "
+        "interval of the fitted median. Demand/capacity: the largest over the limit states at the design level "
+        "(mean over the design records); &gt; 1 means the limit state is exceeded.</p></div>",
+        f'<div class="controls"><label for="filter">Filter</label>'
+        f'<input type="search" id="filter" placeholder="name, recommendation, doubt ..." autocomplete="off">'
+        f"{boxes}</div>",
+        f'<div class="table-wrap"><table id="collection"><thead><tr>{head}</tr></thead>',
+        f"<tbody>\n{body_rows}\n</tbody></table></div>",
+        config, "</main>", "</body>", "</html>", ""])
+
+
+def write_collection_page(rows: list[dict], summary: dict, path: str | os.PathLike, *, title: str,
+                          config_text: str | None = None) -> Path:
+    """Write the collection page of the ranked ``rows`` (:func:`statue2model.assessment.collection.rank`)
+    and their ``summary`` to ``path`` (atomically; module docstring), ``config_text`` (the run's
+    config.toml) in a closed box at the end. Links are the rows' ``link``: relative to the folder the
+    page is written in."""
+    text = render_collection_page(rows, summary, title=title, config_text=config_text)
+    return atomic_write(Path(path), lambda p: p.write_text(text, encoding="utf-8"))
+
+
+__all__ = ["COLUMNS", "STATUS_ORDER", "render_collection_page", "write_collection_page"]
