@@ -80,7 +80,7 @@ def table(name: str, out: Path, run_json: dict, wall: float) -> list[str]:
         sim, w3 = i.get("sim_time_3d_s") or 0.0, i.get("wall_time_3d_s") or 0.0
         cost.append(f"{base}: {i['n_runs']} runs ({i['n_records']} records x {len(i['levels_g'])} levels "
                     f"{', '.join(f'{x:.3f}' for x in i['levels_g'])} g; levels from "
-                    f"{cls['levels_from'][base]['what']}), {i['n_counted']} counted, 3D {sim:.0f} simulated s "
+                    f"{'; '.join(cls['levels_from'][base]['what'])}), {i['n_counted']} counted, 3D {sim:.0f} simulated s "
                     f"in {w3:.1f} s wall ({sim / w3 if w3 else 0:.0f} simulated s per wall s on {i['executor']})")
     whys = [f"{base} {s}: {a['why']}" for base in ("fixed", "isolated") if cls.get(base)
             for s, a in cls[base]["states"].items() if a["status"] == "missed"]
@@ -88,7 +88,7 @@ def table(name: str, out: Path, run_json: dict, wall: float) -> list[str]:
     times = ", ".join(f"{k} {v.get('seconds') or 0:.1f} s" for k, v in st.items()
                       if v.get("status") == "done")
     return lines + [""] + [f"- {c}" for c in cost] + [f"- missed, why: {w}" for w in whys] + \
-        [f"- `run --stages all` wall time {wall:.1f} s ({times})"]
+        [f"- `run --stages params,isolator,dynamics,crosscheck` wall time {wall:.1f} s ({times})"]
 
 
 def main() -> int:

@@ -57,6 +57,10 @@ def test_rigid_mount_is_the_plate_carrying_the_statue_mass(block):
     rigid = simulate_pendulum(iso, m, block, t_end=2.5, mount="rigid")
     heavy = simulate_pendulum(replace(iso, m_o=120.0, statue=None), m, None, t_end=2.5)
     assert rigid.theta is None and np.allclose(rigid.u, heavy.u, atol=1e-9, rtol=0)
+    from statue2model.isolator.time_history import simulate as plate_2d      # and both are the 2D plate
+
+    r2 = plate_2d(isolator_2d(iso), m, t_end=2.5, dt_out=5e-3)
+    assert rigid.u_max == pytest.approx(r2.u_max, rel=0.01)
     with pytest.raises(Exception, match="mount"):
         simulate_pendulum(iso, m, block, t_end=0.1, mount="glued")
 
@@ -71,6 +75,36 @@ def test_statue_lift_off_is_read_relative_to_the_plate(block):
     assert lifted["uplift"] and lifted["max_lift"] > 2e-4 and not lifted["capacity"]
     assert not still["uplift"] and still["max_lift"] < 2e-4 and still["peak"] < 0.01
     assert math.isfinite(still["slip"]) and still["slip"] < 1e-3
+
+
+def test_a_moving_plate_never_reads_as_lift_off():
+    """A squat block (b 0.3 m, h 0.5 m: lifts at 0.6 g) on a free-rolling plate (mu 0.005) under a 0.3 g
+    record: the plate travels and rises (its rise is 10 x the lift-off height), the block stays on it."""
+    from statue2model.crosscheck.statue_scene import LIFT_HEIGHT
+
+    squat = StatueScene.block(b=0.3, h=0.5, m=100.0)
+    iso = PendulumIsolator(R_hat=0.3, mu=0.005, m_o=20.0, side=0.9, statue=squat)
+    r = simulate_pendulum(iso, motions.synthetic_record(duration=4.0, pga=0.3 * G, seed=1), squat, t_end=4.5)
+    assert r.u_max > 0.05 and r.z.max() > 10 * LIFT_HEIGHT
+    assert r.max_lift < LIFT_HEIGHT and r.uplift_time is None and r.finite
+
+
+def test_isolated_uplift_a_wrong_alpha_fails(block, recs):
+    """A plate held until mu g = 0.12 g carries the block (lifts at 0.2 g) into rocking at 3-5 m/s^2: the
+    right 2D model classifies uplift like 3D in at least 15 of 16 runs; alpha 0.6 (lifts at 0.12 g) says
+    yes where 3D says no in >= 10 runs: disagreement shown, and the why quotes the plate's acceleration."""
+    from statue2model.rocking.model import RockingModel
+
+    iso = _iso(block, mu=0.12, cap=0.05)
+    kw = dict(levels=(3.0, 5.0), free_time=1.0, base="isolated", run_2d=Coupled2D(isolator_2d(iso)))
+    right = cl.classify_ensemble(iso, user_model(block), recs, executor=SerialExecutor(), run_3d=outcome_3d_isolated,
+                                 **kw)
+    u = right.states["uplift"]
+    assert u.tp >= 3 and u.fp + u.fn <= 1, right.table()
+    wrong = cl.classify_ensemble(iso, RockingModel.imperfect(block.params, 0.6, 0.6), recs, reuse_3d=right, **kw)
+    w = wrong.states["uplift"]
+    assert w.status == "missed" and w.fp >= 10 and "disagreement shown" in w.why
+    assert "the plate's peak absolute acceleration 2D" in wrong.table()
 
 
 def test_isolated_capacity_agrees_and_a_wrong_capacity_fails(block, recs):
@@ -96,9 +130,9 @@ def test_budget_too_small_skips_and_says_why(block, recs):
     and says so; the quick levels cost less than the full ones (3 vs 5 factors per median)."""
     from statue2model.crosscheck.set_classification import QUICK_FACTORS, classify_design_set
 
-    sc = classify_design_set(block, user_model(block), recs, (2.0, 6.0), iso_scene=_iso(block),
-                             medians_isolated=(None, None, 2.5), executor=SerialExecutor(), free_time=1.0,
-                             budget_s=1e-3)
+    sc = classify_design_set(block, user_model(block), recs, [(2.0, "uplift"), (6.0, "overturn")],
+                             iso_scene=_iso(block), anchors_isolated=[(2.5, "capacity")], executor=SerialExecutor(),
+                             free_time=1.0, budget_s=1e-3)
     assert sc.fixed is None and sc.isolated is None and not sc.met
     assert "over the budget of 0.001 s" in sc.skipped and "ensemble_budget" in sc.skipped
     est = sc.budget["estimate_s"]

@@ -199,7 +199,7 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
                   "2D model against 3D physics over the design records"):
         assert title in page
     a = cls["fixed"]["states"]["uplift"]["accuracy"]           # the report prints the json's numbers
-    assert f"{a['value']:.2f} [{a['lo']:.2f}-{a['hi']:.2f}]" in page
+    assert a["value"] is not None and f"{a['value']:.2f} [{a['lo']:.2f}-{a['hi']:.2f}]" in page
 
 
 @pytest.mark.slow

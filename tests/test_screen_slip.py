@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 from statue2model.crosscheck.screen import SLIP_LIMIT, slip_of, validity_screen
-from statue2model.errors import InputError
 
 
 def _run(slide, pivot_slip, uplift_time, t=None):
@@ -45,7 +44,7 @@ def test_release_counts_the_pivot_slip_only():
     t = [0.0, 0.5, 1.0, 1.5]
     r = _run([0.0, np.nan, 7e-3, np.nan], [0.0, 2e-4, 1e-3, 3e-3], 0.0, t=t)
     assert slip_of(r) == pytest.approx(3e-3)
-    with pytest.raises(InputError, match="samples"):
+    with pytest.raises(ValueError, match="samples"):
         slip_of(SimpleNamespace(t=np.zeros(3), slide=np.zeros(2), uplift_time=None, max_pivot_slip=0.0))
 
 

@@ -28,8 +28,9 @@ def add_parsers(sub) -> None:
     p.add_argument("--isolator", metavar="DESIGN.json", help="the JSON of `statue2model isolator design`")
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--direction", type=finite_float, metavar="DEG", help="excitation direction (default: weakest)")
-    p.add_argument("--dt", type=positive_float, default=5e-4, metavar="S", help="3D time step of the isolator "
-                   "scenes, the imperfect-base cases and the record ensemble (default 0.5 ms)")
+    p.add_argument("--dt", type=positive_float, default=5e-4, metavar="S", help="3D time step of the ball "
+                   "isolator scenes (--groove lattice|tiles), the imperfect-base cases and the record ensemble (default "
+                   "0.5 ms; the exact isolator scene runs at --statue-dt)")
     p.add_argument("--statue-dt", type=positive_float, default=2e-3, metavar="S", help="3D time step of the "
                    "statue's standard cases (default 2 ms: peak rotation within 1.2 %% of 0.125 ms, "
                    "benchmarks/bench_crosscheck_speed.py)")

@@ -266,10 +266,14 @@ def disagreement_why(state: str, o2: dict, o3: dict, motion, model: RockingModel
     verb = {"uplift": "lifts off", "overturning": "overturns", "capacity": "reaches the capacity"}[state]
     hi, lo = motion.extremes()
     aL, aR = model.lift_accelerations
-    txt = (f"{yes} {verb}, {no} does not at PGA {motion.pga / G:.3f} g: the record's peak toward +x "
-           f"{hi / G:.3f} g (lifts the left pivot above alpha_L a_L = {aL / G:.3f} g), toward -x {-lo / G:.3f} g "
-           f"(right pivot, alpha_R a_R = {aR / G:.3f} g); peak |theta|/delta 2D {_pk(o2['peak'])} "
-           f"({o2.get('side', '?')}), 3D {_pk(o3['peak'])} ({o3.get('side', '?')})")
+    if "plate_acc" in o2 and "plate_acc" in o3:     # on the isolator the statue feels the plate, not the ground
+        felt = (f"the plate's peak absolute acceleration 2D {o2['plate_acc'] / G:.3f} g, 3D {o3['plate_acc'] / G:.3f} g "
+                f"against the uplift accelerations alpha_L a_L = {aL / G:.3f} g, alpha_R a_R = {aR / G:.3f} g")
+    else:
+        felt = (f"the record's peak toward +x {hi / G:.3f} g (lifts the left pivot above alpha_L a_L = "
+                f"{aL / G:.3f} g), toward -x {-lo / G:.3f} g (right pivot, alpha_R a_R = {aR / G:.3f} g)")
+    txt = (f"{yes} {verb}, {no} does not at PGA {motion.pga / G:.3f} g: {felt}; peak |theta|/delta 2D "
+           f"{_pk(o2['peak'])} ({o2.get('side', '?')}), 3D {_pk(o3['peak'])} ({o3.get('side', '?')})")
     if state == "capacity" and "u_max" in o2 and "u_max" in o3:
         txt += f"; peak plate travel 2D {o2['u_max'] * 1000:.1f} mm, 3D {o3['u_max'] * 1000:.1f} mm"
     if state == "uplift" and "max_lift" in o3:

@@ -19,8 +19,11 @@ the device's capacity). Both runs stop where the plate passes the capacity (the 
 follow the balls out of their grooves; the 3D scene stops there too, so the two read the same
 event); a run stopped there has not overturned in either model, and the capacity row counts it.
 
-The 3D outcome carries the statue's pivot slip and yaw relative to the plate; the classification's
-validity screen reads only those on the isolator (the 2D contact demand is the fixed-base model's).
+The 3D outcome carries the statue's pivot slip (per contact phase: the pendulum scene keeps no slide
+history, so a standing slide on the plate is not in it) and yaw relative to the plate; the
+classification's validity screen reads only those on the isolator (the 2D contact demand is the
+fixed-base model's). Both outcomes carry the plate's peak absolute acceleration ``plate_acc``
+(m/s^2; 3D low-passed at 20 Hz like the plate cases): what the statue feels, quoted when a run differs.
 
 Example
 -------
@@ -35,11 +38,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..isolator.coupled import simulate_coupled
 from ..isolator.device import Isolator
 from ..rocking.model import RockingModel
-from .pendulum_scene import PendulumIsolator, simulate_pendulum
+from .isolator_cases import isolator_2d, lowpass
+from .pendulum_scene import simulate_pendulum
 from .statue_cases import lift_angle
+
+__all__ = ["Coupled2D", "isolator_2d", "outcome_3d_isolated"]
 
 
 @dataclass(frozen=True)
@@ -58,13 +66,7 @@ class Coupled2D:
         return {"uplift": bool(lifted), "overturned": over, "capacity": bool(r.capacity_exceeded),
                 "peak": math.inf if over else float(r.theta_max_over_delta), "side": side,
                 "uplift_time": r.t_uplift, "overturn_side": r.overturn_side, "u_max": float(r.u_max),
-                "t_capacity": r.t_capacity, "finite": True}
-
-
-def isolator_2d(scene: PendulumIsolator, g: float | None = None) -> Isolator:
-    """The 2D device of a pendulum scene: R, r, the supported mass (plate + statue), mu, capacity."""
-    kw = {} if g is None else {"g": g}
-    return Isolator(R=scene.R, r=scene.r, M=scene.M, mu=scene.mu, capacity=scene.travel_capacity, **kw)
+                "plate_acc": float(r.acc_abs_max), "t_capacity": r.t_capacity, "finite": True}
 
 
 def outcome_3d_isolated(task: tuple) -> dict:
@@ -81,5 +83,6 @@ def outcome_3d_isolated(task: tuple) -> dict:
             "peak": math.inf if over else float(peak), "side": side, "uplift_time": r.uplift_time,
             "overturn_side": None if not over else side, "max_lift": float(r.max_lift),
             "slip": float(r.max_pivot_slip), "yaw": float(r.yaw_max), "u_max": float(r.u_max),
+            "plate_acc": float(np.abs(lowpass(r.acc_step, r.settings.dt)).max(initial=0.0)),
             "t_capacity": r.t_capacity, "finite": bool(r.finite), "wall_time_s": float(r.wall_time),
             "sim_time_s": float(r.steps * r.settings.dt), "cpu_time_s": float(r.cpu_time)}

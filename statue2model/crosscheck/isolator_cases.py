@@ -45,6 +45,13 @@ from .pendulum_scene import PendulumIsolator, simulate_pendulum
 from .world import SimSettings
 
 
+def isolator_2d(scene, g: float | None = None) -> Isolator:
+    """The 2D device (isolator.device.Isolator) of either isolator scene: R, r, the supported mass
+    (plate + statue), mu and the capacity; ``g`` default the device's."""
+    kw = {} if g is None else {"g": g}
+    return Isolator(R=scene.R, r=scene.r, M=scene.M, mu=scene.mu, capacity=scene.travel_capacity, **kw)
+
+
 def is_exact(iso_scene) -> bool:
     """The scene is the exact-kinematics pendulum (not the ball contacts)."""
     return isinstance(iso_scene, PendulumIsolator)
@@ -53,8 +60,11 @@ def is_exact(iso_scene) -> bool:
 def simulate_3d(iso_scene, motion, *, settings: SimSettings, contact: ContactSettings, u0: float = 0.0,
                 t_end: float | None = None, dt_out: float = 0.005, mount: str = "contact", **kw):
     """One run of either isolator scene (module docstring) with its statue (``iso_scene.statue``,
-    fixed to the plate with ``mount='rigid'``); ``kw``: the ball scene's extra arguments (meshes)."""
+    fixed to the plate with ``mount='rigid'``); ``kw``: the ball scene's extra arguments (meshes; the
+    exact scene takes none)."""
     if is_exact(iso_scene):
+        if kw:
+            raise TypeError(f"the exact isolator scene takes no {', '.join(kw)}")
         return simulate_pendulum(iso_scene, motion, iso_scene.statue, settings, u0=u0, t_end=t_end,
                                  contact=contact, dt_out=dt_out, mount=mount)
     return simulate_isolator(iso_scene, motion, u0=u0, t_end=t_end, settings=settings, contact=contact,
@@ -74,9 +84,10 @@ class FreeVibration:
 
 def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettings, u0: float | None = None,
                         cycles: float = 2.2, calibrate: bool = True) -> FreeVibration:
-    """Free vibration of the top plate (no statue) from u0 (default: 60 % of the balls'
-    travel, at most 90 % of the isolator's capacity): period, and per-cycle decay with the
-    mapped and with the calibrated rolling friction. Returns its :class:`FreeVibration`."""
+    """Free vibration of the top plate (no statue) from u0 (default: 1.2 x (opening - r) on the ball
+    scene, half the capacity on the exact one; at most 90 % of the capacity and 0.2 R_hat): period,
+    and per-cycle decay (on the ball scene with the mapped and with the calibrated rolling friction).
+    Returns its :class:`FreeVibration`."""
     sc = replace(iso_scene, statue=None)
     exact = is_exact(sc)
     calibrate = calibrate and not exact           # the exact scene applies mu N itself
@@ -87,7 +98,7 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
         u0 = min(free_travel, 0.9 * sc.travel_capacity, 0.2 * sc.R_hat)
     t_end = cycles * T
     kw = {} if exact else {"meshes": {w: sc.plate_mesh(w) for w in ("bottom", "top")}}
-    iso2 = Isolator(R=sc.R, r=sc.r, M=sc.M, mu=sc.mu, g=g, capacity=sc.travel_capacity)
+    iso2 = isolator_2d(sc, g)
     r2 = plate_2d(iso2, motions.free(), u0=u0, t_end=t_end, dt_out=0.005)
     runs, hist = {}, {}
 
@@ -101,10 +112,6 @@ def isolator_free_cases(iso_scene, settings: SimSettings, contact: ContactSettin
         pk = np.abs(r.peaks_u)
         pk = np.concatenate([[abs(u0)], pk])
         return float(pk[0] - pk[2]) if pk.size >= 3 else math.nan
-
-    def period(r):
-        pt = r.peaks_t
-        return float(2 * pt[0]) if pt.size == 1 else float(pt[1] - pt[0]) * 2 if pt.size >= 2 else math.nan
 
     r_nom = run(sc.mu, "isolator free vibration (mu mapped)")
     target_decay = 4 * sc.mu * sc.R_hat
@@ -243,7 +250,7 @@ def isolated_statue_cases(iso_scene, motion, settings: SimSettings, contact: Con
     g = settings.g
     dt = settings.dt
     cap = iso_scene.travel_capacity
-    iso2 = Isolator(R=iso_scene.R, r=iso_scene.r, M=iso_scene.M, mu=iso_scene.mu, g=g, capacity=cap)
+    iso2 = isolator_2d(iso_scene, g)
     t_end = motion.end + free_time
     r2 = plate_2d(iso2, motion, t_end=t_end, dt_out=dt)
     sc3 = iso_scene if mu_3d is None else replace(iso_scene, mu=mu_3d)

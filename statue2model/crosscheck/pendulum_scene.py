@@ -18,7 +18,9 @@ from a fixed base (two massless-ish carriages of EPS_MASS x m_o each between the
   part for a vertical part N), an external force on the plate with the previous step's N;
 * the rolling resistance mu N opposing the horizontal velocity: velocity motors (target 0) on
   the x and y joints, limited to mu N |v_x| / |v| and mu N |v_y| / |v| (the direction of the
-  step's start; at rest that of the restoring force), so sticking is exact (no sign chatter);
+  step's start; at rest that of the restoring force, along x at the centre), so sticking is exact
+  along that direction (no sign chatter); a force across it at rest meets no resistance (the
+  ground motion is along x: only the statue's small y reactions act across it);
 * the capacity: the run ends where |u| passes ``capacity`` (outcome "isolator capacity exceeded").
 
 The statue (scene (a)'s hull, statue_scene.add_statue) stands on the plate's upper face with real
@@ -127,7 +129,12 @@ class PendulumIsolator:
         (or d_max), side, thickness; ``statue`` stands on it."""
         try:
             R, r = float(design["R"]), float(design["r"])
-            m_o = float(design["m_o"] if "m_o" in design else design["M"])
+            if "m_o" in design:
+                m_o = float(design["m_o"])
+            else:           # M is the supported mass: the plate is what the statue does not weigh
+                m_o = float(design["M"]) - (statue.mass if statue is not None else 0.0)
+                if not m_o > 0:
+                    raise ValueError(f"M = {design['M']} kg leaves no plate mass under the {statue.mass:.1f} kg statue")
             cap = design.get("capacity")
             cap = design.get("d_max") if cap is None else cap
             return cls(R_hat=2.0 * (R - r), mu=float(design["mu"]), m_o=m_o,
@@ -341,6 +348,9 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                 P.append((pos[0] - x, pos[1] - y, pos[2] - t_pl - z))   # relative to the plate's upper face
                 Q.append(orn)
                 theta = _theta_of(orn, v_up)
+                if not (math.isfinite(theta) and math.isfinite(pos[0]) and math.isfinite(pos[2])):
+                    finite = False
+                    break
                 d = statue.params.delta_R if theta > 0 else statue.params.delta_L
                 if abs(theta) >= d:
                     overturned = True

@@ -44,7 +44,6 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from .contact import ContactSettings
@@ -101,7 +100,7 @@ def slip_of(r3) -> float:
     t = np.asarray(r3.t, dtype=float)
     sl = np.asarray(r3.slide, dtype=float)
     if sl.size != t.size:
-        raise InputError(f"slip_of: slide has {sl.size} samples for {t.size} times")
+        raise ValueError(f"slip_of: slide has {sl.size} samples for {t.size} times")
     up = getattr(r3, "uplift_time", None)
     before = np.isfinite(sl) & (t < (math.inf if up is None else up))
     return max(float(r3.max_pivot_slip), float(np.abs(sl[before]).max(initial=0.0)))

@@ -207,7 +207,7 @@ class CrosscheckConfig:
     enabled: bool = True
     quick: bool = False
     motion: str = "synthetic:duration=8,pga=0.2g,seed=1"
-    dt: float = 5e-4                    # s, the isolator scenes
+    dt: float = 5e-4                    # s, the ball isolator scenes (the exact one runs at statue_dt)
     statue_dt: float = 2e-3             # s, the statue scenes
     iterations: int = 50
     grid: float = 0.004                 # groove lattice spacing on the sphere, m; 0 = the CNC mesh

@@ -290,6 +290,7 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.isolator_scene import IsolatorScene
     from ..crosscheck.compare import compare
+    from ..crosscheck.isolator_cases import groove_label
     from ..crosscheck.pendulum_scene import PendulumIsolator
     from ..crosscheck.statue_scene import StatueScene
     from ..crosscheck.world import SimSettings
@@ -318,7 +319,11 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
                                        "contact": contact.to_dict(),
                                        "motion": motion.to_dict()})
     section = crosscheck_section(comp, paths, isolator_wanted=c.isolator, design=design,
-                                 isolator_enabled=enabled("isolator", ctx.config))
+                                 isolator_enabled=enabled("isolator", ctx.config),
+                                 isolator_model=None if iso is None else
+                                 "the plate as a translating spherical pendulum (its exact kinematics), rolling "
+                                 "resistance mu N, no ball contacts" if isinstance(iso, PendulumIsolator) else
+                                 f"balls on grooves modelled as {groove_label(iso)}")
     if c.ensemble:
         from ..report.crosscheck_section import add_classification
 
@@ -331,32 +336,39 @@ def _set_classification(ctx: Context, d: Path, scene, iso, settings, contact):
     dynamics stage's 2D fragility medians; writes d/classification.json. Returns (SetClassification or
     None, why it was not made or None)."""
     from ..crosscheck.pendulum_scene import PendulumIsolator
-    from ..crosscheck.set_classification import QUICK_FACTORS, classify_design_set
+    from ..crosscheck.set_classification import QUICK_FACTORS, anchors, classify_design_set
     from ..crosscheck.classification import FACTORS
+    from ..errors import InputError
 
     frag = ctx.dirs.get("dynamics") and ctx.dirs["dynamics"] / "fragility.json"
     if not frag or not frag.is_file():
-        return None, ("the classification over the design records needs the dynamics stage's fragility medians: "
+        return None, ("the classification over the design records needs the dynamics stage's fragility curves: "
                       "run the dynamics stage with [dynamics] fragility = true")
     fj = read_json(frag)
-    curves = fj.get("curves") or {}
-    top = max((x for x in (fj.get("levels") or []) if isinstance(x, (int, float))), default=None)
-
-    def med(k):
-        return (curves.get(k) or {}).get("median")
-
+    if not isinstance(fj, dict) or fj.get("im", "pga") != "pga" or not isinstance(fj.get("curves"), dict):
+        return None, f"the dynamics stage's {frag.name} holds no PGA fragility curves to put the levels around"
+    curves, levels = fj["curves"], fj.get("levels") or []
+    fixed = anchors(curves, ("uplift", "overturn"), levels)
+    isolated = anchors(curves, ("uplift_isolated", "overturn_isolated", "capacity_exceeded"), levels)
+    notes = []
     if iso is not None and not isinstance(iso, PendulumIsolator):
-        iso_note = "the isolated classification runs on the exact isolator scene only ([crosscheck] groove = \"exact\")"
+        notes.append("the isolated classification runs on the exact isolator scene only ([crosscheck] groove = "
+                     "\"exact\")")
         iso = None
-    else:
-        iso_note = None
+    elif iso is not None and not isolated:
+        notes.append("no isolated classification: the dynamics stage studied no isolated fragility curve "
+                     "([dynamics] isolated = false)")
+        iso = None
     rs, _ = _design_set(ctx)
     factors = QUICK_FACTORS if ctx.config.crosscheck.quick else FACTORS
-    sc = classify_design_set(scene, ctx.model(), rs, (med("uplift"), med("overturn")), iso_scene=iso,
-                             medians_isolated=(med("uplift_isolated"), med("overturn_isolated"),
-                                               med("capacity_exceeded")),
-                             settings=settings, contact=contact, executor=ctx.executor, factors=factors,
-                             top_level=top, budget_s=ctx.config.crosscheck.ensemble_budget, progress=lambda msg: ctx.say(f"3D: classification over the design records, {msg} ..."))
+    try:
+        sc = classify_design_set(scene, ctx.model(), rs, fixed, iso_scene=iso, anchors_isolated=isolated,
+                                 settings=settings, contact=contact, executor=ctx.executor, factors=factors,
+                                 budget_s=ctx.config.crosscheck.ensemble_budget,
+                                 progress=lambda msg: ctx.say(f"3D: classification over the design records, {msg} ..."))
+    except InputError as exc:           # the case-by-case cross-check above stands without it
+        return None, str(exc)
+    iso_note = "; ".join(notes) or None
     write_json(d / "classification.json", sc.to_dict())
     return sc, iso_note
 
