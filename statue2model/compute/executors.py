@@ -431,13 +431,28 @@ def _die_with_parent(parent_pid: int, use_pdeathsig: bool) -> None:
     threading.Thread(target=watch, name="statue2model-parent-watchdog", daemon=True).start()
 
 
+def _thread_lock_for_bars() -> None:
+    """tqdm bars of this process lock with a thread lock only (no named semaphore)."""
+    try:
+        import threading
+
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover - tqdm is a dependency
+        return
+    tqdm.set_lock(threading.RLock())
+
+
 def _init_process_worker(parent_pid: int | None = None, use_pdeathsig: bool = False) -> None:
     """Initializer of each worker process: one numba and one BLAS thread per process;
     Ctrl-C is the parent's to handle (it cancels the pool), not the workers'; the
-    worker ends with its parent (:func:`_die_with_parent`)."""
+    worker ends with its parent (:func:`_die_with_parent`). Progress bars drawn inside a
+    task lock with a thread lock: tqdm's default also makes a named multiprocessing lock,
+    which a worker killed or terminated (a broken pool, Ctrl-C) never unlinks (the resource
+    tracker then warns "leaked semaphore objects" when the command ends)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if parent_pid is not None:
         _die_with_parent(parent_pid, use_pdeathsig)
+    _thread_lock_for_bars()
     _single_numba_thread()
     _single_blas_thread()
 
@@ -455,14 +470,33 @@ class ProcessExecutor(Executor):
     ``cap=True`` limits ``workers`` to :func:`available_cores` (more processes than
     cores only slow the runs down); ``asked`` keeps the number asked for and
     :meth:`describe` says when it was capped. The workers end with this process,
-    even when it is killed (:func:`_die_with_parent`)."""
+    even when it is killed (:func:`_die_with_parent`).
+
+    A worker process that dies during a map (killed: ``kill -9``, the system's
+    out-of-memory killer; or a crash) breaks the whole pool: Python fails every
+    task not yet finished. Those tasks are run again once (:attr:`retries`) on a
+    fresh pool, with identical inputs, hence identical numbers; the results
+    already received are kept. The retry starts only once every process of the
+    broken pool has ended (a task's output folder is then free: its lock names a
+    process that is gone). What was run again is said in one line on stderr
+    (``say``) and kept in :attr:`notes` and :attr:`retried` (cleared by each map).
+    A pool that breaks on every attempt raises ``BrokenProcessPool`` with one line
+    naming the worker that died and the tasks left unfinished."""
 
     name = "processes"
 
-    def __init__(self, workers: int | None = None, cap: bool = False):
+    retries = 1
+    """Times the unfinished tasks of a broken pool (a worker process died) are run again on a fresh pool."""
+
+    def __init__(self, workers: int | None = None, cap: bool = False, say: Callable[[str], None] | None = None):
         self.asked = _check_workers(workers if workers is not None else available_cores())
         self.workers = min(self.asked, available_cores()) if cap else self.asked
         self._pool = None
+        self._say = say
+        self.notes: list[str] = []
+        """One line per broken pool of the last :meth:`map` (which worker died, which tasks were run again)."""
+        self.retried: tuple[int, ...] = ()
+        """Positions (in the items of the last :meth:`map`) of the tasks that were run again."""
 
     def describe(self) -> str:
         line = super().describe()
@@ -482,32 +516,79 @@ class ProcessExecutor(Executor):
         return self._pool
 
     def map(self, fn: Callable, items: Iterable, *, desc: str | None = None) -> list:
-        from concurrent.futures import as_completed
-
         items = list(items)
+        self.notes, self.retried = [], ()
         if not items:
             return []
+        results: list = [None] * len(items)
+        todo = list(range(len(items)))
+        retried: set[int] = set()
         bar = None
         try:
-            if self._pool is None and os.name == "posix":
-                from multiprocessing import resource_tracker
+            bar = _bar(desc, len(items))
+            for attempt in range(self.retries + 1):
+                todo, why = self._attempt(fn, items, todo, results, bar)
+                if not todo:
+                    return results
+                if attempt == self.retries:
+                    from concurrent.futures.process import BrokenProcessPool
 
-                resource_tracker.ensure_running()   # started first: it unblocks SIGINT after starting
-            with interrupts_deferred():     # the pool starts (or takes) all its tasks whole, then Ctrl-C
-                pool = self._get_pool()
-                futures = [pool.submit(fn, x) for x in items]
-            bar = _bar(desc, len(futures))
-            for f in as_completed(futures):
-                f.result()  # raise the first failure at once
-                if bar is not None:
-                    bar.update(1)
-            return [f.result() for f in futures]
+                    again = f" (after {self.retries} run{'s' if self.retries != 1 else ''} again on a fresh pool)" \
+                        if self.retries else ""
+                    raise BrokenProcessPool(f"{why}{again}: {_tasks(todo)} of {len(items)} not finished")
+                retried.update(todo)
+                self.retried = tuple(sorted(retried))
+                note = f"{why}: {_tasks(todo)} of {len(items)} unfinished, run again on a fresh pool of " \
+                       f"{self.workers} process{'es' if self.workers != 1 else ''} (same inputs, same numbers)"
+                self.notes.append(note)
+                (self._say or _say_note)(f"statue2model: note: {note}")
+            return results      # pragma: no cover - the loop returns or raises
         except BaseException:
             self._abandon()
             raise
         finally:
             if bar is not None:
                 bar.close()
+
+    def _attempt(self, fn: Callable, items: list, todo: list[int], results: list, bar) -> tuple[list[int], str]:
+        """Run the tasks ``todo`` (positions in ``items``) on the pool, filling ``results``;
+        the first task's own exception is raised at once. Returns the positions left
+        unfinished because the pool broke (a worker process died; the pool is then
+        stopped and its processes have ended) and one line saying which worker died."""
+        from concurrent.futures import as_completed
+        from concurrent.futures.process import BrokenProcessPool
+
+        if self._pool is None and os.name == "posix":
+            from multiprocessing import resource_tracker
+
+            resource_tracker.ensure_running()   # started first: it unblocks SIGINT after starting
+        futures = {}
+        broken: list[int] = []
+        with interrupts_deferred():     # the pool starts (or takes) all its tasks whole, then Ctrl-C
+            pool = self._get_pool()
+            for k, i in enumerate(todo):
+                try:
+                    futures[pool.submit(fn, items[i])] = i
+                except BrokenProcessPool:       # a worker died while the tasks were being handed out
+                    broken.extend(todo[k:])
+                    break
+        for f in as_completed(futures):
+            exc = f.exception()
+            if isinstance(exc, BrokenProcessPool):
+                broken.append(futures[f])
+                continue
+            if exc is not None:
+                raise exc       # the first task failure at once
+            results[futures[f]] = f.result()
+            if bar is not None:
+                bar.update(1)
+        if not broken:
+            return [], ""
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        self._abandon()
+        for p in procs:         # ended and reaped: their PIDs no longer hold any output folder's lock
+            p.join(timeout=10.0)
+        return sorted(broken), _who_died(procs)
 
     def _abandon(self) -> None:
         """On an error or Ctrl-C: stop the workers now, without waiting for their tasks. The
@@ -534,6 +615,39 @@ class ProcessExecutor(Executor):
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
+
+
+def _say_note(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _tasks(positions: list[int]) -> str:
+    """``task 3`` / ``3 tasks (#1, 3, 4)``: positions counted from 1, at most 8 shown."""
+    shown = ", ".join(str(i + 1) for i in positions[:8]) + (", ..." if len(positions) > 8 else "")
+    return f"task #{shown}" if len(positions) == 1 else f"{len(positions)} tasks (#{shown})"
+
+
+def _who_died(procs: list) -> str:
+    """One line naming the worker process(es) of a broken pool that ended on their own (the
+    pool terminates the others itself, with SIGTERM)."""
+    dead = []
+    for p in procs:
+        code = p.exitcode
+        if code is None or code == 0 or code == -signal.SIGTERM:
+            continue
+        if code < 0:
+            try:
+                how = f"signal {signal.Signals(-code).name}"
+            except ValueError:
+                how = f"signal {-code}"
+            if -code == signal.SIGKILL:
+                how += ": killed, e.g. kill -9 or out of memory"
+        else:
+            how = f"exit status {code}"
+        dead.append(f"PID {p.pid} ({how})")
+    if not dead:
+        return "a worker process ended abruptly"
+    return f"worker process{'es' if len(dead) > 1 else ''} {', '.join(dead)} ended abruptly"
 
 
 def _dask_call(item, fn):

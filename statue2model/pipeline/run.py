@@ -349,6 +349,11 @@ def _run_collection(folder, out: Path, config, scans, *, stages, force, executor
     t0 = time.perf_counter()
     rows = executor.map(_scan_task, tasks, desc="scans") if executor is not None else [_scan_task(t) for t in tasks]
     wall = time.perf_counter() - t0
+    for r in rows:                 # what each object did: a resumed collection shows its cached stages here
+        if "error" in r:
+            say(f"  {r['scan']}: not assessed: {r['error']}")
+        else:
+            say(f"  {r['scan']}: " + ", ".join(f"{k} {v}" for k, v in r["status"].items() if v in ("done", "cached")))
     places = {r["scan"]: object_placement(cfg, r["scan"]) for r in rows}
     table = []
     for r in rows:
@@ -370,7 +375,9 @@ def _run_collection(folder, out: Path, config, scans, *, stages, force, executor
     data = {"schema": "statue2model.collection/2", "folder": str(folder), "ranking_rule": RANKING_RULE,
             "summary": summ, "rows": ranked, "scans": rows, "table": table, "seconds": wall,
             "executor": executor.describe() if executor is not None else "this process",
-            "placement": places, "warnings": list(room_warnings)}
+            "placement": places, "warnings": list(room_warnings),
+            "retried": [rows[i]["scan"] for i in getattr(executor, "retried", ())],
+            "executor_notes": list(getattr(executor, "notes", ()))}
     write_config(cfg, out / "config.toml", Path(folder), out)
     write_json(out / "collection.json", data)
     header, cells = csv_rows(ranked)

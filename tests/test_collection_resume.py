@@ -1,0 +1,145 @@
+"""A collection that is interrupted resumes from its cache, and a worker process that dies
+does not sink the run: its unfinished tasks are run again on a fresh pool, with the same
+numbers (issue #29 item 3).
+
+The scans are two small regular 24-gon prisms (tests/scan_fixtures.column), so the numbers
+have closed forms: mass = density x area x height, h = height / 2, b = R cos(pi / 24), and the
+weakest uplift acceleration b / h (in g) along an edge normal. Only the params stage runs
+(about a second a scan)."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+
+import pytest
+
+from scan_fixtures import column
+from statue2model.compute.executors import ProcessExecutor, SerialExecutor
+from statue2model.io.files import LOCK_NAME
+from statue2model.pipeline import cache
+from statue2model.pipeline.config import load_config_text
+from statue2model.pipeline.run import run_collection
+
+SIDES = 24
+PRISMS = {"column_a": (0.15, 0.6), "column_b": (0.10, 0.5)}      # radius, height in m
+DENSITY = 2650.0                                                   # kg/m^3, the default stone
+CFG = load_config_text("[prototype]\nenabled = false\n[crosscheck]\nenabled = false\n", "resume.toml")
+
+
+def quiet(msg):
+    pass
+
+
+def expected(radius: float, height: float) -> dict:
+    """Closed-form numbers of a regular SIDES-gon prism standing on its base."""
+    area = 0.5 * SIDES * radius ** 2 * math.sin(2 * math.pi / SIDES)
+    b = radius * math.cos(math.pi / SIDES)
+    return {"mass [kg]": DENSITY * area * height, "h [m]": height / 2, "b_L [m]": b, "b_R [m]": b,
+            "weakest uplift [g]": b / (height / 2)}
+
+
+@pytest.fixture(scope="module")
+def scans(tmp_path_factory):
+    import trimesh
+
+    folder = tmp_path_factory.mktemp("prisms")
+    for name, (r, h) in PRISMS.items():
+        v, f = column(radius=r, height=h, rings=4, sectors=SIDES)
+        trimesh.Trimesh(v, f, process=False).export(folder / f"{name}.stl")
+    return folder
+
+
+def check_numbers(data: dict) -> None:
+    assert [row["scan"] for row in data["table"]] == ["column_a.stl", "column_b.stl"]
+    for row in data["table"]:
+        ref = expected(*PRISMS[row["scan"][:-4]])
+        for key, value in ref.items():
+            assert row[key] == pytest.approx(value, rel=1e-5), (row["scan"], key)
+
+
+class StopAfterFirst(SerialExecutor):
+    """Runs the first task, then Ctrl-C (KeyboardInterrupt from the map, as the CLI's guard raises it)."""
+
+    def map(self, fn, items, *, desc=None):
+        items = list(items)
+        fn(items[0])
+        raise KeyboardInterrupt
+
+
+def test_an_interrupted_collection_resumes_from_the_cache(scans, tmp_path):
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_collection(scans, out, CFG, stages=["params"], executor=StopAfterFirst(), say=quiet)
+    # nothing locked, nothing half-written that looks complete; the first scan's stage is complete
+    assert not list(out.rglob(LOCK_NAME))
+    first = out / "column_a" / "params"
+    assert cache.completed(first, json.loads((first / "stage.json").read_text())["key"]) is not None
+    assert not (out / "column_b" / "params").exists()
+    assert not (out / "collection.json").exists()
+
+    again = run_collection(scans, out, CFG, stages=["params"], executor=SerialExecutor(), say=quiet)
+    assert [s["status"]["params"] for s in again["scans"]] == ["cached", "done"]
+    check_numbers(again)
+    assert not list(out.rglob(LOCK_NAME))
+
+
+def _square_die_once(task):
+    """x^2, but the worker running x == 2 is killed (SIGKILL, as ``kill -9``) the first time."""
+    marker, x = task
+    if x == 2 and not os.path.exists(marker):
+        Path(marker).write_text("died once")
+        os.kill(os.getpid(), signal.SIGKILL)
+    return x * x
+
+
+def _always_die(x):
+    os._exit(3)
+
+
+@pytest.mark.slow
+def test_a_killed_worker_is_replaced_and_its_tasks_run_again(tmp_path):
+    marker = str(tmp_path / "died")
+    notes = []
+    with ProcessExecutor(2, say=notes.append) as ex:
+        assert ex.map(_square_die_once, [(marker, x) for x in range(6)]) == [0, 1, 4, 9, 16, 25]
+        assert 2 in ex.retried and os.path.exists(marker)
+        assert len(ex.notes) == 1 and "SIGKILL" in ex.notes[0] and "run again on a fresh pool" in ex.notes[0]
+        assert notes == [f"statue2model: note: {ex.notes[0]}"]
+        assert ex.map(_square_die_once, [(marker, x) for x in range(3)]) == [0, 1, 4]   # the fresh pool stays
+        assert ex.retried == () and ex.notes == []
+
+
+@pytest.mark.slow
+def test_a_worker_that_dies_on_every_attempt_fails_in_one_line(tmp_path):
+    with ProcessExecutor(1, say=quiet) as ex, pytest.raises(BrokenProcessPool) as err:
+        ex.map(_always_die, [1])
+    text = str(err.value)
+    assert "\n" not in text and "exit status 3" in text and "task #1 of 1 not finished" in text
+
+
+@pytest.mark.slow
+def test_a_collection_gives_the_same_numbers_serially_and_on_two_processes(scans, tmp_path):
+    serial = run_collection(scans, tmp_path / "serial", CFG, stages=["params"], executor=SerialExecutor(), say=quiet)
+    with ProcessExecutor(2) as ex:
+        procs = run_collection(scans, tmp_path / "procs", CFG, stages=["params"], executor=ex, say=quiet)
+    check_numbers(serial)
+    assert procs["table"] == serial["table"]
+    assert [s["data"] for s in procs["scans"]] == [s["data"] for s in serial["scans"]]
+
+
+@pytest.mark.slow
+def test_a_lost_dask_worker_s_tasks_run_again_elsewhere(tmp_path):
+    """A Dask worker killed while it runs a task (the nanny's process gone, as kill -9 or the
+    out-of-memory killer): the scheduler runs the task again on a worker that is left."""
+    distributed = pytest.importorskip("distributed")
+    from statue2model.compute.executors import DaskExecutor
+
+    marker = str(tmp_path / "died")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  host="127.0.0.1") as cluster, DaskExecutor(cluster.scheduler_address) as ex:
+        assert ex.map(_square_die_once, [(marker, x) for x in range(6)]) == [0, 1, 4, 9, 16, 25]
+    assert os.path.exists(marker)
