@@ -143,3 +143,28 @@ def test_a_lost_dask_worker_s_tasks_run_again_elsewhere(tmp_path):
                                   host="127.0.0.1") as cluster, DaskExecutor(cluster.scheduler_address) as ex:
         assert ex.map(_square_die_once, [(marker, x) for x in range(6)]) == [0, 1, 4, 9, 16, 25]
     assert os.path.exists(marker)
+
+
+def test_a_refused_scan_is_a_ranked_row_with_its_reason(scans, tmp_path):
+    """A broken scan beside two good ones (params stage only): all three are rows of collection.json,
+    .csv and .html; the broken one first (not assessed: unknown risk) with the scan's own one-line reason;
+    the good ones keep their numbers; the page links only the assessed objects' reports."""
+    import csv
+    import io
+    import shutil
+
+    folder = tmp_path / "mixed"
+    shutil.copytree(scans, folder)
+    (folder / "cracked.stl").write_bytes(b"solid nothing\nendsolid\n")
+    data = run_collection(folder, tmp_path / "out", CFG, stages=["params"], executor=SerialExecutor(), say=quiet)
+    rows = data["rows"]
+    assert [r["object"] for r in rows][0] == "cracked" and rows[0]["rank"] == 1 and not rows[0]["assessed"]
+    err = next(s["error"] for s in data["scans"] if s["scan"] == "cracked.stl")
+    assert rows[0]["reason"] == err and "\n" not in err and err
+    assert {r["object"] for r in rows[1:]} == {"column_a", "column_b"} and all(r["assessed"] for r in rows[1:])
+    assert data["summary"]["objects"] == 3 and data["summary"]["not_assessed"] == 1
+    body = list(csv.reader(io.StringIO((tmp_path / "out" / "collection.csv").read_text(encoding="utf-8"))))
+    assert len(body) == 4 and body[1][body[0].index("object")] == "cracked"
+    page = (tmp_path / "out" / "collection.html").read_text(encoding="utf-8")
+    assert "not assessed" in page and 'href="column_a/report.html"' in page and 'href="cracked/' not in page
+    json.dumps(data, allow_nan=False)
