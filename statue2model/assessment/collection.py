@@ -58,6 +58,7 @@ import os
 from pathlib import Path, PurePosixPath
 
 from ..quantities import G  # m/s^2
+from .verdict import finite_number as _finite
 
 NOT_ASSESSED = "not assessed"
 TIERS = (NOT_ASSESSED, "slides", "overturns", "lifts", "lifts in some records", "full contact")
@@ -85,16 +86,6 @@ FRAGILITY_KEYS = (("uplift_fixed", "full_contact", "fixed"), ("overturning_fixed
                   ("failure_isolated", "overturning", "isolated"))
 """(row key, the study's limit state, base): the probabilities a row carries. On the isolator,
 ``overturning`` is the study's failure curve (overturning or the device's capacity exceeded)."""
-
-
-def _finite(x) -> float | None:
-    if isinstance(x, bool):
-        return None
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
 
 
 def _phi(x: float) -> float:

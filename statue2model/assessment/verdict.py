@@ -183,10 +183,10 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             th = isolated.get("th_margins") or {}
             if th:
                 line += (f"; verified over the design records (mean of {design.get('verification', {}).get('records', {}).get('count', '-')}"
-                         f" records, friction at its bounds): travel margin {_n(_finite(th.get('travel')))} "
+                         f" records, friction at its bounds): travel margin {_n(finite_number(th.get('travel')))} "
                          "(capacity / (1.5 x mean peak travel + mu R_hat)), acceleration margin "
-                         f"{_n(_finite(th.get('acceleration')))} (uplift / mean felt), ball-load margin "
-                         f"{_n(_finite(th.get('bearing')))} (capacity per ball / load per ball)")
+                         f"{_n(finite_number(th.get('acceleration')))} (uplift / mean felt), ball-load margin "
+                         f"{_n(finite_number(th.get('bearing')))} (capacity per ball / load per ball)")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
@@ -266,10 +266,10 @@ def _rv(r: dict | None) -> str:
     u = r.get("unit")
 
     def q(x):
-        x = _finite(x)
+        x = finite_number(x)
         return "-" if x is None else (_g(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
                                       f"{x:.0f} N" if u == "N" else f"{x:.3g}")
-    ratio = _finite(r.get("ratio"))
+    ratio = finite_number(r.get("ratio"))
     return f"{q(r.get('demand'))} vs {q(r.get('capacity'))}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
 
 
@@ -352,8 +352,8 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     failure PGAs, the probability at the design PGA, the isolator's ratio of medians, and one line."""
     if not dyn or not dyn.get("fragility_runs"):
         return {}
-    mf, mi = _finite(dyn.get("fragility_median_fixed")), _finite(dyn.get("fragility_median_isolated"))
-    pf, pi = _finite(dyn.get("fragility_p_design_fixed")), _finite(dyn.get("fragility_p_design_isolated"))
+    mf, mi = finite_number(dyn.get("fragility_median_fixed")), finite_number(dyn.get("fragility_median_isolated"))
+    pf, pi = finite_number(dyn.get("fragility_p_design_fixed")), finite_number(dyn.get("fragility_p_design_isolated"))
 
     def p_text(what, p, side):
         if p is not None:
@@ -366,7 +366,7 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
             why = dyn.get(f"fragility_median_{side}_reason") or dyn.get(f"fragility_status_{side}") or "undefined"
             return f"not fitted ({why})"
         ci = dyn.get(f"fragility_median_ci_{side}") or [None, None]
-        lo, hi = (_finite(x) for x in (list(ci) + [None, None])[:2])
+        lo, hi = (finite_number(x) for x in (list(ci) + [None, None])[:2])
         if lo is not None and hi is not None:
             return f"{_g(m)} ({_g(lo)}-{_g(hi)})"
         why = dyn.get(f"fragility_median_ci_{side}_reason")
@@ -378,16 +378,16 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
     fl = dyn.get("fragility_limit_states")
     if isinstance(fl, dict) and fl:
         return {"median_fixed": mf, "median_isolated": mi, "p_design_fixed": pf, "p_design_isolated": pi,
-                "ratio": _finite(dyn.get("fragility_ratio")), "ratio_ci": dyn.get("fragility_ratio_ci"),
+                "ratio": finite_number(dyn.get("fragility_ratio")), "ratio_ci": dyn.get("fragility_ratio_ci"),
                 "limit_states": fl, "line": limit_state_fragility_line(dyn, fl, isolated)}
     line = (f"Fragility ({dyn['fragility_runs']} runs per base over records matched to the design spectrum): "
             f"median overturning PGA on a fixed base {med(mf, 'fixed')}" + p_text("overturning", pf, "fixed"))
-    r = _finite(dyn.get("fragility_ratio"))
+    r = finite_number(dyn.get("fragility_ratio"))
     if isolated:
         line += (f"; on the isolator, median failure PGA (overturning or capacity exceeded) {med(mi, 'isolated')}"
                  + p_text("failure", pi, "isolated"))
         if r is not None:
-            ci = [_finite(x) for x in (list(dyn.get("fragility_ratio_ci") or []) + [None, None])[:2]]
+            ci = [finite_number(x) for x in (list(dyn.get("fragility_ratio_ci") or []) + [None, None])[:2]]
             why = dyn.get("fragility_ratio_ci_reason")
             line += f"; the isolator multiplies the median by {r:.2f}" + (
                 f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else f" ({why})" if why else "")
@@ -447,15 +447,15 @@ def _prob(p: float) -> str:
 def _curve_text(c: dict) -> str:
     """'median 0.287 g (0.276 g-0.310 g), beta 0.11, P at the design PGA 0.51' of one limit-state curve
     (the study's fragility_limit_states entry); every undefined number says why instead."""
-    m = _finite(c.get("median"))
+    m = finite_number(c.get("median"))
     if m is None:
         return f"median not fitted ({c.get('median_reason') or c.get('status') or 'undefined'})"
-    lo, hi = (_finite(x) for x in (list(c.get("median_ci") or []) + [None, None])[:2])
+    lo, hi = (finite_number(x) for x in (list(c.get("median_ci") or []) + [None, None])[:2])
     band = f" ({_g(lo)}-{_g(hi)})" if lo is not None and hi is not None else (
         f" (band: {c.get('median_ci_reason')})" if c.get("median_ci_reason") else "")
-    b = _finite(c.get("beta"))
+    b = finite_number(c.get("beta"))
     beta = f", beta {b:.2f}" if b is not None else f", beta not identified ({c.get('beta_reason') or 'see fragility.json'})"
-    p = _finite(c.get("p_design"))
+    p = finite_number(c.get("p_design"))
     pt = (f", P at the design PGA {_prob(p)}" if p is not None else
           f", P at the design PGA not known ({c.get('p_design_reason') or 'not identified'})")
     return f"median {_g(m)}{band}{beta}{pt}"
@@ -477,15 +477,15 @@ def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
             what = "on the isolator (overturning or capacity exceeded) " if name == "overturning" else "on the isolator "
             bits.append(what + _curve_text(sides["isolated"]))
             r = ratios.get(name) or {}
-            v = _finite(r.get("value"))
+            v = finite_number(r.get("value"))
             if v is not None:
-                ci = [_finite(x) for x in (list(r.get("ci") or []) + [None, None])[:2]]
+                ci = [finite_number(x) for x in (list(r.get("ci") or []) + [None, None])[:2]]
                 bits.append(f"the isolator multiplies the median by {v:.2f}"
                             + (f" ({ci[0]:.2f}-{ci[1]:.2f})" if None not in ci else ""))
         if bits:
             parts.append(f"{FRAGILITY_TITLES[name]}: " + ", ".join(bits))
     varied = dyn.get("fragility_varied")
-    pga, mean_pga = _finite(dyn.get("fragility_design_pga")), _finite(dyn.get("records_mean_pga"))
+    pga, mean_pga = finite_number(dyn.get("fragility_design_pga")), finite_number(dyn.get("records_mean_pga"))
     read = ""
     if pga is not None and mean_pga is not None:
         read = (f" The curves scale each record to a PGA; P is read at the design PGA {_g(pga)}, while the design "
@@ -496,8 +496,15 @@ def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
             + "): " + "; ".join(parts) + "." + read)
 
 
-def _finite(x) -> float | None:
-    """x as a float when it is a finite number, else None (a manifest is input: it may hold anything)."""
+def finite_number(x) -> float | None:
+    """x as a float when it is a finite number (not a bool), else None (a manifest is input: it may
+    hold anything).
+
+    >>> finite_number("2.5"), finite_number(float("inf")), finite_number(True), finite_number(None)
+    (2.5, None, None, None)
+    """
+    if isinstance(x, bool):
+        return None
     try:
         x = float(x)
     except (TypeError, ValueError):
@@ -534,7 +541,7 @@ def design_failure(design: dict) -> str:
     bad = [c for c in design.get("checks", []) if c.get("required", True) and not c.get("passed")]
     if not bad:
         return "see design.json"
-    return "; ".join(f"{c['name']}: {_n(_finite(c.get('value')), '.4g')} vs {_n(_finite(c.get('limit')), '.4g')}"
+    return "; ".join(f"{c['name']}: {_n(finite_number(c.get('value')), '.4g')} vs {_n(finite_number(c.get('limit')), '.4g')}"
                      + (f" {c['unit']}" if c.get("unit") else "") for c in bad[:3])
 
 

@@ -37,12 +37,12 @@ Example
 from __future__ import annotations
 
 import html
-import math
 import os
 from pathlib import Path
 from urllib.parse import quote
 
 from ..assessment.collection import NOT_ASSESSED, RANKING_RULE, TIER_TEXT, TIERS
+from ..assessment.verdict import finite_number as _num
 from ..io.files import atomic_write
 from ..version import __version__
 from .html import CSP, CSS
@@ -174,16 +174,6 @@ SCRIPT = """
 
 def _esc(text) -> str:
     return html.escape(str(text), quote=True)
-
-
-def _num(x) -> float | None:
-    if isinstance(x, bool) or x is None:
-        return None
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
 
 
 def _p(p, lo, hi) -> str:
