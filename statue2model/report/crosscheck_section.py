@@ -228,7 +228,8 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
     rule = sc.fixed.info.get("rule", "")
     section["text"].append(
         "Over the design records: every record of the design set scaled to PGA levels around the 2D fragility "
-        "medians, run in the 2D model and in 3D (3D taken as the reference). Per limit state, TP/FP/FN/TN count "
+        "curves (their medians; where every studied level fails, the lowest; where none does, the highest), run "
+        "in the 2D model and in 3D (3D taken as the reference). Per limit state, TP/FP/FN/TN count "
         "the runs where both say yes / only 2D / only 3D / neither; accuracy, precision and recall with their "
         f"95 % intervals. Rule: {plain(rule)}. Runs in which the 3D body slides or twists beyond the validity "
         "screen are counted (a real statue does too) and listed per limit state. " + "; ".join(heads)
@@ -239,7 +240,7 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
         "read uplift at its exact onset over many more levels and stay the ones to use.")
     b = sc.budget or {}
     if b.get("budget_s") and b.get("estimate_s"):
-        est = ", ".join(f"{v:.0f} s at {k} x the medians" for k, v in b["estimate_s"].items())
+        est = ", ".join(f"{v:.0f} s at {k} x the anchors" for k, v in b["estimate_s"].items())
         section["text"].append(f"Time budget {b['budget_s']:g} s on {b.get('workers', 1)} workers: estimated {est} "
                                f"(one timed 3D run per base); run at {', '.join(f'{f:g}' for f in b['factors'])} x.")
     if note:
