@@ -168,3 +168,30 @@ def test_a_refused_scan_is_a_ranked_row_with_its_reason(scans, tmp_path):
     page = (tmp_path / "out" / "collection.html").read_text(encoding="utf-8")
     assert "not assessed" in page and 'href="column_a/report.html"' in page and 'href="cracked/' not in page
     json.dumps(data, allow_nan=False)
+
+
+def test_a_lock_of_another_host_is_stale_only_once_its_heartbeat_stops(tmp_path):
+    """A collection retried on another cluster host finds the lost worker's lock: refused while that
+    lock is refreshed (its process may be alive), replaced with a note once it has not been refreshed
+    for LOCK_STALE_AFTER s; the holder's own heartbeat keeps its lock fresh."""
+    import time
+
+    from statue2model.errors import InputError
+    from statue2model.io import files
+
+    lock = tmp_path / LOCK_NAME
+    lock.write_text(json.dumps({"pid": 4242, "host": "other-node", "started": "2026-11-26T08:00:00",
+                                "command": "run"}), encoding="utf-8")
+    with pytest.raises(InputError, match="in use by statue2model run .PID 4242 on other-node"):
+        files.acquire_lock(tmp_path, "run", say=quiet, heartbeat=0)
+    old = time.time() - files.LOCK_STALE_AFTER - 5
+    os.utime(lock, (old, old))
+    notes = []
+    mine = files.acquire_lock(tmp_path, "run", say=notes.append, heartbeat=0.05)
+    assert "PID 4242 on other-node" in notes[0] and "not refreshed for" in notes[0] and "its process is gone" in notes[0]
+    assert json.loads(mine.read_text())["pid"] == os.getpid()
+    os.utime(mine, (old, old))                              # the heartbeat refreshes it
+    time.sleep(0.3)
+    assert time.time() - mine.stat().st_mtime < 5
+    files.release_lock(mine)
+    assert not mine.exists()

@@ -68,6 +68,11 @@ from ..errors import InputError, OutputError
 
 MANIFEST_NAME = ".statue2model.json"
 LOCK_NAME = ".statue2model.lock"
+LOCK_HEARTBEAT = 30.0
+"""s: the process holding a lock refreshes the lock file's modification time this often."""
+LOCK_STALE_AFTER = 600.0
+"""s: a lock of ANOTHER host not refreshed for this long is stale (its process is gone, e.g. a lost
+cluster worker: its PID cannot be checked from here); 20 missed heartbeats, wide for clock skew."""
 MANIFEST_SCHEMA = "statue2model.output/1"
 STAGING_PREFIX = ".statue2model.staging-"
 """Hidden folder (``.statue2model.staging-PID-XXXX``) where an :class:`OutputGroup` writes its files."""
@@ -344,10 +349,13 @@ def _clock(stamp: str) -> str:
     return stamp[11:19] if isinstance(stamp, str) and len(stamp) >= 19 else str(stamp)
 
 
-def acquire_lock(folder: Path, command: str, say=None) -> Path:
+def acquire_lock(folder: Path, command: str, say=None, heartbeat: float = LOCK_HEARTBEAT) -> Path:
     """Create ``folder/.statue2model.lock`` (O_CREAT | O_EXCL) holding this PID, host,
     start time and command; refuse at once when a live process holds it; a lock of a
-    process that is gone (same host) is reported with ``say`` and replaced."""
+    process that is gone is reported with ``say`` and replaced: on this host a PID no longer
+    running, on another host a lock not refreshed for LOCK_STALE_AFTER s (the holder refreshes
+    its lock's modification time every ``heartbeat`` s from a daemon thread, :func:`_keep_fresh`,
+    which ends when the lock is released)."""
     say = say or (lambda m: print(m, file=sys.stderr))
     lock = Path(folder) / LOCK_NAME
     info = {"pid": os.getpid(), "host": socket.gethostname(), "started": time.strftime("%Y-%m-%dT%H:%M:%S"),
@@ -370,6 +378,9 @@ def acquire_lock(folder: Path, command: str, say=None) -> Path:
                     raise InputError(f"{folder} is in use by another statue2model command; wait for it or "
                                      "choose another --out")
                 stale = "an unreadable lock"
+            elif host != socket.gethostname() and age > LOCK_STALE_AFTER:
+                stale = (f"a lock of PID {pid} on {host} (started {_clock(held.get('started'))}) not refreshed for "
+                         f"{age:.0f} s: its process is gone")
             elif host != socket.gethostname() or _pid_alive(pid):
                 where = "" if host == socket.gethostname() else f" on {host}"
                 raise InputError(f"{folder} is in use by statue2model {held.get('command') or 'command'} "
@@ -393,8 +404,27 @@ def acquire_lock(folder: Path, command: str, say=None) -> Path:
         except OSError as exc:
             lock.unlink(missing_ok=True)
             raise output_error(exc, lock) from None
+        if heartbeat and heartbeat > 0:
+            import threading
+
+            threading.Thread(target=_keep_fresh, args=(lock, heartbeat), name="statue2model-lock-heartbeat",
+                             daemon=True).start()
         return lock
     raise InputError(f"{folder} is in use by another statue2model command; wait for it or choose another --out")
+
+
+def _keep_fresh(lock: Path, every: float) -> None:
+    """Refresh ``lock``'s modification time every ``every`` s while it is this process's (ends once it
+    is released or taken over: no state outside the file)."""
+    while True:
+        time.sleep(every)
+        try:
+            held = json.loads(lock.read_text(encoding="utf-8"))
+            if not (isinstance(held, dict) and held.get("pid") == os.getpid()):
+                return
+            os.utime(lock)
+        except (OSError, ValueError):
+            return
 
 
 def release_lock(lock: Path) -> None:
