@@ -378,3 +378,20 @@ def test_nested_deferred_blocks_raise_at_the_outer_end():
                 steps.append("end of outer")
         assert steps == ["after inner", "end of outer"] and guard.count == 1
     assert SIGINT_UNBLOCKED()
+
+
+def test_an_error_after_a_ctrl_c_is_the_interrupt_not_a_bug(capsys):
+    """A library that turns the KeyboardInterrupt into its own error (matplotlib's 'Invalid bounding
+    box' from a figure half drawn, seen at Ctrl-C 2.8 s into the dynamics stage) ends with status 130,
+    not 'internal error'; without a Ctrl-C the same error is still an internal error."""
+    from types import SimpleNamespace
+
+    from statue2model.cli import _dispatch
+
+    def boom(args):
+        raise ValueError("Invalid bounding box")
+
+    assert _dispatch(SimpleNamespace(func=boom), SimpleNamespace(interrupted=True)) == 130
+    assert "internal error" not in capsys.readouterr().err
+    assert _dispatch(SimpleNamespace(func=boom), SimpleNamespace(interrupted=False)) == 1
+    assert "internal error: ValueError: Invalid bounding box" in capsys.readouterr().err

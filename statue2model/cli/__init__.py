@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
             try:
                 parser = build_parser()
                 args = parser.parse_args(join_dash_values(sys.argv[1:] if argv is None else list(argv)))
-                code = _dispatch(args)
+                code = _dispatch(args, guard)
             finally:
                 guard.stop()        # from here on a Ctrl-C is only counted
         except KeyboardInterrupt:   # also one that lands in the finally, before stop()
@@ -115,8 +115,11 @@ def _end_now(code: int) -> None:
         os._exit(code)
 
 
-def _dispatch(args) -> int:
-    """The command's handler; its errors as exit statuses (KeyboardInterrupt goes to main)."""
+def _dispatch(args, guard=None) -> int:
+    """The command's handler; its errors as exit statuses (KeyboardInterrupt goes to main). An
+    exception raised after a Ctrl-C arrived (``guard.interrupted``: a library that turned the
+    KeyboardInterrupt into its own error, e.g. a figure half drawn) is the interrupt's, not a bug:
+    status 130, and main says "interrupted"."""
     try:
         return args.func(args)
     except OutputError as exc:
@@ -135,6 +138,8 @@ def _dispatch(args) -> int:
               "a coarser --dt-out or a shorter --t-end", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
+        if guard is not None and guard.interrupted:
+            return 130
         return _internal(exc)
 
 
