@@ -231,11 +231,21 @@ def not_applicable(state: str, why: str) -> Agreement:
 
 # ------------------------------------------------------------------ the runs
 
+def governing_side(theta_L: float, theta_R: float, params) -> str:
+    """'L' or 'R': the pivot whose peak |theta| / delta is the larger (R on a tie).
+
+    >>> from types import SimpleNamespace as P
+    >>> governing_side(0.02, 0.02, P(delta_L=0.1, delta_R=0.2))
+    'L'
+    """
+    return "L" if theta_L / params.delta_L > theta_R / params.delta_R else "R"
+
+
 def outcome_2d(model: RockingModel, motion, free_time: float) -> dict:
     """The fixed-base 2D outcome of one run (module docstring): uplift at the 3D lift height."""
     r = simulate_2d(model, motion, t_end=motion.end + free_time)
     lifted = bool(r.overturned) or max(r.theta_max_L, r.theta_max_R) >= lift_angle(model.params)
-    side = "L" if r.theta_max_over_delta_L > r.theta_max_over_delta_R else "R"
+    side = governing_side(r.theta_max_L, r.theta_max_R, model.params)
     return {"uplift": lifted, "overturned": bool(r.overturned), "capacity": None,
             "peak": math.inf if r.overturned else float(r.theta_max_over_delta), "side": side,
             "uplift_time": r.uplift_time, "overturn_side": r.overturn_side, "finite": True}
@@ -246,7 +256,7 @@ def outcome_3d(task: tuple) -> dict:
     contact, free_time)."""
     scene, motion, settings, contact, free_time = task
     r = simulate_statue(scene, motion, settings=settings, contact=contact, free_time=free_time)
-    side = "L" if r.theta_max_L / scene.params.delta_L > r.theta_max_R / scene.params.delta_R else "R"
+    side = governing_side(r.theta_max_L, r.theta_max_R, scene.params)
     return {"uplift": bool(r.overturned) or r.uplift_time is not None, "overturned": bool(r.overturned),
             "capacity": None, "peak": math.inf if r.overturned else float(r.theta_max_over_delta), "side": side,
             "uplift_time": r.uplift_time, "overturn_side": r.overturn_side, "max_lift": float(r.max_lift),

@@ -43,6 +43,7 @@ import numpy as np
 from ..isolator.coupled import simulate_coupled
 from ..isolator.device import Isolator
 from ..rocking.model import RockingModel
+from .classification import governing_side
 from .isolator_cases import isolator_2d, lowpass
 from .pendulum_scene import simulate_pendulum
 from .statue_cases import lift_angle
@@ -61,8 +62,7 @@ class Coupled2D:
         r = simulate_coupled(self.isolator, model, motion, t_end=motion.end + free_time, dt_out=0.01)
         over = bool(r.overturned)
         lifted = over or max(r.theta_max_L, r.theta_max_R) >= lift_angle(model.params)
-        p = model.params
-        side = "L" if r.theta_max_L / p.delta_L > r.theta_max_R / p.delta_R else "R"
+        side = governing_side(r.theta_max_L, r.theta_max_R, model.params)
         return {"uplift": bool(lifted), "overturned": over, "capacity": bool(r.capacity_exceeded),
                 "peak": math.inf if over else float(r.theta_max_over_delta), "side": side,
                 "uplift_time": r.t_uplift, "overturn_side": r.overturn_side, "u_max": float(r.u_max),
@@ -77,7 +77,7 @@ def outcome_3d_isolated(task: tuple) -> dict:
                           t_end=motion.end + free_time, dt_out=0.01)
     p = scene.statue.params
     over = bool(r.statue_overturned)
-    side = "L" if r.theta_max_L / p.delta_L > r.theta_max_R / p.delta_R else "R"
+    side = governing_side(r.theta_max_L, r.theta_max_R, p)
     peak = max(r.theta_max_L / p.delta_L, r.theta_max_R / p.delta_R)
     return {"uplift": over or r.uplift_time is not None, "overturned": over, "capacity": bool(r.capacity_exceeded),
             "peak": math.inf if over else float(peak), "side": side, "uplift_time": r.uplift_time,

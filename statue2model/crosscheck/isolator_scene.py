@@ -237,23 +237,47 @@ def _tiles_body(world, v: np.ndarray, *, mass: float, inertia: list[float], iner
         os.unlink(path)
 
 
-def run_outcome(r) -> str:
-    """The outcome of a 3D isolator run ``r`` (this scene's or the pendulum scene's result: finite,
-    ball_left_groove, t_capacity, statue_overturned), the first that holds of: "non-finite state",
-    "ball left its groove", "isolator capacity exceeded", "statue overturned", "ok"."""
-    if not r.finite:
-        return "non-finite state"
-    if r.ball_left_groove:
-        return "ball left its groove"
-    if r.t_capacity is not None:
-        return "isolator capacity exceeded"
-    if r.statue_overturned:
-        return "statue overturned"
-    return "ok"
+class PlateRun:
+    """What a 3D isolator run (:class:`Isolator3DResult`, pendulum_scene.PendulumResult) answers from
+    its fields (finite, ball_left_groove, t_capacity, statue_overturned, the peaks, the capacity ...):
+    whether the capacity was passed, the outcome and the keys both write to JSON (:meth:`_plate_dict`).
+    ``efficiency`` and ``real_time_factor`` are each class's own."""
+
+    @property
+    def capacity_exceeded(self) -> bool:
+        return self.t_capacity is not None
+
+    @property
+    def outcome(self) -> str:
+        """The first that holds of: "non-finite state", "ball left its groove", "isolator capacity
+        exceeded", "statue overturned", "ok"."""
+        if not self.finite:
+            return "non-finite state"
+        if self.ball_left_groove:
+            return "ball left its groove"
+        if self.t_capacity is not None:
+            return "isolator capacity exceeded"
+        if self.statue_overturned:
+            return "statue overturned"
+        return "ok"
+
+    def _plate_dict(self) -> dict:
+        """The JSON keys common to both runs (the capacity as None when there is none)."""
+        d = {"outcome": self.outcome, "u_max": self.u_max, "acc_abs_max": self.acc_abs_max, "pga": self.pga,
+             "efficiency": self.efficiency, "peaks_t": self.peaks_t.tolist(), "peaks_u": self.peaks_u.tolist(),
+             "statue_overturned": self.statue_overturned, "finite": self.finite, "wall_time_s": self.wall_time,
+             "steps": self.steps, "real_time_factor": self.real_time_factor,
+             "capacity": self.capacity if math.isfinite(self.capacity) else None,
+             "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
+             "u_at_capacity": self.u_at_capacity, "t_overturn": self.t_overturn,
+             "settings": self.settings.to_dict(), "notes": list(self.notes)}
+        if self.theta is not None:
+            d["theta_max"] = float(np.nanmax(np.abs(self.theta))) if self.theta.size else 0.0
+        return d
 
 
 @dataclass(frozen=True, eq=False)
-class Isolator3DResult:
+class Isolator3DResult(PlateRun):
     """A 3D run of the isolator (SI units).
 
     t, u, acc_abs   : top plate displacement relative to the ground (x) and its absolute
@@ -293,10 +317,6 @@ class Isolator3DResult:
     t_overturn: float | None = None
 
     @property
-    def capacity_exceeded(self) -> bool:
-        return self.t_capacity is not None
-
-    @property
     def efficiency(self) -> float:
         return self.acc_abs_max / self.pga if self.pga > 0 else float("nan")
 
@@ -304,24 +324,10 @@ class Isolator3DResult:
     def real_time_factor(self) -> float:
         return real_time_factor(self.steps, self.settings.dt, self.wall_time)
 
-    @property
-    def outcome(self) -> str:
-        return run_outcome(self)
-
     def to_dict(self) -> dict:
-        d = {"outcome": self.outcome, "u_max": self.u_max, "acc_abs_max": self.acc_abs_max, "pga": self.pga,
-             "efficiency": self.efficiency, "peaks_t": self.peaks_t.tolist(), "peaks_u": self.peaks_u.tolist(),
-             "ball_r_max": self.ball_r_max, "ball_left_groove": self.ball_left_groove,
-             "statue_overturned": self.statue_overturned, "finite": self.finite, "wall_time_s": self.wall_time,
-             "steps": self.steps, "real_time_factor": self.real_time_factor, "segments": self.scene.segments,
-             "grid": self.scene.grid, "groove": self.scene.groove,
-             "capacity": self.capacity if math.isfinite(self.capacity) else None,
-             "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
-             "u_at_capacity": self.u_at_capacity, "t_overturn": self.t_overturn,
-             "settings": self.settings.to_dict(), "notes": list(self.notes)}
-        if self.theta is not None:
-            d["theta_max"] = float(np.nanmax(np.abs(self.theta))) if self.theta.size else 0.0
-        return d
+        return self._plate_dict() | {"ball_r_max": self.ball_r_max, "ball_left_groove": self.ball_left_groove,
+                                     "segments": self.scene.segments, "grid": self.scene.grid,
+                                     "groove": self.scene.groove}
 
 
 def _box_inertia(m: float, a: float, b: float, c: float) -> list[float]:

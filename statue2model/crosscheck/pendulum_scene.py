@@ -49,7 +49,7 @@ import numpy as np
 
 from ..errors import InputError
 from .contact import ContactSettings
-from .isolator_scene import _peaks, run_outcome
+from .isolator_scene import PlateRun, _box_inertia, _peaks
 from .statue_scene import STATUE_SETTINGS, StatueScene, add_statue, inertia_frame
 from .world import SimSettings, World, step_mean_acc
 
@@ -151,7 +151,7 @@ class PendulumIsolator:
 
 
 @dataclass(frozen=True, eq=False)
-class PendulumResult:
+class PendulumResult(PlateRun):
     """A run of the pendulum scene; the fields of isolator_scene.Isolator3DResult where they apply.
 
     t, u, acc_abs : top plate displacement relative to the ground (x, m) and absolute acceleration
@@ -201,10 +201,6 @@ class PendulumResult:
     theta_max_R: float = 0.0
 
     @property
-    def capacity_exceeded(self) -> bool:
-        return self.t_capacity is not None
-
-    @property
     def efficiency(self) -> float:
         return self.acc_abs_max / self.pga if self.pga > 0 else 0.0
 
@@ -213,29 +209,13 @@ class PendulumResult:
         """Simulated seconds per CPU second."""
         return self.steps * self.settings.dt / self.cpu_time if self.cpu_time > 0 else 0.0
 
-    @property
-    def outcome(self) -> str:
-        return run_outcome(self)           # ball_left_groove is always False here: no balls
-
     def to_dict(self) -> dict:
-        d = {"outcome": self.outcome, "model": "pendulum", "u_max": self.u_max, "acc_abs_max": self.acc_abs_max,
-             "pga": self.pga, "efficiency": self.efficiency, "peaks_t": self.peaks_t.tolist(),
-             "peaks_u": self.peaks_u.tolist(), "statue_overturned": self.statue_overturned,
-             "finite": self.finite, "wall_time_s": self.wall_time, "cpu_time_s": self.cpu_time,
-             "steps": self.steps, "real_time_factor": self.real_time_factor, "tilt_max": self.tilt_max,
-             "capacity": self.capacity if math.isfinite(self.capacity) else None,
-             "capacity_exceeded": self.capacity_exceeded, "t_capacity": self.t_capacity,
-             "u_at_capacity": self.u_at_capacity, "t_overturn": self.t_overturn,
-             "isolator": self.scene.to_dict(), "settings": self.settings.to_dict(), "notes": list(self.notes)}
+        d = self._plate_dict() | {"model": "pendulum", "cpu_time_s": self.cpu_time, "tilt_max": self.tilt_max,
+                                  "isolator": self.scene.to_dict()}
         if self.theta is not None:
-            d["theta_max"] = float(np.max(np.abs(self.theta))) if self.theta.size else 0.0
             d |= {"uplift_time": self.uplift_time, "max_lift": self.max_lift, "max_pivot_slip": self.max_pivot_slip,
                   "yaw_max": self.yaw_max, "theta_max_L": self.theta_max_L, "theta_max_R": self.theta_max_R}
         return d
-
-
-def _box_inertia(m: float, a: float, b: float, c: float) -> list[float]:
-    return [m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12]
 
 
 def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | None = None,
@@ -422,11 +402,9 @@ def _statue_on_plate(statue: StatueScene, V: np.ndarray, P: np.ndarray, Q: np.nd
     (relative to the plate's upper face: the plate translates without rotating) and Q (m, 4) exactly as
     the fixed-base scene reads them (statue_scene: geometric lift-off at LIFT_HEIGHT for LIFT_STEPS
     steps, pivot slip from touch-down)."""
-    from .statue_scene import _histories, _lift_off_time
+    from .statue_scene import _histories, _lift_off_time, base_vertices
 
-    base_v = statue.hull[:, 2] == 0.0
-    piv = {"R": np.flatnonzero(base_v & (statue.hull[:, 0] == statue.x_R)),
-           "L": np.flatnonzero(base_v & (statue.hull[:, 0] == statue.x_L))}
+    base_v, piv = base_vertices(statue)
     ok = np.isfinite(P).all(axis=1) & np.isfinite(Q).all(axis=1)
     m = int(np.argmin(ok)) if not ok.all() else len(P)
     h = _histories(P[:m], Q[:m], statue, V, statue.hull - statue.com, base_v, piv, dt)

@@ -355,9 +355,7 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     acc = step_mean_acc(motion, 0.0, dt, n).tolist()
     _, V = inertia_frame(scene.inertia)
     hull_c = scene.hull - scene.com                   # hull about the com, link frame
-    base_v = scene.hull[:, 2] == 0.0
-    piv = {"R": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_R)),
-           "L": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_L))}
+    base_v, piv = base_vertices(scene)
     watch = theta0 == 0.0                                # lift-off is read only for runs from rest
     t0 = time.perf_counter()
     with World(settings) as world:
@@ -434,6 +432,14 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
         wall_time=wall, steps=steps,
         inertia=check, max_pivot_slip=h["slip"], max_flight=max(0.0, h["flight"]),
         flight_time=h["n_flight"] * dt, unload_time=unload_t, max_lift=max(0.0, h["lift_max"]))
+
+
+def base_vertices(scene: StatueScene) -> tuple[np.ndarray, dict]:
+    """The hull's base vertices (bool mask, z = 0) and the pivot vertices of each side ({"R", "L"}:
+    indices of the base vertices at x_R, x_L), as :func:`_histories` reads them."""
+    base_v = scene.hull[:, 2] == 0.0
+    return base_v, {"R": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_R)),
+                    "L": np.flatnonzero(base_v & (scene.hull[:, 0] == scene.x_L))}
 
 
 def _theta(Q: np.ndarray, V: np.ndarray) -> np.ndarray:
