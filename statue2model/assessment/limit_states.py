@@ -38,15 +38,13 @@ damage grows; each reads ``ratio = demand / capacity`` unless its definition say
                   leave their grooves or the top plate tips).
     capacity      (isolated) the travel the design's check asks for, with the records' peak plate
                   travel relative to the ground in place of the spectral displacement:
-                  DISPLACEMENT_MARGIN (1.5, :mod:`statue2model.isolator.design`) x the statistic of
+                  DISPLACEMENT_MARGIN (1.5, :mod:`statue2model.isolator.checks`) x the statistic of
                   max |u_o| + mu R_hat (where friction may have left the plate resting off centre),
                   against the design's travel capacity min(groove rim, top-plate tipping). Exceeded
                   when ratio > 1 or any record passed the capacity outright.
-    bearing       (isolated) the static load per ball W / n (the design's required check: no dynamic
-                  factor there; the coupled model keeps W constant), against the design's per-ball
-                  capacity (design.json ``ball_capacity``: the load carried on a 20 mm ball, by default
-                  the thesis' beech grooves, BALL_LOAD_TESTED: 30 kg on four balls, ch. 6.4) scaled by
-                  (r / 0.02)^2. Exceeded when ratio > 1; the row says what raises the capacity.
+    bearing       (isolated) the static load per ball W / n (the design's required check, isolator/checks.py),
+                  against the long-term capacity of a ball on the design's groove surface (design.json
+                  ``ball_capacity.per_ball``, isolator/bearing.py). Exceeded when ratio > 1.
 
 ``governing`` is each base's row with the largest ratio, ``first_exceeded`` each base's first
 exceeded row in the order above. Every number of :meth:`LimitStates.to_dict` is finite or None
@@ -444,12 +442,7 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     rows = _fixed_rows(fixed, lim, band, statistic)
     if iso is not None:
         if design is not None and design.get("passed") is False:
-            from ..isolator.design import fails_only_on_ball_load
-
-            warnings.append("the isolator design fails its ball-load check alone (the grooves' surface must carry "
-                            "more): its mechanics are analysed here, the bearing row says by how much"
-                            if fails_only_on_ball_load(design) else
-                            "the isolator design does not pass its own required checks")
+            warnings.append("the isolator design does not pass its own required checks")
         rows += _isolated_rows(isolated, lim, iso, design, statistic,
                                mu_offset=None if mu_bounds is None else mu_bounds[1])
         if mu_bounds is not None:
@@ -524,7 +517,7 @@ def _motion_rows(base, tod, overturned, at_capacity, impacts, uplift, statistic)
 
 
 def _isolated_rows(recs, lim, iso, design, statistic, mu_offset=None) -> list[LimitState]:
-    from ..isolator.design import BALL_LOAD_TESTED, BALL_TESTED, DISPLACEMENT_MARGIN
+    from ..isolator.checks import DISPLACEMENT_MARGIN, travel_need
 
     n = len(recs)
     cap_acc = min(lim)
@@ -554,7 +547,7 @@ def _isolated_rows(recs, lim, iso, design, statistic, mu_offset=None) -> list[Li
     cap = float(cap) if cap is not None else iso.capacity
     travel = tuple(r.u_max for r in recs)
     t_stat = _stat(travel, statistic)
-    demand = margin * t_stat + mu * R_hat
+    demand = travel_need(t_stat, mu, R_hat, margin)
     det = {"travel": t_stat, "margin": margin, "friction_offset": mu * R_hat, "n_capacity_exceeded": sum(at_cap),
            "capacity_source": "design" if design and design.get("capacity") is not None else "isolator"}
     defn = (f"travel the design's check asks for, {margin:g} x the {statistic} over the {n} records of the top "
@@ -568,27 +561,24 @@ def _isolated_rows(recs, lim, iso, design, statistic, mu_offset=None) -> list[Li
     else:
         rows.append(LimitState("capacity", "isolated", demand, None, None, "m", defn, False, 0, travel, det,
                                "the isolator's travel capacity is not given (inf: not checked)"))
-    # bearing: the design's ball-load check, against the design's per-ball capacity (design.json
-    # "ball_capacity": the load carried on a 20 mm ball; the thesis' beech grooves by default)
+    # bearing: the design's ball-load check (isolator/checks.py), against the surface's long-term capacity per
+    # ball (design.json "ball_capacity": isolator/bearing.py)
     bc = (design.get("ball_capacity") if design else None) or {}
-    tested = float(bc.get("tested_load") or BALL_LOAD_TESTED)
-    r_tested = float(bc.get("tested_radius") or BALL_TESTED)
-    source = bc.get("source") or ("the thesis' beech grooves, 30 kg on four 20 mm balls undamaged (ch. 6.4)")
-    P_allow = tested * (iso.r / r_tested) ** 2
+    P_allow = bc.get("per_ball")
+    source = bc.get("source") or "no design: the surface is not known"
     n_balls = design.get("n_grooves") if design else None
-    defn = (f"static load per ball W / n (N; the design's check, no dynamic factor), against what the grooves "
-            f"carry, {tested:.1f} N on a {r_tested * 1000:g} mm ball ({source}) scaled by (r / {r_tested:g} m)^2; "
-            "exceeded when ratio > 1 (a static check: every record or none)")
-    det = {"W": iso.W, "n_balls": n_balls, "ball_radius": iso.r, "tested_load": tested,
-           "tested_radius": r_tested, "capacity_source": source, "options": list(BEARING_OPTIONS)}
-    if n_balls:
-        n_balls = int(n_balls)
+    defn = (f"static load per ball W / n (N; the design's check), against what a ball carries on the grooves' surface "
+            f"in the long term ({bc.get('criterion', '-')}; {source}); exceeded when ratio > 1 (a static check: every "
+            "record or none)")
+    det = {"W": iso.W, "n_balls": n_balls, "ball_radius": iso.r, "capacity_source": source,
+           "surface": bc.get("surface"), "criterion": bc.get("criterion"), "options": list(BEARING_OPTIONS)}
+    if n_balls and P_allow:
+        n_balls, P_allow = int(n_balls), float(P_allow)
         P = iso.W / n_balls
-        det.update(n_balls_needed=math.ceil(iso.W / P_allow), ball_radius_needed=r_tested * math.sqrt(
-            P / tested))
+        det.update(n_balls_needed=math.ceil(iso.W / P_allow))
         rows.append(LimitState("bearing", "isolated", P, P_allow, P / P_allow, "N", defn, P / P_allow > 1.0,
                                n if P > P_allow else 0, (), det))
     else:
-        rows.append(LimitState("bearing", "isolated", None, P_allow, None, "N", defn, False, 0, (), det,
-                               "no isolator design: the number of balls is not known"))
+        rows.append(LimitState("bearing", "isolated", None, None, None, "N", defn, False, 0, (), det,
+                               "no isolator design: the number of balls and their surface are not known"))
     return rows

@@ -134,17 +134,18 @@ class StudyRun:
 
 
 def match_records(target, n: int, duration: float | None = None, T1: float | None = None,
-                  T_is: float | None = None):
-    """A RecordSet of ``n`` records (seeds 1..n) matched to ``target`` over the design band of a
-    building of period ``T1`` and an isolator of period ``T_is`` (s, None: none), each of
-    ``duration`` s (None: 25 s or 5 times the band's end; a shorter one is matched over what it
-    can carry and the band rule says so)."""
+                  T_is: float | None = None, seed: int = 1, code: str | None = None):
+    """A RecordSet of ``n`` records (seeds seed..seed + n - 1) matched to ``target`` over the design
+    band of a building of period ``T1`` and an isolator of period ``T_is`` (s, None: none) on a site
+    of ``code`` (hazard.matching.design_band: EC8 2 T_is, NTC 1.2 T_is), each of ``duration`` s (None:
+    25 s or 5 times the band's end; a shorter one is matched over what it can carry and the band rule
+    says so)."""
     from ..hazard.matching import design_band, duration_for_band, match_set
 
-    band, why = design_band(T1, T_is)
+    band, why = design_band(T1, T_is, code)
     dur = duration_for_band(band) if duration is None else float(duration)
     checked = band if band[1] <= dur / 5 else (band[0], dur / 5)
-    return match_set(target, n=int(n), seed=1, duration=dur, dt=0.01, band=checked, required_band=band,
+    return match_set(target, n=int(n), seed=int(seed), duration=dur, dt=0.01, band=checked, required_band=band,
                      band_reason=why)
 
 

@@ -150,16 +150,15 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     if design is not None:
         cap = design.get("capacity", design.get("d_max"))
         demand = design.get("travel_need", design.get("d_design"))
-        sde = design.get("d_design")
-        felt = design.get("a_design")
-        if felt is not None:
-            felt = felt + design.get("mu", 0.0) * G       # Se(T) + the rolling friction the plate passes on
-        isolated = {"passed": bool(design.get("passed")), "conditional": bearing_only(design),
-                    "what_would_pass": (design.get("what_would_pass") or {}).get("text"),
+        wwp = (design.get("what_would_pass") or {}).get("text")
+        v = design.get("verification") or {}
+        isolated = {"passed": bool(design.get("passed")), "conditional": False, "what_would_pass": wwp,
                     "th_margins": design.get("th_margins"), "capacity": cap, "travel_demand": demand,
-                    "travel_margin": _ratio(cap, demand), "felt": felt,
-                    "felt_margin": _ratio(uplift, felt), "T": design.get("T"),
-                    "R": design.get("R"), "r": design.get("r"), "n_grooves": design.get("n_grooves")}
+                    "travel_margin": _ratio(cap, demand), "T": design.get("T"), "R": design.get("R"),
+                    "r": design.get("r"), "n_grooves": design.get("n_grooves"), "layout": design.get("layout"),
+                    "surface": design.get("surface_name") or design.get("surface"), "cost": design.get("cost"),
+                    "slc_rule": (v.get("slc") or {}).get("rule"),
+                    "reserve_pga": (v.get("reserve") or {}).get("pga"), "sets": len(v.get("sets") or [])}
         if dyn is not None:
             fail = dyn.get("first_failure_pga_isolated", dyn.get("first_overturn_pga_isolated"))
             isolated["first_failure_pga"] = fail
@@ -169,24 +168,20 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                                         else "overturned" if fail is not None else None)
             if cfg is not None and getattr(cfg, "dynamics", None) is not None:
                 isolated["record"] = cfg.dynamics.motion
-        if isolated["passed"] or isolated["conditional"]:
-            line = (("" if isolated["passed"] else
-                     f"Isolator: no device passes with the grooves' ball capacity as given; the nearest fails only on "
-                     f"the ball load ({isolated['what_would_pass'] or design_failure(design)}); its plates are not "
-                     "written until [isolator] ball_capacity holds a load-tested value that carries it. ")
-                    + f"On the isolator (R {_n(isolated['R'])} m, r {_mm(isolated['r'], '.1f')} mm, "
-                    f"{isolated['n_grooves']} grooves, T {_n(isolated['T'])} s): travel need "
-                    f"{design.get('margin', 1.5):g} x SDe {_mm(sde)} mm + mu R_hat = {_mm(demand)} mm vs capacity "
-                    f"{_mm(cap)} mm (margin {_n(isolated['travel_margin'])}, spectral check); "
-                    f"the statue feels {_g(isolated['felt'])} vs its uplift {_g(uplift)} "
-                    f"(margin {_n(isolated['felt_margin'])}, the design's Se(T) + mu g)")
+        if isolated["passed"]:
             th = isolated.get("th_margins") or {}
-            if th:
-                line += (f"; verified over the design records (mean of {design.get('verification', {}).get('records', {}).get('count', '-')}"
-                         f" records, friction at its bounds): travel margin {_n(finite_number(th.get('travel')))} "
-                         "(capacity / (1.5 x mean peak travel + mu R_hat)), acceleration margin "
-                         f"{_n(finite_number(th.get('acceleration')))} (uplift / mean felt), ball-load margin "
-                         f"{_n(finite_number(th.get('bearing')))} (capacity per ball / load per ball)")
+            line = (f"Isolator: {isolated['n_grooves']} {design.get('ball_material') or ''} balls of "
+                    f"{_mm(2 * (isolated['r'] or 0), '.0f')} mm on {isolated['surface']}, plates "
+                    f"{_mm(design.get('side'), '.0f')} mm square, T {_n(isolated['T'])} s, travel capacity "
+                    f"{_mm(cap)} mm, about {design.get('cost', 0):.0f} EUR; verified by time histories on "
+                    f"{isolated['sets']} record sets: margins travel {_n(finite_number(th.get('travel')))}, felt "
+                    f"acceleration {_n(finite_number(th.get('acceleration')))}, ball load "
+                    f"{_n(finite_number(th.get('bearing')))} at the design level, travel "
+                    f"{_n(finite_number(th.get('travel_slc')))} and ball load {_n(finite_number(th.get('bearing_slc')))}"
+                    f" at the collapse level")
+            if th.get("reserve") is not None:
+                line += (f", travel {_n(finite_number(th.get('reserve')))} where half the records overturn the "
+                         f"statue without it ({_g(isolated['reserve_pga'])})")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
@@ -194,9 +189,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                          f"(margin {_n(isolated['failure_margin'])} on the design PGA)") + sweep_note
             lines.append(line + ".")
         else:
-            isolated["reason"] = design.get("failure") or design_failure(design)
-            would = f" What would pass: {isolated['what_would_pass']}." if isolated["what_would_pass"] else ""
-            lines.append(f"Isolator: no design in the allowed ranges passes every check ({isolated['reason']}).{would}")
+            isolated["reason"] = wwp or design.get("failure") or design_failure(design)
+            lines.append(f"Isolator: {isolated['reason']}")
     out["isolated"] = isolated
     if ls:
         out["limit_states"] = ls
@@ -325,9 +319,8 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
              f"records" + (f", overturning in {ot.get('n_exceeding')}" if ot and ot.get("exceeded") else "") + ")")
     if not isolated:
         return f"{lifts} and no isolator was designed: run the isolator stage"
-    if not isolated.get("passed") and not isolated.get("conditional"):
-        would = f"; what would pass: {isolated['what_would_pass']}" if isolated.get("what_would_pass") else ""
-        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}{would}"
+    if not isolated.get("passed"):
+        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
     if _row(ls, "full_contact", "isolated") is None:
         return (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
                 "ran without it): run the dynamics stage with [dynamics] isolated = true")
@@ -341,10 +334,10 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
           f"and the plate's travel stays within its capacity (travel with margin {_rv(cap)})")
     bearing = _row(ls, "bearing", "isolated")
     if bearing is not None and bearing.get("exceeded"):
-        would = isolated.get("what_would_pass") or "a harder groove surface, a rubber layer, or more or larger balls"
-        return (f"isolate, but only on grooves that carry the ball load: {ok}; the load per ball exceeds what the "
-                f"grooves carry as given ({_rv(bearing)}): {would}")
-    return f"isolate with the designed device: {ok}"
+        return (f"the designed isolator does not protect at the design level: {bearing['title']} exceeded "
+                f"({_rv(bearing)})")
+    cost = isolated.get("cost")
+    return f"isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
 
 
 def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
@@ -524,16 +517,6 @@ def status(recommendation: str) -> str:
     if recommendation.startswith(("no isolator in range works", "the designed isolator does not protect")):
         return "fail"
     return "warn"
-
-
-def bearing_only(design: dict) -> bool:
-    """True when a design fails its required checks on the ball load alone
-    (statue2model.isolator.design.fails_only_on_ball_load): the device is then analysed and recommended
-    on the condition that its grooves carry the load (the isolator's ``what_would_pass`` says what
-    that takes)."""
-    from ..isolator.design import fails_only_on_ball_load
-
-    return fails_only_on_ball_load(design)
 
 
 def design_failure(design: dict) -> str:

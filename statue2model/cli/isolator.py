@@ -1,6 +1,6 @@
 """Command-line stage of the isolator: ``statue2model isolator design|plates|simulate|identify``.
 
-    statue2model isolator design PARAMS.json (--spectrum SPEC | --motion SPEC) --mu MU [...] --json OUT
+    statue2model isolator design PARAMS.json (--spectrum SPEC | --motion SPEC) [--mu MU] [...] --json OUT
     statue2model isolator plates DESIGN.json --out DIR
     statue2model isolator simulate (--R M --r M --mass KG --mu MU | --design DESIGN.json)
                                    [--model coulomb|boucwen --q Q] [--capacity M] [--end-stop stop|impact]
@@ -15,6 +15,10 @@ from ..errors import InputError
 from .argtypes import finite_float, length, plausible, positive_float
 
 
+_SURFACES = ("beech", "robinia", "beech_rubber", "hdpe", "pom", "steel_race")
+_LAYOUTS = ("ring3", "ring4", "ring5", "ring6", "ring8", "grid3x3", "grid3x4", "grid4x4")
+
+
 def add_parsers(sub) -> None:
     p = sub.add_parser("isolator", help="rolling-ball isolator: design, groove plates, simulation",
                        description="Design a rolling-ball isolator for a statue, write its groove plates, "
@@ -22,36 +26,48 @@ def add_parsers(sub) -> None:
     isub = p.add_subparsers(dest="isolator_command", metavar="ACTION")
     isub.required = True
 
-    d = isub.add_parser("design", help="choose R, r, grooves and plate size for a statue",
-                        description="Choose the groove radius R, ball radius r, grooves, board and plate size so "
-                        "that the plate's absolute acceleration stays below the statue's reduced uplift acceleration, "
-                        "the travel capacity covers 1.5 times the spectral displacement and the top plate does not "
-                        "tip; among the passing candidates, the smallest plate, then the largest acceleration margin. "
-                        "Write the design (JSON, with the candidates tried) and a readable report (text) with every "
-                        "check's value, limit, unit and ratio; exit 2 when nothing in range works.")
+    d = isub.add_parser("design", help="choose the cheapest rolling-ball isolator a workshop can build for a statue",
+                        description="Search balls (radius, steel or resin), layouts (3 to 16 balls on rings or "
+                        "grids), groove radii, groove surfaces (beech, robinia, beech with a rubber layer, HDPE, POM, "
+                        "steel races) and boards (stacked where a groove needs it) for the cheapest device that passes "
+                        "every check on the spectrum: the felt acceleration below the statue's uplift limit, the "
+                        "travel at the design level (1.5 SDe + mu R_hat) and at the collapse level (SLC), the top "
+                        "plate's tipping, the ball load (long-term, and at SLC), the grooves within the boards. "
+                        "Write the design (JSON, with its checks and the candidates), a readable report (OUT.txt) and "
+                        "the bill of materials (OUT_bom.csv); exit 2 when nothing in range works. `statue2model run` "
+                        "also verifies the device by time histories on several record sets and with a reserve.")
     d.add_argument("params", metavar="PARAMS.json", help="the statue's rocking parameters (`statue2model props`)")
     src = d.add_mutually_exclusive_group(required=True)
     src.add_argument("--spectrum", metavar="SPEC",
                      help="elastic response spectrum: ec8:ag=0.25g,ground=C,type=1[,xi=5] | "
                           "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B[,topo=T1][,xi=5][,ls=SLV]")
     src.add_argument("--motion", metavar="SPEC", help="a ground motion simulated on every candidate (as for `rock`)")
-    d.add_argument("--mu", type=finite_float, required=True, help="rolling friction coefficient (Tables 19, 25)")
+    d.add_argument("--slc-spectrum", metavar="SPEC",
+                   help="the site's spectrum at the collapse level (SLC) for the device's checks; default: the design "
+                        "spectrum x 1.2 on EC8 (EN 1998-1 10.3(2)), scaled by the return periods on NTC")
+    d.add_argument("--mu", type=finite_float,
+                   help="rolling friction coefficient for every candidate (default: each ball/surface pair's law, "
+                        "Tables 19, 25)")
+    d.add_argument("--surface", choices=_SURFACES, help="groove surface (default: the cheapest that passes)")
+    d.add_argument("--layout", choices=_LAYOUTS, help="ball layout (default: the cheapest that passes)")
+    d.add_argument("--grooves", type=int, metavar="N", help="number of balls: 3, 4, 5, 6, 8, 9, 12 or 16")
+    d.add_argument("--ball-material", choices=("steel", "resin"))
     d.add_argument("--target", type=_accel, metavar="A",
                    help="stricter limit for the plate acceleration, with a unit: 0.03g or 0.29m/s2")
     d.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
     d.add_argument("--alpha-L", type=finite_float, metavar="A")
     d.add_argument("--alpha-R", type=finite_float, metavar="A")
-    d.add_argument("--grooves", type=int, choices=[3, 4], help="number of grooves (default: 3 or 4, whichever needs the smaller plate)")
     d.add_argument("--thickness", type=length, metavar="T",
-                   help="plate thickness (30mm, 0.03m; a bare number is mm; default: the lightest passing of "
-                        "20, 30, 40, 50 mm)")
+                   help="wooden board thickness (30mm, 0.03m; a bare number is mm; default: 20, 30, 40 or 50 mm; "
+                        "boards are stacked where a groove needs more)")
+    d.add_argument("--side-max", type=length, metavar="S", help="largest plate side (default 1.5 m, the CNC bed)")
     d.add_argument("--fuse-release", type=_accel, metavar="A",
                    help="add a release mechanism (fuse) that lets go at A, with a unit: 0.075g or 0.736m/s2")
-    d.add_argument("--ball-capacity", type=positive_float, metavar="N",
-                   help="load per ball the grooves carry, in N on a 20 mm ball (from a load test of the groove "
-                        "surface; a test on balls of radius r_t converts by (0.02 / r_t)^2); default: the thesis' "
-                        "beech grooves, 73.6 N (30 kg on four 20 mm balls undamaged)")
-    d.add_argument("--json", metavar="OUT", required=True, help="design JSON; OUT.txt gets the report")
+    d.add_argument("--ball-capacity", type=plausible("ball_capacity", positive_float, "--ball-capacity"), metavar="N",
+                   help="a load test of the groove surface: N carried on a 40 mm ball with the allowed dent "
+                        "(default: the surface's model, isolator/bearing.py)")
+    d.add_argument("--json", metavar="OUT", required=True, help="design JSON; OUT.txt gets the report, OUT_bom.csv "
+                                                               "the bill of materials")
     d.set_defaults(func=_cmd_design)
 
     pl = isub.add_parser("plates", help="the two groove plates as STL, 3MF, DXF and a section drawing")
@@ -111,15 +127,10 @@ def add_parsers(sub) -> None:
 def read_design(path, option: str = "--isolator", analyse: bool = True) -> dict:
     """The isolator design at ``path`` (the JSON of ``statue2model isolator design``, or one
     written by hand with R, r, M, mu, ...), refused with one line when ``isolator design``
-    rejected it: its ``passed`` is not true, or one of its required ``checks`` failed; to ``analyse``
-    it (simulate, cross-check, fragility), a design that fails on the ball load alone is taken, with a
-    note on stderr (its mechanics pass: the grooves' surface must carry the load,
-    isolator.design.fails_only_on_ball_load); never to cut its plates. A design without
+    rejected it: its ``passed`` is not true, or one of its required ``checks`` failed (the ball load
+    among them: a device its grooves cannot carry is neither analysed nor cut). A design without
     ``passed`` (written by hand) is taken as it is."""
-    import sys
-
     from ..io.files import read_json
-    from ..isolator.design import fails_only_on_ball_load
 
     d = read_json(path)
     if not isinstance(d, dict):
@@ -127,10 +138,6 @@ def read_design(path, option: str = "--isolator", analyse: bool = True) -> dict:
     checks = d.get("checks") if isinstance(d.get("checks"), list) else []
     failed = [str(c.get("name")) for c in checks
               if isinstance(c, dict) and c.get("required") and c.get("passed") is not True]
-    if analyse and fails_only_on_ball_load(d):
-        print(f"statue2model: note: {path} fails on the ball load alone (the grooves must carry more, see its "
-              "what_would_pass); its mechanics are analysed as designed", file=sys.stderr)
-        return d
     if ("passed" in d and d["passed"] is not True) or failed:
         why = d.get("failure") or ("failed checks: " + ", ".join(failed) if failed else "passed: false")
         raise InputError(f"{option} {path}: `statue2model isolator design` rejected this design ({why}); give a "
@@ -165,35 +172,46 @@ def _accel(text: str) -> float:
 
 
 def _cmd_design(args) -> int:
+    from ..hazard.code_spectra import parse_spectrum
+    from ..hazard.levels import collapse_spectrum_text
     from ..hazard.motions import parse_spec
     from ..io.files import OutputGroup, atomic_write, write_json
     from ..isolator.design import design
-    from ..hazard.code_spectra import parse_spectrum
+    from ..isolator.prices import write_bom
 
     statue = _statue(args.params)
     aL = args.alpha_L if args.alpha_L is not None else (args.alpha if args.alpha is not None else 1.0)
     aR = args.alpha_R if args.alpha_R is not None else (args.alpha if args.alpha is not None else 1.0)
     spectrum = parse_spectrum(args.spectrum) if args.spectrum else None
+    slc, why = None, None
+    if spectrum is not None:
+        text, why = collapse_spectrum_text(args.spectrum, args.slc_spectrum)
+        slc = parse_spectrum(text)
+    elif args.slc_spectrum:
+        raise InputError("--slc-spectrum goes with --spectrum, not --motion")
     motion = parse_spec(args.motion)[0] if args.motion else None
     out = Path(args.json)
-    group = OutputGroup.files([out, out.with_suffix(".txt")], "isolator design")   # checked before any work
-    res = design(statue, mu=args.mu, spectrum=spectrum, motion=motion, target=args.target, alpha=(aL, aR),
-                 n_grooves=args.grooves, thickness=args.thickness, fuse_release=args.fuse_release,
-                 ball_capacity=args.ball_capacity)
+    bom = out.with_name(out.stem + "_bom.csv")
+    group = OutputGroup.files([out, out.with_suffix(".txt"), bom], "isolator design")   # checked before any work
+    res = design(statue, mu=args.mu, spectrum=spectrum, slc=slc, slc_why=why, motion=motion, target=args.target,
+                 alpha=(aL, aR), n_grooves=args.grooves, thickness=args.thickness, fuse_release=args.fuse_release,
+                 ball_capacity=args.ball_capacity, surfaces=args.surface, layouts=args.layout,
+                 materials=args.ball_material, **({"side_max": args.side_max} if args.side_max else {}))
     report = res.report()
     with group as g:
         write_json(g / out, res.to_dict())
         atomic_write(g / out.with_suffix(".txt"), lambda p: p.write_text(report + "\n"))
+        write_bom(g / bom, res.bom)
     print(report)
-    print(f"\nwrote {out} and {out.with_suffix('.txt').name}")
+    print(f"\nwrote {out}, {out.with_suffix('.txt').name} and {bom.name}")
     if not res.passed:
-        raise InputError(f"no design meets every check: no isolator in range works: {res.failure}; "
+        raise InputError(f"no design meets every check: {(res.what_would_pass or {}).get('text') or res.failure}; "
                          f"see {out.with_suffix('.txt')}")
     return 0
 
 
 PLATE_FILES = tuple(f"{w}_plate.{ext}" for w in ("bottom", "top") for ext in ("stl", "3mf", "dxf")) + \
-    ("plates_section.png", "plates_section.svg")
+    ("plates_section.png", "plates_section.svg", "drawing.svg", "drawing.png")
 """The files `isolator plates` writes into --out (the 3MF ones only when trimesh can write 3MF)."""
 
 
@@ -202,12 +220,13 @@ def _cmd_plates(args) -> int:
     from ..isolator.plates import PlateGeometry
     from ..report.isolator_plots import write_plates_with_section
 
-    geom = PlateGeometry.from_design(read_design(args.design, "DESIGN.json", analyse=False), str(args.design))
+    dd = read_design(args.design, "DESIGN.json", analyse=False)
+    geom = PlateGeometry.from_design(dd, str(args.design))
     if args.segments < 16 or args.segments > 4096:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
     with open_output(args.out, "plates", command="isolator plates", can_reuse=False) as od, \
             od.group(PLATE_FILES) as g:
-        paths = write_plates_with_section(geom, g.tmp, segments=args.segments)
+        paths = write_plates_with_section(geom, g.tmp, segments=args.segments, design=dd)
     print("wrote " + ", ".join(str(od.path / p.name) for p in paths.values()))
     return 0
 

@@ -126,15 +126,21 @@ def _period(name: str, T) -> float:
     return float(T)
 
 
-def design_band(T1: float | None = None, T_is: float | None = None) -> tuple[tuple[float, float], str]:
-    """The band a design set is checked over (NTC 2018 §3.2.3.6): 0.15 s to the largest of 2 s,
-    2 T1 (a building's period, when the object stands in one) and 1.2 T_is (an isolator's
-    period, when one is designed); and the reason in words.
+def design_band(T1: float | None = None, T_is: float | None = None,
+                code: str | None = None) -> tuple[tuple[float, float], str]:
+    """The band a design set is checked over: 0.15 s (NTC 2018 §3.2.3.6) to the largest of 2 s,
+    2 T1 (a building's period, when the object stands in one) and the isolator's end (an isolator's
+    period T_is, when one is designed): 1.2 T_is on an NTC site (§3.2.3.6, isolated structures),
+    2 T_is on an EC8 site (EN 1998-1 §3.2.3.1.2(4)c, 0.2 T1-2 T1 with T1 = T_is: section 10 gives
+    no other band for isolated structures); ``code`` "EC8..." or anything else (NTC's rule).
+    Returns the band and the reason in words.
 
     >>> design_band()
     ((0.15, 2.0), '0.15 s to 2 s')
     >>> design_band(T1=0.6, T_is=3.99)
     ((0.15, 4.788), '0.15 s to max(2 s, 2 T1 = 1.2 s, 1.2 T_is = 4.788 s)')
+    >>> design_band(T_is=3.0, code="EC8-1")[0]
+    (0.15, 6.0)
     """
     parts, hi = ["2 s"], BAND_END_MIN
     if T1 is not None:
@@ -142,8 +148,10 @@ def design_band(T1: float | None = None, T_is: float | None = None) -> tuple[tup
         parts.append(f"2 T1 = {v:.4g} s")
         hi = max(hi, v)
     if T_is is not None:
-        v = 1.2 * _period("the isolator's period T_is", T_is)
-        parts.append(f"1.2 T_is = {v:.4g} s")
+        ec8 = str(code or "").upper().startswith("EC8")
+        k = 2.0 if ec8 else 1.2
+        v = k * _period("the isolator's period T_is", T_is)
+        parts.append(f"{k:g} T_is = {v:.4g} s" + (" (EC8 3.2.3.1.2(4)c with T1 = T_is)" if ec8 else ""))
         hi = max(hi, v)
     why = f"{BAND_START:g} s to " + (parts[0] if len(parts) == 1 else f"max({', '.join(parts)})")
     return (BAND_START, round(hi, 6)), why

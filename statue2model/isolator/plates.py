@@ -170,6 +170,7 @@ class PlateGeometry:
     fuse_hole_diameter: float = 0.0
     fuse_hole_depth: float = 0.0
     fuse_hole_offset: float = 0.0
+    liner: float = 0.0
 
     @classmethod
     def from_design(cls, d: dict, where: str = "design") -> PlateGeometry:
@@ -179,13 +180,14 @@ class PlateGeometry:
         try:
             return cls(side=float(d["side"]), thickness=float(d["thickness"]), R=float(d["R"]),
                        depth=float(d["depth"]), groove_centres=tuple(tuple(c) for c in d["groove_centres"]),
-                       ball_radius=float(d["r"]), **_fuse_geometry(d.get("fuse") or {}, d))
+                       ball_radius=float(d["r"]), liner=float(d.get("liner") or 0.0),
+                       **_fuse_geometry(d.get("fuse") or {}, d))
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise InputError(f"{where} is not an isolator design ({exc})") from None
 
     def __post_init__(self):
         for name in ("side", "thickness", "R", "depth", "ball_radius", "fuse_ball_radius",
-                     "fuse_seat_depth", "fuse_hole_diameter", "fuse_hole_depth", "fuse_hole_offset"):
+                     "fuse_seat_depth", "fuse_hole_diameter", "fuse_hole_depth", "fuse_hole_offset", "liner"):
             value = getattr(self, name)
             try:
                 value = float(value)
@@ -203,8 +205,8 @@ class PlateGeometry:
             raise InputError("a plate needs at least one groove centre")
         if self.depth >= self.R:
             raise InputError(f"groove depth {self.depth:g} m must be less than its radius R = {self.R:g} m")
-        if self.depth >= self.thickness - MIN_BOTTOM:
-            raise InputError(f"groove depth {self.depth * MM:.1f} mm leaves less than {MIN_BOTTOM * MM:g} mm "
+        if self.cut_depth >= self.thickness - MIN_BOTTOM + 1e-12:
+            raise InputError(f"groove depth {self.cut_depth * MM:.1f} mm leaves less than {MIN_BOTTOM * MM:g} mm "
                              f"of a {self.thickness * MM:.1f} mm plate under the groove")
         if not self.depth < self.ball_radius < self.R:
             raise InputError(f"ball radius {self.ball_radius:g} m must lie between the groove depth "
@@ -227,9 +229,19 @@ class PlateGeometry:
 
     # ---- derived sizes
     @property
+    def cut_R(self) -> float:
+        """Radius of the sphere the plate is carved with (the rolling surface's R plus a liner), m."""
+        return self.R + self.liner
+
+    @property
+    def cut_depth(self) -> float:
+        """Depth of the carved cap (the rolling surface's depth plus a liner), m."""
+        return self.depth + self.liner
+
+    @property
     def opening_radius(self) -> float:
-        """Radius a of each groove's opening circle in the carved face, m."""
-        return cap_opening_radius(self.R, self.depth)
+        """Radius of each groove's opening circle in the carved face (the liner's rim included), m."""
+        return cap_opening_radius(self.cut_R, self.cut_depth)
 
     @property
     def fuse_seat_radius(self) -> float:
@@ -263,7 +275,7 @@ class PlateGeometry:
         """Wood removed from the top plate, m^3: grooves and fuse seats (no drop holes)."""
         seats = len(self.fuse_centres) * cap_volume(self.fuse_ball_radius, self.fuse_seat_depth) \
             if self.fuse_centres else 0.0
-        return len(self.groove_centres) * cap_volume(self.R, self.depth) + seats
+        return len(self.groove_centres) * cap_volume(self.cut_R, self.cut_depth) + seats
 
     def circles(self, which: str = "bottom") -> list[tuple[str, float, float, float]]:
         """Cutouts of the carved face as (kind, x, y, opening radius): kind is
@@ -352,7 +364,7 @@ def _cutters(geom: PlateGeometry, which: str, segments: int) -> list:
     """Cutters of the bottom-plate frame (carved face z = thickness)."""
     t = geom.thickness
     out = []
-    groove = _cap_profile(geom.R, geom.depth, t, segments)
+    groove = _cap_profile(geom.cut_R, geom.cut_depth, t, segments)
     out += [_revolve(groove, segments, c) for c in geom.groove_centres]
     if geom.fuse_centres:
         seat = _cap_profile(geom.fuse_ball_radius, geom.fuse_seat_depth, t, segments)
@@ -389,7 +401,7 @@ def volume_deficit_bound(geom: PlateGeometry, segments: int = 256, which: str = 
     inscribed: the solid is never smaller than the exact plate). See the module docstring."""
     _check_which(which)
     segments = _check_segments(segments)
-    bound = len(geom.groove_centres) * _cap_deficit_bound(geom.R, geom.depth, segments)
+    bound = len(geom.groove_centres) * _cap_deficit_bound(geom.cut_R, geom.cut_depth, segments)
     if geom.fuse_centres:
         nf = len(geom.fuse_centres)
         bound += nf * _cap_deficit_bound(geom.fuse_ball_radius, geom.fuse_seat_depth, segments)
@@ -442,7 +454,8 @@ def section_shapes(geom: PlateGeometry, y0: float):
         for x, y in geom.groove_centres:
             e = abs(y - y0)
             if e < geom.opening_radius:
-                cuts.append(Point(x, t - geom.depth + geom.R).buffer(math.sqrt(geom.R ** 2 - e * e), quad_segs=4 * res))
+                cuts.append(Point(x, t - geom.cut_depth + geom.cut_R).buffer(math.sqrt(geom.cut_R ** 2 - e * e),
+                                                                             quad_segs=4 * res))
         for x, y in geom.fuse_centres:
             e, rf = abs(y - y0), geom.fuse_ball_radius
             if e < geom.fuse_seat_radius:

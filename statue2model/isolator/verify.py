@@ -1,69 +1,42 @@
-"""The isolator design verified by time histories (issue #27; MODEL.md sections 4, 7, 8).
+"""The isolator design verified by time histories, on several record sets, at two levels, with a reserve
+(MODEL.md sections 4, 7, 8, 9). SI units throughout.
 
-The spectral search of :func:`statue2model.isolator.design.design` sizes every candidate on
-Se(T) and SDe(T). Here each candidate is run on a set of design records (the run's design
-set: >= 7 records matched to the design target, hazard/matching.py) and passes only when,
-over the set, its travel, the statue's felt acceleration and the ball load all keep their
-margin. SI units throughout.
+The spectral search (design.search) sizes and prices every candidate; here the candidates are taken
+cheapest first and each is run, the top plate alone (time_history.simulate, Coulomb: exact while the
+statue stays in full contact, which a passing device must ensure), every record at the friction bounds
+mu_low and mu_high (EN 15129 / ASCE 7-16 17.2.8.4 bound analyses: the lower bound normally gives the
+travel, the upper the force; each demand takes the bound that governs it), on:
 
-Runs. The top plate alone (time_history.simulate, the Coulomb model: exact while the statue
-stays in full contact, which is what a passing device must ensure; the coupled 2-DOF run is
-only needed where the statue lifts) for every distinct (R, r) on every record, once with
-``mu_low`` and once with ``mu_high`` (the plate's motion does not depend on its mass, the
-number of grooves or the board: one run serves every candidate of that (R, r)). Bound
-analyses as EN 15129 §4.2 and ASCE 7-16 §17.2.8.4 ask: the lower friction bound normally
-gives the largest travel and the upper one the largest force; both are run on every record,
-so each demand takes the bound that governs it (the envelope; with a long pulse the lower
-bound also gives the larger felt acceleration, as the spring then carries more).
+    the design set        the run's >= 7 records matched to the design target
+    further sets          ``extra_sets``: independent code-compliant sets of other seeds (at least three
+                          in the pipeline): the device is chosen on the design set and must hold on every
+                          set; where a set asks more travel the opening is cut for it (the margin is
+                          raised until every set holds), so no set's records decide alone
+    the collapse level    the design set scaled by Se_SLC(T) / Se(T) at the device's period (the SLC
+                          spectrum over the design one, hazard/levels.py; x gamma_x 1.2 on EC8 sites)
+    the reserve           every design record scaled to the PGA where half of them overturn the fixed-base
+                          statue (the geometric mean of each record's lowest overturning PGA, reserve.py;
+                          capped at RESERVE_LEVEL x the design PGA): at most half may pass the capacity
+                          there, so the device's failure median lies at or right of the fixed base's
+                          overturning median (it never makes the statue worse than no device)
 
-    peak travel  u_max = max |u_o| (relative to the ground, m), per record and bound
-    felt         a_max = max |u_g'' + u_o''| (the top plate's absolute acceleration, m/s^2)
+The demand of a set is the MEAN over its records with at least N_MIN = 7 (NTC 2018 7.3.5, EN 1998-1
+4.3.3.4.3), else the most unfavourable record; the larger of the two bounds. The travel the grooves
+must give is the largest of (checks.py):
 
-The demand over the records is their MEAN with at least N_MIN = 7 records (NTC 2018 §7.3.5,
-EN 1998-1 §4.3.3.4.3), else the most unfavourable record (the max); the larger of the two
-bounds' statistics is kept.
+    design      1.5 u_set + mu_high R_hat, over every set
+    SLC         1.25 u_SLC + mu_high R_hat
+    reserve     1.05 x the median over the records of u_i(at the fixed base's overturning median) + mu_high R_hat
 
-Margins (each limit / demand; > 1 passes, below 1 it fails by that factor):
-
-    travel        capacity / (DISPLACEMENT_MARGIN u + mu_high R_hat)
-    acceleration  a_lim / a
-    bearing       P_20 (r / 0.02 m)^2 / (W / n)
-
-u, a: the statistic over the records; DISPLACEMENT_MARGIN 1.5 and the friction offset
-mu R_hat (where friction may leave the plate resting off centre, taken at mu_high) as the
-spectral travel need has them (design.py); a_lim: the statue's uplift limit, the low end of
-the base-contact band when the contact is flagged uncertain (the caller passes it); P_20:
-the grooves' per-ball capacity on a 20 mm ball (design.py). The capacity is sized so that it
-covers the larger of the spectral need and the time-history need: the opening is cut to
-that travel plus SIZING_CLEARANCE (1 %), the opening rounded up to 0.5 mm (design.py,
-``travel_floor``), so the travel margin is >= 1.01 wherever the plate and its tipping allow:
-never a margin resting on the last digit.
-
-A candidate passes when every spectral required check passes except the spectral felt
-acceleration Se(T) <= a_lim and the ball load (REPLACED: the time-history acceleration and
-bearing margins take their place; the spectral acceleration stays in the table, advisory),
-and all three margins are >= 1.
-
-Choice (CRITERION): the best balance of margins, not the longest period by rule. The
-balance is the smaller of the acceleration margin (the period sets it) and the bearing
-margin (the balls and their number set it); the travel margin must reach 1 but does not
-enter the balance of a passing candidate, being fixed by the sizing (see above: the
-smallest of all three would be 1 for almost every candidate and choose nothing). Among the
-passing candidates whose balance is within BALANCE_TOLERANCE (10 %) of the best one, the
-lightest top plate; then the larger balance, the smaller side, the thinner board, 3 grooves
-before 4, the larger ball. When none passes, the nearest is shown (the candidates that pass
-the device checks first, then the largest balance, the travel margin counted there when
-below 1), ``failure`` says in one sentence per failing check what fails and by how much, and
-``what_would_pass`` says what would: the per-ball capacity the grooves would need (so that a
-harder surface, an insert or a rubber layer can be load-tested against it), the ball radius
-or the number of balls at the given capacity, the travel capacity and plate size, a longer
-period; or that the statue should be restrained when no device in range keeps it in full
-contact (the acceleration margin below 1 at every (R, r), the longest period included).
-
-Pruning: only the (R, r) of the candidates that pass the device checks are run (a larger
-travel only makes those checks harder), plus the longest period in range (for the
-"restrain" answer) and, when nothing passes them, the nearest candidate's. On the default
-scan (7 records of 25 s, 2 bounds, ~200 pairs) the runs take about 2 s on one core.
+and each candidate's opening is re-cut for it (design.resized): its plate, mass and price grow, and
+every spectral check is evaluated again. Time-history checks (required): the felt acceleration (the
+statistic of the peak |absolute plate acceleration| on every set, against the statue's uplift limit:
+replaces the spectral Se(T) <= a_lim, which stays advisory), the three travels against the capacity,
+and the most loaded ball at SLC with the records' felt acceleration. The cheapest candidate that passes
+is chosen (ties within design.COST_TOLERANCE: the larger least margin); the search stops once the next
+candidate's spectral price (a lower bound: its verified price can only grow) exceeds the best verified
+one. Friction bounds are rounded outward to a grid of MU_STEP (mu_low down, mu_high up) so that devices
+of one period share their runs.
 
 Example
 -------
@@ -73,10 +46,10 @@ Example
 >>> statue = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
 >>> recs = [motions.synthetic_record(duration=10.0, pga=0.5, seed=s) for s in (1, 2)]
 >>> d = verify(statue, records=recs, mu=0.0073, spectrum=ec8(0.05 * 9.80665, "A"), thickness=0.03,
-...            R_grid=(0.4, 0.8), balls=(0.02,))
->>> d.passed, d.R, d.verification["statistic"], sorted(d.th_margins)
-(True, 0.8, 'max', ['acceleration', 'bearing', 'travel'])
->>> all(m >= 1 for m in d.th_margins.values()), d.what_would_pass is None
+...            R_grid=(0.4, 0.8), balls=(0.02,), surfaces="beech", layouts="ring4")
+>>> d.passed, d.verification["statistic"], sorted(d.th_margins)[:3]
+(True, 'max', ['acceleration', 'bearing', 'bearing_slc'])
+>>> all(m >= 1 for m in d.th_margins.values() if m is not None), d.what_would_pass is None
 (True, True)
 """
 from __future__ import annotations
@@ -89,52 +62,43 @@ import numpy as np
 from ..errors import InputError
 from ..hazard.matching import N_MIN
 from ..hazard.motions import GroundMotion
-from .design import (
-    BALL_TESTED,
-    BALLS,
-    DISPLACEMENT_MARGIN,
-    R_GRID,
-    SHOWN_FAILING,
-    SHOWN_PASSING,
-    Check,
-    design,
-    failure_text,
-)
+from . import checks as C
+from .checks import DISPLACEMENT_MARGIN, RESERVE_LEVEL, SLC_MARGIN, Check, travel_need
+from .design import BALLS, COST_TOLERANCE, CRITERION, R_GRID, SHOWN_FAILING, SHOWN_PASSING, Candidate, \
+    _design_from, failure_text, nearest, resized, search, what_would_pass
 from .device import G, Isolator
 
-REPLACED = ("acceleration", "ball_load")
-"""Spectral checks the time-history margins replace (felt acceleration, bearing)."""
-BALANCE_TOLERANCE = 0.10
-"""Candidates whose balance is within 10 % of the best count as equally balanced (CRITERION)."""
+REPLACED = ("acceleration",)
+"""Spectral checks the time histories replace (the felt acceleration; it stays advisory)."""
+TH_KEYS = ("th_acceleration", "th_travel", "th_travel_slc", "reserve", "th_ball_load_slc")
 TOL = 1e-9
-"""A margin counts as reached from 1 - TOL (the opening is cut to the need: capacity / need = 1 to
-rounding)."""
 DT_OUT = 1.0
 """s, the plate runs' output step: only their exact peaks are used."""
-CRITERION = ("the best balance of margins, not the longest period by rule: the balance is the smaller of the "
-             "acceleration margin a_lim / a and the bearing margin P / (W / n) (the travel margin must reach 1 "
-             "but is fixed by the sizing, the opening being cut to the larger of the spectral and time-history "
-             f"needs); among the passing candidates within {BALANCE_TOLERANCE:.0%} of the best balance, the "
-             "lightest top plate; then the larger balance, the smaller side, the thinner board, 3 grooves before "
-             "4, the larger ball")
+MU_STEP = 1.05
+"""Friction bounds are rounded outward to powers of 1.05."""
+MAX_VERIFIED = 36
+"""Candidates verified at most (cheapest first) before the nearest is reported."""
+BATCH = 6
+SCREEN_CLEARANCE = 0.02
+"""The screen's travel estimate is raised 2 % before the candidates are re-cut and priced."""
+SCREEN_PERIODS = 10
+SCREEN_MUS = 9
 DEFINITIONS = {
-    "travel": f"capacity / ({DISPLACEMENT_MARGIN:g} x u + mu_high R_hat), u the statistic over the records of the "
-              "plate's peak travel relative to the ground (the larger of the two friction bounds; mu_low governs), "
-              f"{DISPLACEMENT_MARGIN:g} the design's displacement margin and mu_high R_hat where friction may leave "
-              "the plate off centre",
-    "acceleration": "a_lim / a, a the statistic over the records of the top plate's peak absolute acceleration "
-                    "(what the statue feels; the larger of the two friction bounds), a_lim the statue's uplift "
-                    "limit (the low end of the base-contact band when the contact is uncertain)",
-    "bearing": f"P / (W / n), P the grooves' per-ball capacity P_20 (r / {BALL_TESTED:g} m)^2, W the weight on the "
-               "n balls",
+    "travel": f"capacity / max over the sets of ({DISPLACEMENT_MARGIN:g} x u + mu_high R_hat), u the set's statistic "
+              "of the plate's peak travel relative to the ground (the larger of the two friction bounds)",
+    "acceleration": "a_lim / max over the sets of the statistic of the peak absolute plate acceleration (what the "
+                    "statue feels)",
+    "bearing": "the surface's long-term capacity per ball / W / n",
+    "travel_slc": f"capacity / ({SLC_MARGIN:g} x u_SLC + mu_high R_hat), u_SLC the statistic over the design set "
+                  "scaled to the collapse level",
+    "bearing_slc": "the short-term capacity per ball / the most loaded ball at SLC (W / n + M a l / spread)",
+    "reserve": f"capacity / ({C.RESERVE_MARGIN:g} x the median over the design records of the travel at the fixed "
+               "base's overturning median PGA + mu_high R_hat)",
 }
 
 
 def friction_bounds(mu: float) -> tuple[float, float]:
-    """(mu_low, mu_high) by default: ``mu`` times Table 25's measured spread (one rule for the
-    verification and the fragility study: statue2model.rocking.sampling.friction_bounds, whose
-    MU_LOW_FACTOR 0.0039 / 0.0073 and MU_HIGH_FACTOR 0.0108 / 0.0073 it states; about the property
-    modification factors EN 15129 / ASCE 7-16 17.2.8.4 apply to friction, 0.5-0.6 and 1.5-1.8).
+    """(mu_low, mu_high) by default: ``mu`` times Table 25's spread (rocking.sampling.friction_bounds).
 
     >>> [round(x, 4) for x in friction_bounds(0.0073)]
     [0.0039, 0.0108]
@@ -145,358 +109,476 @@ def friction_bounds(mu: float) -> tuple[float, float]:
     return lo, hi
 
 
+def _outward(lo: float, hi: float) -> tuple[float, float]:
+    k = math.log(MU_STEP)
+    q_lo = MU_STEP ** math.floor(math.log(lo) / k + 1e-9) if lo > 0 else 0.0
+    q_hi = MU_STEP ** math.ceil(math.log(hi) / k - 1e-9) if hi > 0 else 0.0
+    return float(f"{q_lo:.6g}"), float(f"{q_hi:.6g}")
+
+
 @dataclass(frozen=True)
-class PlateDemand:
-    """Peaks of the top plate of one (R, r) on each record: travel (m) and felt acceleration
-    (m/s^2) at the lower (``_low``) and upper (``_high``) friction bound."""
+class RecordSet:
+    """One set the device is verified on: ``name``, its ``records`` (GroundMotion), ``seeds`` and what the set
+    is (``info``: rules_met, band, band_reason, ...)."""
 
-    R: float
-    r: float
-    travel_low: tuple
-    travel_high: tuple
-    felt_low: tuple
-    felt_high: tuple
-    statistic: str
+    name: str
+    records: tuple
+    seeds: str = ""
+    info: dict | None = None
+
+
+@dataclass(frozen=True)
+class Peaks:
+    """Peaks of the top plate of one period at one friction pair, per motion: travel (m) and felt (m/s^2)
+    at mu_low and mu_high."""
+
+    travel_low: np.ndarray
+    travel_high: np.ndarray
+    felt_low: np.ndarray
+    felt_high: np.ndarray
+
+    def take(self, sl) -> "Peaks":
+        return Peaks(self.travel_low[sl], self.travel_high[sl], self.felt_low[sl], self.felt_high[sl])
+
+    def stat(self, statistic: str) -> tuple[float, float]:
+        f = np.mean if statistic == "mean" else np.max
+        return (max(float(f(self.travel_low)), float(f(self.travel_high))),
+                max(float(f(self.felt_low)), float(f(self.felt_high))))
 
     @property
-    def T(self) -> float:
-        return 2 * math.pi * math.sqrt(2 * (self.R - self.r) / G)
-
-    def _stat(self, values) -> float:
-        v = np.asarray(values, dtype=float)
-        return float(v.mean() if self.statistic == "mean" else v.max())
-
-    @property
-    def travel(self) -> float:
-        """The statistic over the records, the larger of the two bounds' (m)."""
-        return max(self._stat(self.travel_low), self._stat(self.travel_high))
-
-    @property
-    def felt(self) -> float:
-        """The statistic over the records, the larger of the two bounds' (m/s^2)."""
-        return max(self._stat(self.felt_low), self._stat(self.felt_high))
-
-    def to_dict(self) -> dict:
-        return {"R": self.R, "r": self.r, "T": self.T, "statistic": self.statistic,
-                "travel": self.travel, "travel_low": self._stat(self.travel_low),
-                "travel_high": self._stat(self.travel_high), "felt": self.felt,
-                "felt_low": self._stat(self.felt_low), "felt_high": self._stat(self.felt_high),
-                "travel_per_record_low": list(self.travel_low), "felt_per_record_high": list(self.felt_high)}
+    def per_record_travel(self) -> np.ndarray:
+        return np.maximum(self.travel_low, self.travel_high)
 
 
 def _peaks(task) -> list:
-    """Per (R, r) of the task: ((travel, felt) per record at mu_low, the same at mu_high)."""
     from .time_history import simulate
 
-    pairs, records, mu_low, mu_high, g = task
+    items, g = task
     out = []
-    for R, r in pairs:
-        both = []
-        for mu in (mu_low, mu_high):
-            iso = Isolator(R=R, r=r, M=1.0, mu=mu, g=g)
-            runs = [simulate(iso, rec, dt_out=DT_OUT) for rec in records]
-            both.append((tuple(x.u_max for x in runs), tuple(x.acc_abs_max for x in runs)))
-        out.append(tuple(both))
+    for R_hat, lo, hi, motions in items:
+        res = []
+        for mu in (lo, hi):
+            iso = Isolator(R=R_hat / 2 + 0.01, r=0.01, M=1.0, mu=mu, g=g)
+            runs = [simulate(iso, m, dt_out=DT_OUT) for m in motions]
+            res.append((np.array([x.u_max for x in runs]), np.array([x.acc_abs_max for x in runs])))
+        out.append(Peaks(res[0][0], res[1][0], res[0][1], res[1][1]))
     return out
 
 
-def plate_demands(pairs, records, mu_low: float, mu_high: float, g: float = G, executor=None) -> dict:
-    """{(R, r): PlateDemand} of the top plate alone (Coulomb, exact) on every record at both
-    friction bounds; the plate's motion depends on neither its mass nor the number of balls.
-    ``executor`` (compute/executors.py) runs blocks of pairs on its workers (None: here); the
-    numbers do not depend on it.
-
-    A half-period rectangular pulse of amplitude A from rest drives a frictionless plate to
-    2 A / omega^2 and back (felt 2 A):
-
-    >>> from statue2model.hazard import motions
-    >>> iso = Isolator(R=1.0, r=0.02, M=1.0, mu=0.0)
-    >>> pulse = motions.rect_pulse(1.0, iso.T / 2)
-    >>> d = plate_demands([(1.0, 0.02)], [pulse], 0.0, 0.0)[1.0, 0.02]
-    >>> round(d.travel * iso.omega ** 2, 6), round(d.felt, 6)
-    (2.0, 2.0)
-    """
-    statistic = "mean" if len(records) >= N_MIN else "max"
-    pairs, records = list(pairs), list(records)
-    if executor is None or getattr(executor, "workers", 1) < 2 or len(pairs) < 2:
-        peaks = _peaks((pairs, records, mu_low, mu_high, g))
-    else:
-        from ..compute.executors import chunks
-
-        blocks = chunks(len(pairs), executor, per_worker=2, min_chunk=8)
-        tasks = [([pairs[i] for i in b], records, mu_low, mu_high, g) for b in blocks]
-        peaks = [p for part in executor.map(_peaks, tasks, desc="isolator: time histories") for p in part]
-    return {(R, r): PlateDemand(R, r, low[0], high[0], low[1], high[1], statistic)
-            for (R, r), (low, high) in zip(pairs, peaks)}
+def _statistic(n: int) -> str:
+    return "mean" if n >= N_MIN else "max"
 
 
 @dataclass(frozen=True)
-class Margins:
-    """The three time-history margins (limit / demand, > 1 passes) of a candidate."""
+class Demands:
+    """Everything the time histories say of one (R_hat, mu_low, mu_high)."""
 
-    travel: float
-    acceleration: float
-    bearing: float
+    sets: tuple          # ((name, travel, felt), ...)
+    slc_travel: float
+    slc_felt: float
+    reserve_travel: float
+    per_record_reserve: tuple
 
-    @property
-    def balance(self) -> float:
-        """The smaller of the acceleration and bearing margins, and of the travel margin when
-        that is below 1 (CRITERION)."""
-        return min(self.acceleration, self.bearing, self.travel if self.travel < 1 - TOL else math.inf)
 
-    @property
-    def passed(self) -> bool:
-        return min(self.travel, self.acceleration, self.bearing) >= 1.0 - TOL
+class _Runner:
+    """Plate runs, cached by (R_hat, mu_low, mu_high), run in batches on the executor."""
 
-    def to_dict(self) -> dict:
-        return {"travel": _fin(self.travel), "acceleration": _fin(self.acceleration), "bearing": _fin(self.bearing)}
+    def __init__(self, sets, reserve_scales, slc_ratio, g, executor):
+        self.sets, self.reserve_scales, self.slc_ratio, self.g, self.ex = sets, reserve_scales, slc_ratio, g, executor
+        self.cache: dict = {}
+        self.runs = 0
+
+    def motions(self, R_hat):
+        T = 2 * math.pi * math.sqrt(R_hat / self.g)
+        design = list(self.sets[0].records)
+        out = [m for s in self.sets for m in s.records]
+        s_slc = self.slc_ratio(T)
+        out += [m.scaled(s_slc) for m in design]
+        if self.reserve_scales is not None:
+            out += [m.scaled(s) for m, s in zip(design, self.reserve_scales)]
+        return out
+
+    def fill(self, keys) -> None:
+        todo = [k for k in dict.fromkeys(keys) if k not in self.cache]
+        if not todo:
+            return
+        items = [(R_hat, lo, hi, self.motions(R_hat)) for R_hat, lo, hi in todo]
+        self.runs += 2 * sum(len(it[3]) for it in items)
+        if self.ex is None or getattr(self.ex, "workers", 1) < 2 or len(items) < 2:
+            peaks = _peaks((items, self.g))
+        else:
+            peaks = [p for part in self.ex.map(_peaks, [([it], self.g) for it in items],
+                                               desc="isolator: time histories") for p in part]
+        for k, p in zip(todo, peaks):
+            self.cache[k] = self._demands(p)
+
+    def _demands(self, p: Peaks) -> Demands:
+        i = 0
+        sets = []
+        for s in self.sets:
+            n = len(s.records)
+            u, a = p.take(slice(i, i + n)).stat(_statistic(n))
+            sets.append((s.name, u, a))
+            i += n
+        n0 = len(self.sets[0].records)
+        u_slc, a_slc = p.take(slice(i, i + n0)).stat(_statistic(n0))
+        i += n0
+        res, per = 0.0, ()
+        if self.reserve_scales is not None:
+            r = p.take(slice(i, i + n0)).per_record_travel
+            res, per = float(np.median(r)), tuple(float(x) for x in r)
+        return Demands(tuple(sets), u_slc, a_slc, res, per)
+
+    def get(self, key) -> Demands:
+        self.fill([key])
+        return self.cache[key]
+
+
+def _key(c: Candidate) -> tuple:
+    lo, hi = _outward(c.mu_low, c.mu_high)
+    return (round(c.R_hat, 10), lo, hi)
+
+
+def _th(c: Candidate, dem: Demands, key, reserve_on: bool, a_lim: float, why_lim: str, stat: str) -> tuple:
+    """(checks, margins, floor) of one candidate under its demands."""
+    R_hat, lo, hi = key
+    need_sets = [(name, travel_need(u, hi, R_hat), u, a) for name, u, a in dem.sets]
+    need_d = max(n for _, n, _, _ in need_sets)
+    felt = max(a for *_, a in need_sets)
+    need_slc = travel_need(dem.slc_travel, hi, R_hat, SLC_MARGIN)
+    need_res = travel_need(dem.reserve_travel, hi, R_hat, C.RESERVE_MARGIN) if reserve_on else 0.0
+    floor = max(need_d, need_slc, need_res)
+    return need_sets, need_d, felt, need_slc, need_res, floor
+
+
+def _th_checks(c: Candidate, dem: Demands, key, reserve_on, a_lim, why_lim, stat) -> tuple[tuple, dict]:
+    R_hat, lo, hi = key
+    need_sets, need_d, felt, need_slc, need_res, _ = _th(c, dem, key, reserve_on, a_lim, why_lim, stat)
+    cap = c.capacity
+    worst = max(need_sets, key=lambda x: x[1])
+    dev = c.device
+    from .layout import LAYOUTS
+
+    spread = LAYOUTS[dev.layout].spread(dev.spacing)
+    P = c.W / dev.n
+    P_dyn = C.dynamic_ball_load(c.W, dev.n, c.M, dem.slc_felt, c.lever, spread)
+    checks = [
+        C.acceleration_check(felt, a_lim, f"peak absolute plate acceleration {felt:.4f} m/s^2 (the {stat} over each "
+                             f"set's records, the largest of {len(need_sets)} sets, mu {lo:g}/{hi:g}) vs {why_lim}",
+                             key="th_acceleration",
+                             name="time-history felt acceleration below the uplift limit"),
+        Check("time-history travel within the capacity (every set)", need_d <= cap * (1 + TOL), need_d, cap,
+              f"{DISPLACEMENT_MARGIN:g} x {worst[2]:.4f} m (set {worst[0]}) + mu_high R_hat {hi * R_hat:.4f} m = "
+              f"{need_d:.4f} m vs capacity {cap:.4f} m", unit="m", key="th_travel"),
+        Check("time-history travel at the collapse level (SLC)", need_slc <= cap * (1 + TOL), need_slc, cap,
+              f"{SLC_MARGIN:g} x {dem.slc_travel:.4f} m + mu_high R_hat = {need_slc:.4f} m vs capacity {cap:.4f} m",
+              unit="m", key="th_travel_slc", level="SLC"),
+        C.ball_load_check(P_dyn, c.ball_capacity_short, f"W / n + M a l / spread = {P:.0f} + {P_dyn - P:.0f} N (felt "
+                          f"{dem.slc_felt:.3f} m/s^2 at SLC) vs the short-term {c.ball_capacity_short:.0f} N",
+                          level="SLC", key="th_ball_load_slc"),
+    ]
+    if reserve_on:
+        checks.append(Check("travel reserve up to where the statue overturns without the device",
+                            need_res <= cap * (1 + TOL), need_res, cap,
+                            f"{C.RESERVE_MARGIN:g} x the median over the design records of the travel at the PGA "
+                            f"where half of them overturn the fixed-base statue {dem.reserve_travel:.4f} m + mu_high "
+                            f"R_hat = {need_res:.4f} m vs capacity {cap:.4f} m",
+                            unit="m", key="reserve", level="reserve"))
+    inf = math.inf
+    margins = {"travel": cap / need_d if need_d > 0 else inf, "acceleration": a_lim / felt if felt > 0 else inf,
+               "bearing": c.ball_capacity.load / P if P > 0 else inf,
+               "travel_slc": cap / need_slc if need_slc > 0 else inf,
+               "bearing_slc": c.ball_capacity_short / P_dyn if P_dyn > 0 else inf,
+               "reserve": (cap / need_res if need_res > 0 else inf) if reserve_on else None}
+    return tuple(checks), margins
 
 
 @dataclass(frozen=True)
 class Verified:
-    """One candidate (design.Candidate) with its time-history margins and checks (the spectral
-    ones with REPLACED advisory, then the two time-history checks); ``device_ok``: every
-    spectral required check outside REPLACED passes."""
-
-    candidate: object
-    margins: Margins
+    candidate: Candidate
     checks: tuple
-    device_ok: bool
-    need: float                 # time-history travel need, m
+    margins: dict
+    key: tuple
 
     @property
     def passed(self) -> bool:
-        return self.device_ok and self.margins.passed
+        return all(c.passed for c in self.checks if c.required)
+
+    @property
+    def cost(self) -> float:
+        return self.candidate.cost
 
 
-def _fin(x: float) -> float | None:
-    return float(f"{x:.6g}") if math.isfinite(x) else None
+def _verify_one(c: Candidate, runner: _Runner, reserve_on, stat) -> Verified:
+    cx = c.cx
+    c2, key = c, _key(c)
+    for _ in range(3):                 # the plate's mass, so its friction, follows the travel: until it settles
+        dem = runner.get(key)
+        *_, floor = _th(c, dem, key, reserve_on, cx.a_lim, cx.why_lim, stat)
+        c2 = resized(c, floor)
+        if _key(c2) == key:
+            break
+        key = _key(c2)
+    th, margins = _th_checks(c2, dem, key, reserve_on, cx.a_lim, cx.why_lim, stat)
+    spectral = tuple(replace(k, required=False, why=k.why + " (advisory: the time histories decide)")
+                     if k.key in REPLACED else k for k in c2.checks)
+    return Verified(c2, spectral + th, margins, key)
 
 
-def _th_checks(c, dem: PlateDemand, a_lim: float, why_lim: str, mu_low: float, mu_high: float, margin: float,
-               n_rec: int) -> tuple[tuple, Margins, float]:
-    need = margin * dem.travel + mu_high * c.R_hat
-    cap = c.capacity
-    stat = f"the {dem.statistic} over {n_rec} record{'s' if n_rec != 1 else ''}"
-    bound = "mu_low" if dem._stat(dem.travel_low) >= dem._stat(dem.travel_high) else "mu_high"
-    fbound = "mu_high" if dem._stat(dem.felt_high) >= dem._stat(dem.felt_low) else "mu_low"
-    mu_t, mu_a = (mu_low if bound == "mu_low" else mu_high), (mu_high if fbound == "mu_high" else mu_low)
-    travel = Check("time-history travel within the capacity", need <= cap * (1 + TOL), need, cap,
-                   f"{margin:g} x peak travel {dem.travel:.4f} m ({stat}, {bound} {mu_t:g}) "
-                   f"+ mu_high R_hat {mu_high * c.R_hat:.4f} m = {need:.4f} m vs capacity {cap:.4f} m",
-                   unit="m", key="th_travel")
-    acc = Check("time-history felt acceleration below the uplift limit", dem.felt <= a_lim, dem.felt, a_lim,
-                f"peak absolute plate acceleration {dem.felt:.4f} m/s^2 ({stat}, {fbound} {mu_a:g}) vs {why_lim}",
-                unit="m/s^2", key="th_acceleration")
-    load = c.check("ball_load")
-    m = Margins(travel=cap / need if need > 0 else math.inf,
-                acceleration=a_lim / dem.felt if dem.felt > 0 else math.inf,
-                bearing=load.limit / load.value if load.value > 0 else math.inf)
-    return (travel, acc), m, need
+def _closeness_spectral(c) -> tuple:
+    return (sum(1 for k in c.checks if k.required and not k.passed), max(k.ratio for k in c.checks if k.required))
 
 
-def _verified(c, dem, a_lim, why_lim, mu_low, mu_high, margin, n_rec) -> Verified:
-    th, m, need = _th_checks(c, dem, a_lim, why_lim, mu_low, mu_high, margin, n_rec)
-    spectral = tuple(replace(ck, required=False, why=ck.why + " (advisory: the time histories decide)")
-                     if ck.key == "acceleration" else ck for ck in c.checks)
-    return Verified(c, m, spectral + th, c.passes(ignore=REPLACED), need)
+class _Screen:
+    """The design records' plate peaks on a grid of periods and friction coefficients, from which every
+    candidate's travel floor and felt acceleration are estimated (bilinear in T and log mu) before the
+    exact runs. A Coulomb plate under a record scaled by s with friction mu travels s times what it does
+    under the record with friction mu / s (the equation of motion scales exactly), so the collapse level
+    and the reserve come from the same grid."""
+
+    def __init__(self, records, pool, scales, slc_ratio, stat, g, executor):
+        Ts = [c.T for c in pool]
+        lo = min(c.mu_low for c in pool)
+        hi = max(c.mu_high for c in pool)
+        s_max = max([1.0, C.GAMMA_X] + ([max(scales)] if scales else []) + [slc_ratio(t) for t in (min(Ts), max(Ts))])
+        self.T = np.linspace(min(Ts), max(Ts), SCREEN_PERIODS) if max(Ts) > min(Ts) else np.array([min(Ts)])
+        self.mu = np.geomspace(max(lo / (1.2 * s_max), 1e-5), max(hi, 1.01e-5) * 1.01, SCREEN_MUS)
+        self.scales, self.slc_ratio, self.stat, self.g = scales, slc_ratio, stat, g
+        items = []
+        for T in self.T:
+            R_hat = g * T * T / (4 * math.pi ** 2)
+            for mu in self.mu:
+                items.append((R_hat, float(mu), float(mu), list(records)))
+        if executor is None or getattr(executor, "workers", 1) < 2:
+            peaks = _peaks((items, g))
+        else:
+            from ..compute.executors import chunks
+
+            blocks = chunks(len(items), executor, per_worker=2, min_chunk=4)
+            peaks = [p for part in executor.map(_peaks, [([items[i] for i in b], g) for b in blocks],
+                                                desc="isolator: screening") for p in part]
+        n = len(records)
+        self.u = np.array([p.travel_low for p in peaks]).reshape(len(self.T), len(self.mu), n)
+        self.a = np.array([p.felt_low for p in peaks]).reshape(len(self.T), len(self.mu), n)
+
+    def _at(self, arr, T, mu):
+        """Per-record values at (T, mu), bilinear in T and log mu (clamped to the grid)."""
+        x = np.interp(T, self.T, np.arange(len(self.T))) if len(self.T) > 1 else 0.0
+        y = np.interp(math.log(max(mu, 1e-12)), np.log(self.mu), np.arange(len(self.mu)))
+        i0, j0 = int(min(math.floor(x), len(self.T) - 2)) if len(self.T) > 1 else 0, int(min(math.floor(y), len(self.mu) - 2))
+        fx, fy = (x - i0 if len(self.T) > 1 else 0.0), y - j0
+        i1 = min(i0 + 1, len(self.T) - 1)
+        return ((1 - fx) * (1 - fy) * arr[i0, j0] + fx * (1 - fy) * arr[i1, j0]
+                + (1 - fx) * fy * arr[i0, j0 + 1] + fx * fy * arr[i1, j0 + 1])
+
+    def floor(self, c) -> tuple[float, float]:
+        """(travel floor m, felt m/s^2) estimated for candidate ``c``."""
+        T, lo, hi, R_hat = c.T, c.mu_low, c.mu_high, c.R_hat
+        f = np.mean if self.stat == "mean" else np.max
+        u = max(f(self._at(self.u, T, m)) for m in (lo, hi))
+        a = max(f(self._at(self.a, T, m)) for m in (lo, hi))
+        s = self.slc_ratio(T)
+        u_slc = max(f(s * self._at(self.u, T, m / s)) for m in (lo, hi))
+        need = max(travel_need(u, hi, R_hat), travel_need(u_slc, hi, R_hat, SLC_MARGIN))
+        if self.scales:
+            per = [max(sc * self._at(self.u, T, m / sc)[i] for m in (lo, hi)) for i, sc in enumerate(self.scales)]
+            need = max(need, travel_need(float(np.median(per)), hi, R_hat, C.RESERVE_MARGIN))
+        return need, a
 
 
-def rank(entries) -> list:
-    """``entries`` (Verified) in the order of CRITERION: the passing ones first (within
-    BALANCE_TOLERANCE of the best balance the lightest top plate, then the rest by balance),
-    then the failing ones nearest first (device checks passed, then the largest balance)."""
-    passing = [v for v in entries if v.passed]
-    failing = [v for v in entries if not v.passed]
-
-    def tie(v):
-        c = v.candidate
-        return (round(c.side, 3), c.thickness, c.n_grooves, -c.r)
-
-    ranked = []
-    if passing:
-        best = max(v.margins.balance for v in passing)
-        near = [v for v in passing if v.margins.balance >= (1 - BALANCE_TOLERANCE) * best]
-        rest = [v for v in passing if v.margins.balance < (1 - BALANCE_TOLERANCE) * best]
-        ranked = (sorted(near, key=lambda v: (round(v.candidate.m_o, 3), -v.margins.balance) + tie(v))
-                  + sorted(rest, key=lambda v: (-v.margins.balance, round(v.candidate.m_o, 3)) + tie(v)))
-    return ranked + sorted(failing, key=lambda v: (not v.device_ok, -v.margins.balance,
-                                                   round(v.candidate.m_o, 3)) + tie(v))
-
-
-def _check_inputs(records, mu, mu_low, mu_high, margin):
+def _check_inputs(records, mu, mu_low, mu_high):
     if not records or not all(isinstance(m, GroundMotion) for m in records):
         raise InputError("the verification needs at least one design record (GroundMotion)")
     if any(m.kind == "none" or not m.pga > 0 for m in records):
         raise InputError("every design record must be a ground motion (not zero)")
     for name, v in (("mu_low", mu_low), ("mu_high", mu_high)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and 0 <= v < 0.5):
+        if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v) and 0 <= v < 0.5):
             raise InputError(f"friction bound {name} must be in [0, 0.5), got {v!r}")
-    if not mu_low <= mu <= mu_high:
+    if mu is not None and mu_low is not None and mu_high is not None and not mu_low <= mu <= mu_high:
         raise InputError(f"friction bounds must hold the nominal mu: mu_low {mu_low:g} <= mu {mu:g} <= mu_high "
                          f"{mu_high:g}")
-    if not (math.isfinite(margin) and margin >= 1):
-        raise InputError(f"displacement margin must be >= 1, got {margin}")
 
 
-def verify(statue, *, records, mu: float, mu_low: float | None = None, mu_high: float | None = None,
+def verify(statue, *, records, mu: float | None = None, mu_low: float | None = None, mu_high: float | None = None,
            a_lim: float | None = None, a_lim_why: str | None = None, records_info: dict | None = None,
-           balls=BALLS, R_grid=R_GRID, margin: float = DISPLACEMENT_MARGIN, g: float = G, executor=None,
-           **kwargs):
-    """The isolator for ``statue`` (RockingParams) chosen by CRITERION among the candidates of
-    :func:`~statue2model.isolator.design.design` (``mu``, ``balls``, ``R_grid``, ``margin``, ``g``
-    and ``kwargs``: spectrum or motion, alpha, target, n_grooves, thickness, fuse_release,
-    ball_capacity, ...) verified on ``records`` (GroundMotion, the design set) at the friction
-    bounds ``mu_low`` and ``mu_high`` (None: :func:`friction_bounds`), against the uplift limit
-    ``a_lim`` (m/s^2, described by ``a_lim_why``; None: min(alpha_L a_L, alpha_R a_R)).
-    ``records_info``: what the records are ({"source", "rules_met", ...}, kept in design.json);
-    ``executor``: where the plate runs go (:func:`plate_demands`).
-    Returns a :class:`~statue2model.isolator.design.Design` whose ``verification`` holds the
-    margins and the candidates, and ``what_would_pass`` what would pass when none does."""
-    lo, hi = friction_bounds(mu)
-    mu_low = lo if mu_low is None else mu_low
-    mu_high = hi if mu_high is None else mu_high
+           extra_sets=(), fixed_model=None, design_pga: float | None = None, reserve_level: float = RESERVE_LEVEL,
+           rtol: float = 1e-7, balls=BALLS, R_grid=R_GRID, g: float = G, executor=None, spectrum=None,
+           motion=None, slc=None, slc_why: str | None = None, margin=None, **kwargs):
+    """The cheapest isolator for ``statue`` (RockingParams) that passes every spectral and time-history
+    check (module docstring) on the design set ``records`` and the ``extra_sets`` (RecordSet), at the
+    collapse level ``slc`` (a spectrum; None: the design one x gamma_x) and, with ``fixed_model`` (the
+    fixed-base RockingModel), with a reserve up to where the statue overturns on a fixed base (capped at
+    ``reserve_level`` x ``design_pga``, m/s^2; None: the records' mean PGA). ``mu`` None: each ball/surface
+    pair's measured law (bearing.py). The keyword arguments go to design.search."""
     records = list(records)
-    _check_inputs(records, mu, mu_low, mu_high, margin)
-    kw = dict(kwargs, mu=mu, balls=balls, R_grid=R_grid, margin=margin, g=g, a_lim=a_lim, a_lim_why=a_lim_why)
-    spec = design(statue, **kw)
-    cands = spec.evaluated
-    ok_pairs = {(c.R, c.r) for c in cands if c.passes(ignore=REPLACED)}
-    longest = (max(R_grid), min(balls))
-    pairs = set(ok_pairs) | ({longest} if longest[0] > 2 * longest[1] else set())
-    if not ok_pairs:
-        pairs.add((spec.R, spec.r))                      # the spectral search's nearest
-    demands = plate_demands(sorted(pairs), records, mu_low, mu_high, g, executor)
-    floor = {p: margin * dem.travel + mu_high * 2 * (p[0] - p[1]) for p, dem in demands.items()}
-    sized = design(statue, travel_floor=floor, **kw)
-    cx = sized.evaluated[0].cx
-    a_lim_used, why_lim = cx.a_lim, cx.why_lim
-    n_rec = len(records)
-    entries = [_verified(c, demands[c.R, c.r], a_lim_used, why_lim, mu_low, mu_high, margin, n_rec)
-               for c in sized.evaluated if (c.R, c.r) in demands]
-    ranked = rank(entries)
-    best = ranked[0]
-    passed = best.passed
-    ranges = sized.candidates.get("ranges", "")
-    n_pass = sum(v.passed for v in entries)
-    failure = None if passed else (failure_text(best.checks, shown=None)
-                                   + f" [nearest of {len(entries)} candidates verified; {ranges}]")
-    wwp = None if passed else what_would_pass(best, demands, a_lim_used, cx.ball_capacity, cx.side_max)
+    if mu is not None and (mu_low is None or mu_high is None):
+        lo, hi = friction_bounds(mu)
+        mu_low = lo if mu_low is None else mu_low
+        mu_high = hi if mu_high is None else mu_high
+    _check_inputs(records, mu, mu_low, mu_high)
+    srch = search(statue, spectrum=spectrum, motion=motion, slc=slc, slc_why=slc_why, mu=mu, mu_low=mu_low,
+                  mu_high=mu_high, a_lim=a_lim, a_lim_why=a_lim_why, balls=balls, R_grid=R_grid, g=g, **kwargs)
+    cx = srch.cx
     info = dict(records_info or {})
+    sets = [RecordSet("design", tuple(records), info.get("seeds", ""), info)] + [
+        s if isinstance(s, RecordSet) else RecordSet(f"extra {i + 1}", tuple(s)) for i, s in enumerate(extra_sets)]
+    n0 = len(records)
+    stat = _statistic(n0)
+    pga0 = design_pga if design_pga is not None else float(np.mean([m.pga for m in records]))
+    reserve, a50, scales = None, None, None
+    if fixed_model is not None:
+        from .reserve import overturning_scales
+
+        caps = [reserve_level * pga0 / m.pga for m in records]
+        reserve = overturning_scales(fixed_model, records, caps, rtol=rtol, executor=executor)
+        thresholds = np.array([r.scale * m.pga for r, m in zip(reserve, records)])
+        a50 = min(float(np.exp(np.mean(np.log(thresholds)))), reserve_level * pga0)
+        scales = [a50 / m.pga for m in records]
+    if spectrum is not None:
+        hi_sp = slc
+
+        def slc_ratio(T):
+            if hi_sp is None:
+                return C.GAMMA_X
+            return float(hi_sp.Se(T)) / float(spectrum.Se(T))
+    else:
+        def slc_ratio(T):
+            return C.GAMMA_X
+    runner = _Runner(sets, scales, slc_ratio, g, executor)
+    reserve_on = reserve is not None
+    pool = [c for c in srch.candidates if c.passes(ignore=REPLACED + ("fuse_layout",))]
+    screen = _Screen(records, pool, scales, slc_ratio, stat, g, executor) if pool else None
+    estimated = []
+    for c in pool:
+        floor, felt = screen.floor(c)
+        c2 = resized(c, floor * (1 + SCREEN_CLEARANCE))
+        if felt <= cx.a_lim and c2.passes(ignore=REPLACED):
+            estimated.append(c2)
+    estimated.sort(key=lambda c: c.cost)
+    verified: list[Verified] = []
+    best = None
+    i = 0
+    while i < len(estimated) and len(verified) < MAX_VERIFIED:
+        if best is not None and estimated[i].cost > best.cost * (1 + COST_TOLERANCE):
+            break
+        batch = estimated[i:i + BATCH]
+        i += len(batch)
+        runner.fill([_key(c) for c in batch])
+        for c in batch:
+            v = _verify_one(c, runner, reserve_on, stat)
+            verified.append(v)
+            if v.passed and (best is None or _better(v, best)):
+                best = v
+    if not verified:                    # nothing passes even the estimate: verify the nearest few as they are
+        near = sorted((c for c in pool if c.makeable), key=lambda c: c.cost)[:BATCH] or \
+            sorted(srch.candidates, key=_closeness_spectral)[:1]
+        runner.fill([_key(c) for c in near])
+        verified = [_verify_one(c, runner, reserve_on, stat) for c in near]
+    n_pass = sum(v.passed for v in verified)
+    if best is not None:
+        chosen, failure, wwp = best, None, None
+    else:
+        pool = [v for v in verified if v.candidate.makeable]
+        if pool:
+            chosen = min(pool, key=lambda v: (sum(1 for k in v.checks if k.required and not k.passed),
+                                              max(k.ratio for k in v.checks if k.required), v.cost))
+        else:
+            near = nearest(srch.candidates) or min(srch.candidates, key=lambda c: c.cost)
+            key = _key(near)
+            dem = runner.get(key)
+            th, mg = _th_checks(near, dem, key, reserve_on, cx.a_lim, cx.why_lim, stat)
+            chosen = Verified(near, near.checks + th, mg, key)
+        bad = {k.key for k in chosen.checks if k.required and not k.passed}
+        failure = failure_text(chosen.checks) + (f" [nearest of {len(verified)} candidates verified, "
+                                                 f"{len(srch.candidates)} tried; {srch.ranges}]")
+        wwp = what_would_pass(chosen.candidate, srch.candidates, reasons=bad)
+    dem = runner.get(chosen.key)
+    R_hat, lo, hi = chosen.key
+    set_rows = []
+    for s, (name, u, a) in zip(sets, dem.sets):
+        si = s.info or {}
+        set_rows.append({"name": name, "seeds": s.seeds or si.get("seeds", ""), "records": len(s.records),
+                         "travel": u, "felt": a, "need": travel_need(u, hi, R_hat),
+                         "rules_met": si.get("rules_met"), "band_s": si.get("band_s"),
+                         "band_reason": si.get("band_reason")})
+    T = 2 * math.pi * math.sqrt(R_hat / g)
     verification = {
-        "margins": best.margins.to_dict(), "balance": _fin(best.margins.balance), "passed": passed,
-        "definitions": DEFINITIONS, "criterion": CRITERION,
-        "records": {"count": n_rec, "source": info.pop("source", "given"), "rules_met": info.pop("rules_met", None),
-                    "labels": [m.label for m in records], **info},
-        "statistic": demands[best.candidate.R, best.candidate.r].statistic,
-        "statistic_rule": f"the mean over the records with at least {N_MIN} (NTC 2018 §7.3.5, EN 1998-1 "
-                          "§4.3.3.4.3), else the most unfavourable record",
-        "mu": mu, "mu_low": mu_low, "mu_high": mu_high,
-        "mu_rule": "every record at both friction bounds (EN 15129 / ASCE 7-16 §17.2.8.4 bound analyses); each "
-                   "demand takes the bound that governs it",
-        "a_lim": a_lim_used, "a_lim_why": why_lim, "model": "top plate alone, Coulomb (exact while the statue "
-                                                             "stays in full contact)",
-        "demand": {**demands[best.candidate.R, best.candidate.r].to_dict(), "travel_need": best.need,
-                   "spectral_need": best.candidate.check("travel").value, "capacity": best.candidate.capacity,
-                   "capacity_sized_on": ("time histories" if best.need > best.candidate.check("travel").value
-                                         else "spectrum")},
-        "capacity_rule": "the opening is cut to cover the larger of the spectral and the time-history travel need",
-        "pairs_run": len(demands), "runs": 2 * n_rec * len(demands), "candidates_verified": len(entries),
-        "candidates_passing": n_pass,
-        "pruned": "only the (R, r) whose candidates pass the device checks are run, with the longest period in "
-                  "range (and the spectral nearest when none passes them)",
+        "margins": {k: _fin(v) for k, v in chosen.margins.items()}, "passed": chosen.passed,
+        "definitions": DEFINITIONS, "criterion": CRITERION, "statistic": stat,
+        "statistic_rule": f"the mean over a set's records with at least {N_MIN} (NTC 2018 7.3.5, EN 1998-1 "
+                          "4.3.3.4.3), else the most unfavourable record",
+        "records": {"count": n0, "source": info.get("source", "given"), "rules_met": info.get("rules_met"),
+                    "labels": [m.label for m in records],
+                    **{k: v for k, v in info.items() if k not in ("source", "rules_met")}},
+        "sets": set_rows,
+        "mu": chosen.candidate.mu, "mu_low": lo, "mu_high": hi, "friction": chosen.candidate.friction.to_dict(),
+        "mu_rule": "every record at both friction bounds, rounded outward to powers of 1.05 (EN 15129 / ASCE 7-16 "
+                   "17.2.8.4 bound analyses); each demand takes the bound that governs it",
+        "a_lim": cx.a_lim, "a_lim_why": cx.why_lim,
+        "model": "top plate alone, Coulomb (exact while the statue stays in full contact)",
+        "slc": {"rule": cx.slc_why, "scale": slc_ratio(T), "travel": dem.slc_travel, "felt": dem.slc_felt,
+                "need": travel_need(dem.slc_travel, hi, R_hat, SLC_MARGIN)},
+        "reserve": None if reserve is None else {
+            "level": reserve_level, "design_pga": pga0, "pga": a50, "pga_over_design": a50 / pga0,
+            "thresholds": [r.scale * m.pga for r, m in zip(reserve, records)],
+            "overturns": [r.overturns for r in reserve],
+            "travel_per_record": list(dem.per_record_reserve), "travel": dem.reserve_travel,
+            "need": travel_need(dem.reserve_travel, hi, R_hat, C.RESERVE_MARGIN), "margin": C.RESERVE_MARGIN,
+            "rule": "the PGA where the fixed-base statue overturns in half the design records (the geometric mean of "
+                    "each record's lowest overturning PGA, isolator/reserve.py; at most "
+                    f"{reserve_level:g} x the design PGA): every record scaled to it, the median travel + mu_high "
+                    "R_hat must fit, so that at most half the records exceed the capacity where half overturn the "
+                    "statue without the device: the device's failure median lies at or right of the fixed base's "
+                    "overturning median"},
+        "candidates_verified": len(verified), "candidates_passing": n_pass, "runs": runner.runs,
+        "search": "cheapest first by the spectral price; stops once the next spectral price exceeds the best "
+                  f"verified one by {COST_TOLERANCE:.0%}",
     }
-    shown = ranked[:SHOWN_PASSING]
-    unverified = [c for c in sized.evaluated if (c.R, c.r) not in demands][:SHOWN_FAILING]
-    head = best.checks
-    table = {"criterion": CRITERION, "tried": len(sized.evaluated), "verified": len(entries), "passing": n_pass,
-             "shown": len(shown) + len(unverified), "ranges": ranges,
-             "order": "verified candidates by the criterion (chosen first, then the failing ones nearest first), "
-                      "then candidates not run (a device check fails), nearest first",
-             "checks": [{"key": c.key, "name": c.name, "unit": c.unit, "required": c.required} for c in head],
-             "check_columns": ["value", "limit", "ratio", "passed"],
-             "margin_definitions": DEFINITIONS,
-             "rows": [_row(v) for v in shown] + [_unverified_row(c) for c in unverified]}
-    notes = [f"verified on {n_rec} design record{'s' if n_rec != 1 else ''} at mu {mu_low:.4g} and {mu_high:.4g}: "
-             f"{n_pass} of {len(entries)} candidates pass; margins travel {best.margins.travel:.2f}, acceleration "
-             f"{best.margins.acceleration:.2f}, bearing {best.margins.bearing:.2f}"]
+    ranked = sorted(verified, key=lambda v: (not v.passed, v.cost))
+    table = {"criterion": CRITERION, "tried": len(srch.candidates), "verified": len(verified), "passing": n_pass,
+             "ranges": srch.ranges,
+             "order": "the chosen device, then the verified candidates that can be made (passing first, cheapest "
+                      "first), then candidates not verified that can be made, cheapest first",
+             "checks": [{"key": k.key, "name": k.name, "unit": k.unit, "required": k.required, "level": k.level}
+                        for k in chosen.checks],
+             "check_columns": ["value", "limit", "ratio", "passed"], "margin_definitions": DEFINITIONS,
+             "rows": [_row(v) for v in [chosen] + [v for v in ranked if v is not chosen and v.candidate.makeable]
+                      [:SHOWN_PASSING]]}
+    not_run = sorted((c for c in srch.candidates if c.makeable and not c.passes(ignore=REPLACED)),
+                     key=lambda c: c.cost)[:SHOWN_FAILING]
+    table["rows"] += [c.row() for c in not_run]
+    table["shown"] = len(table["rows"])
+    m = chosen.margins
+    notes = [f"verified on {len(sets)} record sets of {n0} records at mu {lo:.4g} and {hi:.4g}: {n_pass} of "
+             f"{len(verified)} candidates verified pass; margins travel {m['travel']:.2f}, acceleration "
+             f"{m['acceleration']:.2f}, bearing {m['bearing']:.2f}, SLC travel {m['travel_slc']:.2f}"
+             + (f", reserve {m['reserve']:.2f}" if m.get("reserve") is not None else "")]
     if wwp:
-        notes.append("what would pass: " + wwp["text"])
-    d = best.candidate.as_design(statue, spectrum=kwargs.get("spectrum"), motion=kwargs.get("motion"),
-                                 target=kwargs.get("target"), alpha=kwargs.get("alpha", (1.0, 1.0)),
-                                 tried=len(sized.evaluated), candidates=table, failure=failure, notes=notes)
-    return replace(d, checks=best.checks, criterion=CRITERION, verification=verification, what_would_pass=wwp,
-                   evaluated=sized.evaluated)
+        notes.append(wwp["text"])
+    return _design_from(chosen.candidate, statue, inputs=srch.inputs, tried=len(srch.candidates), candidates=table,
+                        failure=failure, notes=tuple(notes), what_would_pass=wwp, evaluated=srch.candidates,
+                        checks=chosen.checks, verification=verification)
+
+
+def _better(a: Verified, b: Verified) -> bool:
+    cheapest = min(a.cost, b.cost)
+    ta, tb = a.cost <= cheapest * (1 + COST_TOLERANCE), b.cost <= cheapest * (1 + COST_TOLERANCE)
+    if ta and tb:
+        return _least(a) > _least(b)
+    return a.cost < b.cost
+
+
+def _least(v: Verified) -> float:
+    return min((1 / k.ratio if k.ratio > 0 else math.inf) for k in v.checks if k.required)
+
+
+def _fin(x) -> float | None:
+    return float(f"{x:.6g}") if isinstance(x, (int, float)) and math.isfinite(x) else None
 
 
 def _row(v: Verified) -> dict:
     row = v.candidate.row()
     row["checks"] = [[_fin(c.value), _fin(c.limit), _fin(c.ratio), c.passed] for c in v.checks]
-    row.update(passed=v.passed, device_ok=v.device_ok, margins=v.margins.to_dict(), balance=_fin(v.margins.balance),
-               th_need=_fin(v.need), worst_ratio=_fin(max(c.ratio for c in v.checks if c.required)))
+    row.update(passed=v.passed, margins={k: _fin(x) for k, x in v.margins.items()},
+               worst_ratio=_fin(max(c.ratio for c in v.checks if c.required)))
     return row
-
-
-def _unverified_row(c) -> dict:
-    row = c.row()
-    row["checks"] = row["checks"] + [[None, None, None, False], [None, None, None, False]]
-    row.update(passed=False, device_ok=False, margins=None, balance=None, th_need=None)
-    return row
-
-
-def what_would_pass(best: Verified, demands: dict, a_lim: float, ball_capacity: float, side_max: float) -> dict:
-    """What the nearest candidate ``best`` lacks and what would give it (module docstring):
-    a dict of numbers and ``text``, one sentence per fix; ``restrain`` True when no (R, r) run
-    keeps the statue in full contact (``text`` then says that alone)."""
-    c, m = best.candidate, best.margins
-    out, text = {"candidate": {"R": c.R, "r": c.r, "n_grooves": c.n_grooves, "side": c.side, "T": c.T,
-                               "thickness": c.thickness}, "restrain": False}, []
-    acc = {p: (a_lim / dem.felt if dem.felt > 0 else math.inf, dem) for p, dem in demands.items()}
-    top_p, (top_m, top_d) = max(acc.items(), key=lambda kv: (kv[1][0], kv[0][0]))
-    if top_m < 1.0 - TOL:
-        longest = max(demands, key=lambda p: demands[p].T)
-        out.update(restrain=True, best_acceleration_margin=_fin(top_m), best_pair={"R": top_p[0], "r": top_p[1]})
-        text.append(f"restrain the statue: no device in range keeps it in full contact, the largest "
-                    f"acceleration margin is {top_m:.2f} < 1 (R {top_p[0]:g} m, r {top_p[1] * 1000:g} mm, T "
-                    f"{top_d.T:.2f} s: felt {top_d.felt:.3f} m/s^2 vs uplift {a_lim:.3f} m/s^2; the longest "
-                    f"period in range is {demands[longest].T:.2f} s)")
-    elif m.acceleration < 1.0 - TOL:
-        fits = sorted((p for p, (am, _) in acc.items() if am >= 1.0 and p[1] == c.r), key=lambda p: p[0]) or \
-            sorted((p for p, (am, _) in acc.items() if am >= 1.0), key=lambda p: p[0])
-        if fits:
-            p = fits[0]
-            out["R_needed"] = p[0]
-            text.append(f"a longer period: R {p[0]:g} m with {p[1] * 1000:g} mm balls (T {demands[p].T:.2f} s) keeps "
-                        f"the felt acceleration within the uplift limit (margin {acc[p][0]:.2f})")
-    if m.bearing < 1.0 - TOL:
-        P = c.W / c.n_grooves
-        scale = (c.r / BALL_TESTED) ** 2
-        P_allow = ball_capacity * scale
-        n_need = math.ceil(c.W / P_allow)
-        r_need = BALL_TESTED * math.sqrt(P / ball_capacity)
-        out.update(load_per_ball=_fin(P), ball_capacity_needed=_fin(P / scale), ball_capacity_given=ball_capacity,
-                   ball_radius_needed=_fin(r_need), balls_needed=n_need)
-        text.append(f"grooves that carry {P:.0f} N per {c.r * 1000:g} mm ball, i.e. {P / scale:.0f} N on a "
-                    f"{BALL_TESTED * 1000:g} mm ball (the [isolator] ball_capacity convention; {ball_capacity:.0f} N "
-                    f"given): load-test a harder surface, an insert or a rubber layer against it")
-        text.append(f"or, at {ball_capacity:.0f} N on a {BALL_TESTED * 1000:g} mm ball, balls of "
-                    f"{r_need * 1000:.0f} mm radius ({c.n_grooves} of them, the same plate) or {n_need} balls of "
-                    f"{c.r * 1000:g} mm (this layout has {c.n_grooves} grooves: more balls need more grooves or a "
-                    "ball cage)")
-    if m.travel < 1.0 - TOL or not best.device_ok:
-        out.update(capacity_needed=_fin(best.need), capacity=_fin(c.capacity))
-        if c.side_needed > side_max + 1e-9:
-            out["side_needed"] = _fin(c.side_needed)
-            text.append(f"a plate of side {c.side_needed:.3f} m (largest allowed {side_max:g} m) for a travel capacity "
-                        f"of {best.need:.3f} m (now {c.capacity:.3f} m)")
-        elif m.travel < 1.0 - TOL:
-            text.append(f"a travel capacity of {best.need:.3f} m (now {c.capacity:.3f} m): wider grooves or a "
-                        "plate that does not tip (groove spacing)")
-    for ck in best.checks:
-        if ck.required and not ck.passed and ck.key not in ("th_travel", "th_acceleration", "ball_load", "travel",
-                                                              "plate_size"):
-            text.append(f"also {ck.name} (now: {ck.why})")
-    if out["restrain"]:        # no device would do: the fixes of this one are beside the point
-        text = text[:1]
-    out["text"] = "; ".join(text) if text else "nothing in range: see the failing checks"
-    return out

@@ -11,8 +11,10 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
              glue_density, rod_density, front, previews                 (``slice``)
 [model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
              mu_static
-[isolator]   enabled, mu, spectrum, motion, grooves, thickness, target, fuse_release, segments,
-             mu_low, mu_high (friction bounds), ball_capacity (N per 20 mm ball the grooves carry)
+[isolator]   enabled, mu, spectrum, motion, slc_spectrum, grooves, layout, surface, ball_material,
+             thickness, side_max, target, fuse_release, segments, mu_low, mu_high (friction bounds),
+             ball_capacity (a load test: N on a 40 mm ball), extra_sets
+[isolator.prices]  item = EUR: the device's price table (isolator/prices.py PRICES)
 [building]   floor, storeys, height, period, structure, damping, isolated, floor_spectrum
              (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
              an upper floor takes the floor spectrum of the Circolare / EC8, hazard/floor.py)
@@ -41,15 +43,16 @@ glued with 0.5 mm films, a 3 mm cutter, 8 mm steel alignment rods, 2500 x 1250 m
 panels (ch. 6.2.2); marble (2650 kg/m^3); the classical rocking model with the
 angular-momentum restitution (eq. 15) until a prototype test identifies alpha and
 theta (then ``kind = "imperfect"``; the thesis' statue: alpha_L 0.159, alpha_R 0.175,
-Table 24); one-cosine pulse spectra (Fig. 65-68); an isolator with the measured
-rolling friction 0.0073 (Table 25), designed on the EC8 type 1 spectrum, and the
-thesis' fuse released at 0.075 g (ch. 5.3).
+Table 24); one-cosine pulse spectra (Fig. 65-68); an isolator whose rolling friction follows
+the measured laws (Tables 19, 25) of the balls and groove surface it is built with, designed
+on the EC8 type 1 spectrum (its collapse level x gamma_x 1.2), and the thesis' fuse released
+at 0.075 g (ch. 5.3).
 
 Example
 -------
 >>> cfg = load_config(None)                       # the defaults
->>> cfg.prototype.scale, cfg.prototype.board, cfg.isolator.mu
-(2.0, 0.009, 0.0073)
+>>> cfg.prototype.scale, cfg.prototype.board, cfg.isolator.mu, cfg.isolator.surface
+(2.0, 0.009, None, 'auto')
 >>> import tempfile, pathlib
 >>> p = pathlib.Path(tempfile.mkdtemp()) / "project.toml"
 >>> _ = p.write_text('[prototype]\\nscale = "1:4"\\nboard = "12mm"\\n[dynamics]\\npga = "0.05g:0.4g:8"\\n')
@@ -145,14 +148,22 @@ class ModelConfig:
 
 @dataclass(frozen=True)
 class IsolatorConfig:
-    """Rolling-ball isolator design (see ``statue2model isolator design``)."""
+    """Rolling-ball isolator design (see ``statue2model isolator design``; isolator/design.py): the cheapest
+    device that passes every check, searched over balls, layouts, groove surfaces and boards."""
 
     enabled: bool = True
-    mu: float = 0.0073                  # rolling friction (Table 25)
+    mu: float | None = None             # rolling friction; auto = each ball/surface pair's law (Tables 19, 25)
     spectrum: str | None = "ec8:ag=0.25g,ground=C,type=1"
     motion: str | None = None           # design on a ground motion instead of a spectrum
-    grooves: int | None = None          # 3 | 4 | None = the lighter passing design
-    thickness: float = 0.03             # plate thickness, m
+    # the device at the collapse level (SLC): auto = the design spectrum x gamma_x 1.2 on an EC8 site (EN
+    # 1998-1 10.3(2)); on an NTC site give the site's a_g, F0, T_C* at T_R of SLC (else scaled: hazard/levels.py)
+    slc_spectrum: str | None = None
+    grooves: int | None = None          # number of balls (3, 4, 5, 6, 8, 9, 12, 16); auto = the cheapest
+    layout: str = "auto"                # ring3 .. ring8, grid3x3, grid3x4, grid4x4 (isolator/layout.py)
+    surface: str = "auto"               # beech, robinia, beech_rubber, hdpe, pom, steel_race (isolator/bearing.py)
+    ball_material: str = "auto"         # steel | resin
+    thickness: float = 0.03             # wooden board thickness, m (stacked and glued where a groove needs more)
+    side_max: float = 1.5               # largest plate side, m (the CNC bed; 1.25 for a 1250 x 2500 mm one)
     target: float | None = None         # stricter plate acceleration limit, m/s^2
     fuse_release: float | None = 0.075 * G   # m/s^2; None = no fuse
     segments: int = 256                 # groove tessellation of the plate solids
@@ -161,9 +172,11 @@ class IsolatorConfig:
     # 0.0108 about 0.0073), as EN 15129 / ASCE 7-16 17.2.8.4 bound analyses ask
     mu_low: float | None = None         # lower bound (the travel); auto = mu x 0.0039 / 0.0073
     mu_high: float | None = None        # upper bound (the forces); auto = mu x 0.0108 / 0.0073
-    # N per ball the grooves carry, on a 20 mm ball (a load test on balls of radius r_t converts by
-    # (0.02 / r_t)^2); auto = the thesis' beech grooves, 30 kg on four 20 mm balls undamaged (73.6 N)
+    # a load test of the groove surface: N carried on a 40 mm ball (r 20 mm) with the allowed dent; auto =
+    # each surface's model (isolator/bearing.py: beech calibrated on the thesis' 73.6 N)
     ball_capacity: float | None = None
+    extra_sets: int = 3                 # further record sets (other seeds) the device must hold on
+    prices: tuple = ()                  # [isolator.prices] item = EUR (isolator/prices.py), as (item, EUR) pairs
 
 
 @dataclass(frozen=True)
@@ -236,7 +249,7 @@ SECTIONS = {"scan": ScanConfig, "prototype": PrototypeConfig, "model": ModelConf
 _LENGTHS = {("scan", "height"), ("scan", "base_tol"), ("prototype", "board"), ("prototype", "glue"),
             ("prototype", "tool"), ("prototype", "tolerance"), ("prototype", "rod"), ("prototype", "clearance"),
             ("prototype", "wall"), ("prototype", "margin"), ("prototype", "edge"), ("prototype", "pass_depth"),
-            ("isolator", "thickness"), ("crosscheck", "grid"), ("building", "height")}
+            ("isolator", "thickness"), ("isolator", "side_max"), ("crosscheck", "grid"), ("building", "height")}
 _ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
 _AUTO_GRIDS = {("dynamics", "fragility_levels")}     # "auto" or a grid
 _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
@@ -246,6 +259,10 @@ _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("dynamics", "pulse"): ("cosine", "sine"),
             ("crosscheck", "groove"): ("exact", "lattice", "tiles"),
             ("building", "structure"): ("masonry", "concrete-frame", "steel-frame", "other"),
+            ("isolator", "layout"): ("auto", "ring3", "ring4", "ring5", "ring6", "ring8", "grid3x3", "grid3x4",
+                                     "grid4x4"),
+            ("isolator", "surface"): ("auto", "beech", "robinia", "beech_rubber", "hdpe", "pom", "steel_race"),
+            ("isolator", "ball_material"): ("auto", "steel", "resin"),
             ("building", "floor_spectrum"): ("auto", "ec8", "ntc2018", "ntc2018-framed")}
 
 
@@ -307,6 +324,7 @@ class ProjectConfig:
             data["objects"] = {k: v if isinstance(v, str) else {kk: clean(vv) for kk, vv in v.items()}
                                for k, v in table["objects"].items()}
         data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
+        data["isolator"]["prices"] = {k: v for k, v in self.isolator.prices}   # [isolator.prices]
         for sec, key in _ACCELS:                # accelerations with their unit, as the user writes them
             v = getattr(getattr(self, sec), key)
             if v is not None:
@@ -346,6 +364,8 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
         if not isinstance(default, bool) and (isinstance(value, bool) or isinstance(value, (list, tuple))
                                               and any(isinstance(x, bool) for x in value)):
             raise ValueError("true/false where a value is due")
+        if (sec, key) == ("isolator", "prices"):
+            return _prices(value)
         if (sec, key) in _CHOICES:
             v = str(value).strip().lower()
             if v not in _CHOICES[sec, key]:
@@ -395,6 +415,19 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
     if not math.isfinite(v):
         raise InputError(f"{name} = {value!r}: must be finite")
     return v
+
+
+def _prices(value) -> tuple:
+    """[isolator.prices]: a table of item = EUR -> sorted (item, EUR) pairs, checked by isolator/prices.py."""
+    from ..isolator.prices import prices
+
+    if not isinstance(value, dict):
+        raise ValueError("must be a table [isolator.prices] of item = price in EUR")
+    try:
+        prices(value)
+    except InputError as exc:
+        raise ValueError(str(exc).split(": ", 1)[-1]) from None
+    return tuple(sorted((str(k), float(v)) for k, v in value.items()))
 
 
 # --- [rooms.NAME] and [objects]: each object of a folder on its own floor (pipeline/rooms.py) ---
@@ -619,7 +652,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[model] rtol must be in (0, 0.01), got {m.rtol}")
     if not (math.isfinite(m.mu_static) and 0 < m.mu_static <= 10):
         bad(f"[model] mu_static (static friction coefficient) must be in (0, 10], got {m.mu_static}")
-    if not 0 <= i.mu < 0.5:
+    if i.mu is not None and not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):
         bad("[isolator] give exactly one of spectrum and motion")
@@ -642,19 +675,50 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     for name, v in (("thickness", i.thickness), ("target", i.target), ("fuse_release", i.fuse_release)):
         if v is not None and not v > 0:
             bad(f"[isolator] {name} must be positive, got {v}")
-    if i.grooves not in (None, 3, 4):
-        bad(f"[isolator] grooves must be 3, 4 or \"auto\", got {i.grooves}")
+    from ..isolator.layout import LAYOUTS
+
+    counts = sorted({lay.n for lay in LAYOUTS.values()})
+    if i.grooves is not None and i.grooves not in counts:
+        bad(f"[isolator] grooves (the number of balls) must be one of {', '.join(map(str, counts))} or \"auto\", "
+            f"got {i.grooves}")
+    if i.layout != "auto" and i.grooves is not None and LAYOUTS[i.layout].n != i.grooves:
+        bad(f"[isolator] layout {i.layout} has {LAYOUTS[i.layout].n} balls, not grooves = {i.grooves}")
+    if i.surface != "auto" and i.ball_material != "auto":
+        from ..isolator.bearing import BALLS_MATERIALS
+
+        if i.surface not in BALLS_MATERIALS[i.ball_material].surfaces:
+            bad(f"[isolator] {i.ball_material} balls are not an option on surface {i.surface} (resin balls roll on "
+                "the wooden surfaces only, as the thesis tested them)")
+    if not 0.3 <= i.side_max <= 3.0:
+        bad(f"[isolator] side_max must be in 0.3..3 m (a CNC bed), got {i.side_max:g} m")
+    if not 0 <= i.extra_sets <= 10:
+        bad(f"[isolator] extra_sets must be in 0..10, got {i.extra_sets}")
+    if i.enabled and i.slc_spectrum:
+        if not i.spectrum:
+            bad("[isolator] slc_spectrum goes with a design spectrum, not a motion")
+        from ..hazard.levels import collapse_spectrum_text
+
+        named(lambda t: collapse_spectrum_text(i.spectrum, t), "[isolator] slc_spectrum", i.slc_spectrum)
     if not 16 <= i.segments <= 4096:
         bad(f"[isolator] segments must be in 16..4096, got {i.segments}")
     for name, v in (("mu_low", i.mu_low), ("mu_high", i.mu_high)):
         if v is not None and not 0 <= v < 0.5:
             bad(f"[isolator] {name} must be in [0, 0.5), got {v}")
-    if i.mu_low is not None and i.mu_low > i.mu:
+    if i.mu is not None and i.mu_low is not None and i.mu_low > i.mu:
         bad(f"[isolator] mu_low ({i.mu_low}) must not exceed mu ({i.mu}): it is the lower friction bound")
-    if i.mu_high is not None and i.mu_high < i.mu:
+    if i.mu is not None and i.mu_high is not None and i.mu_high < i.mu:
         bad(f"[isolator] mu_high ({i.mu_high}) must not be below mu ({i.mu}): it is the upper friction bound")
-    if i.ball_capacity is not None and not i.ball_capacity > 0:
-        bad(f"[isolator] ball_capacity must be a positive load in N per 20 mm ball, got {i.ball_capacity}")
+    if (i.mu_low is None) != (i.mu_high is None) and i.mu is None:
+        bad("[isolator] give mu_low and mu_high together, or mu (the bounds then default about it)")
+    if i.mu_low is not None and i.mu_high is not None and i.mu_low > i.mu_high:
+        bad(f"[isolator] mu_low ({i.mu_low}) must not exceed mu_high ({i.mu_high})")
+    if i.ball_capacity is not None:
+        if not i.ball_capacity > 0:
+            bad(f"[isolator] ball_capacity must be a positive load in N on a 40 mm ball, got {i.ball_capacity}")
+        try:
+            check_plausible("ball_capacity", i.ball_capacity, "[isolator] ball_capacity")
+        except InputError as exc:
+            bad(str(exc))
     try:
         site(cfg)
     except InputError as exc:

@@ -83,17 +83,14 @@ class Context:
         return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R, mu_static=mu_s)
 
     def design(self) -> dict | None:
-        """The isolator design (dict) if the isolator stage ran and its design passed, or failed on the ball
-        load alone (isolator.design.fails_only_on_ball_load: the device's mechanics pass; the verdict makes
-        the grooves' load capacity its condition)."""
-        from ..isolator.design import fails_only_on_ball_load
-
+        """The isolator design (dict) if the isolator stage ran and its design passed every required check
+        (the ball load among them), else None."""
         if not self.manifests.get("isolator"):
             return None
         d = read_json(self.dirs["isolator"] / "design.json")
         if not isinstance(d, dict):
             return None
-        return d if d.get("passed") is True or fails_only_on_ball_load(d) else None
+        return d if d.get("passed") is True else None
 
 
 # --- params ---------------------------------------------------------------------------------------
@@ -141,45 +138,80 @@ def prototype_stage(ctx: Context, d: Path) -> dict:
 
 
 # --- isolator -------------------------------------------------------------------------------------
+EXTRA_SEEDS = 100
+"""The isolator's further record sets take seeds k x 100 + 1 .. (k = 1, 2, ...): independent of the design set's."""
+
+
 def isolator_stage(ctx: Context, d: Path) -> dict:
-    """The isolator designed on the [isolator] input and verified by time histories on the run's design
-    record set (the one the dynamics stage uses, :func:`_design_set`), against the statue's uplift limit
-    (the low end of the base-contact band when the params stage flagged the contact uncertain)."""
+    """The cheapest isolator that passes every check (isolator/verify.py): designed on the [isolator] input,
+    verified by time histories on the run's design record set and ``[isolator] extra_sets`` further sets of
+    other seeds, at the collapse level (hazard/levels.py) and with a reserve up to where the statue
+    overturns on a fixed base, against the statue's uplift limit (the low end of the base-contact band when
+    the params stage flagged the contact uncertain). Writes design.json, design.txt, bom.csv and, for a
+    passing design, plates/ (CNC DXF, STL, 3MF, the drawing)."""
     from ..assessment.limit_states import contact_limits
+    from ..hazard.levels import collapse_site
     from ..hazard.motions import parse_spec
     from ..isolator.plates import PlateGeometry
-    from ..isolator.verify import verify
+    from ..isolator.prices import write_bom
+    from ..isolator.verify import RecordSet, verify
     from ..report.isolator_plots import write_plates_with_section
     from ..report.stage_sections import isolator_section
 
     c, m = ctx.config.isolator, ctx.config.model
     alpha = (m.alpha_L, m.alpha_R) if m.kind == "imperfect" else (1.0, 1.0)
     rs, _ = _design_set(ctx)
+    hz = site(ctx.config)
     band = _uplift_band(ctx)
-    a_lim = min(contact_limits(ctx.model(), band))
+    model = ctx.model()
+    a_lim = min(contact_limits(model, band))
     why = ("min over the sides of alpha_side min(a_side, the low end of the uncertain base's uplift band "
            f"{band[0]:.4g}-{band[1]:.4g} m/s^2)" if band is not None else "min(alpha_L a_L, alpha_R a_R)")
+    n = len(rs.records)
     info = {"source": "design set", "rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
+            "band_reason": rs.to_dict().get("band_reason"), "seeds": f"1-{n}",
             "duration_s": max(r.duration for r in rs.records)}
-    res = verify(ctx.params(), records=rs.records, mu=c.mu, mu_low=c.mu_low, mu_high=c.mu_high, a_lim=a_lim,
-                 a_lim_why=why, records_info=info,
-                 spectrum=site(ctx.config).target if c.spectrum else None,
+    extra = [_extra_set(ctx, k) for k in range(1, c.extra_sets + 1)]
+    slc, slc_why = (None, None)
+    if c.spectrum:
+        slc_hz, slc_why = collapse_site(hz, c.slc_spectrum)
+        slc = slc_hz.target
+    res = verify(ctx.params(), records=rs.records, extra_sets=extra, fixed_model=model, design_pga=hz.pga,
+                 rtol=m.rtol, mu=c.mu, mu_low=c.mu_low, mu_high=c.mu_high, a_lim=a_lim, a_lim_why=why,
+                 records_info=info, spectrum=hz.target if c.spectrum else None, slc=slc, slc_why=slc_why,
                  motion=parse_spec(c.motion)[0] if c.motion else None, target=c.target, alpha=alpha,
-                 n_grooves=c.grooves, thickness=c.thickness, fuse_release=c.fuse_release,
-                 ball_capacity=c.ball_capacity)
+                 n_grooves=c.grooves, layouts=c.layout, surfaces=c.surface, materials=c.ball_material,
+                 thickness=c.thickness, side_max=c.side_max, fuse_release=c.fuse_release,
+                 ball_capacity=c.ball_capacity, price_table=dict(c.prices), executor=ctx.executor)
     dd = res.to_dict()
     write_json(d / "design.json", dd)
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
     if res.passed:
-        write_plates_with_section(PlateGeometry.from_design(dd), d / "plates", segments=c.segments)
+        write_bom(d / "bom.csv", res.bom)
+        write_plates_with_section(PlateGeometry.from_design(dd), d / "plates", segments=c.segments, design=dd)
     v = res.verification
     return {**isolator_section(res),
             "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
-                     "side": res.side, "n_grooves": res.n_grooves, "a_design": res.a_design,
+                     "side": res.side, "n_grooves": res.n_grooves, "layout": res.layout, "surface": res.surface,
+                     "cost": res.cost if res.passed else None, "a_design": res.a_design,
                      "d_design": res.d_design, "capacity": res.capacity, "travel_need": res.travel_need,
                      "failure": res.failure, "th_margins": res.th_margins, "what_would_pass": res.what_would_pass,
                      "mu_low": v["mu_low"], "mu_high": v["mu_high"], "a_lim": v["a_lim"],
-                     "ball_capacity": dd["ball_capacity"], "th_records": v["records"]["count"]}}
+                     "ball_capacity": dd["ball_capacity"], "th_records": v["records"]["count"],
+                     "sets": len(v.get("sets") or []), "slc": v.get("slc"), "reserve": v.get("reserve")}}
+
+
+def _extra_set(ctx: Context, k: int):
+    """The isolator's k-th further record set: the design set's target, band and size, seeds k x EXTRA_SEEDS + 1 ...
+    (isolator.verify.RecordSet, with its rules and band)."""
+    from ..isolator.verify import RecordSet
+
+    rs = _match(ctx, seed=k * EXTRA_SEEDS + 1)
+    n = len(rs.records)
+    return RecordSet(f"seeds {k * EXTRA_SEEDS + 1}-{k * EXTRA_SEEDS + n}", tuple(rs.records),
+                     f"{k * EXTRA_SEEDS + 1}-{k * EXTRA_SEEDS + n}",
+                     {"rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
+                      "band_reason": rs.to_dict().get("band_reason")})
 
 
 # --- dynamics -------------------------------------------------------------------------------------
@@ -233,21 +265,29 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     return {**section, "data": data}
 
 
-def _design_set(ctx: Context, d: Path | None = None):
-    """The design record set (assessment/study.py, hazard/matching.py) of the project's design target
-    (the site's ground or floor spectrum), over the band of the building's period and, when the isolator
-    stage is enabled, of every period its search can pick (1.2 x the longest, isolator/design.py
-    longest_period): one set, deterministic by its seeds, for the isolator's verification and the
-    dynamics stage. ``d``: writes d/records/ (record_NN.csv, set.json, spectra.png); None writes nothing.
-    Returns (RecordSet, target)."""
-    from ..assessment.study import match_records, write_records
+def _match(ctx: Context, seed: int = 1):
+    """A record set of the project's design target (the site's ground or floor spectrum), over the band of the
+    building's period and, when the isolator stage is enabled, of every period its search can pick (the site's
+    code: EC8 2 T_is, NTC 1.2 T_is of the longest, hazard/matching.py design_band), seeds seed.. ."""
+    from ..assessment.study import match_records
     from ..isolator.design import longest_period
 
     c = ctx.config.dynamics
     hz = site(ctx.config)
-    rs = match_records(hz.target, c.fragility_records, c.fragility_duration,
-                       T1=hz.building_period if hz.on_floor else None,
-                       T_is=longest_period() if enabled("isolator", ctx.config) else None)
+    return match_records(hz.target, c.fragility_records, c.fragility_duration,
+                         T1=hz.building_period if hz.on_floor else None,
+                         T_is=longest_period() if enabled("isolator", ctx.config) else None, seed=seed,
+                         code=hz.ground.code)
+
+
+def _design_set(ctx: Context, d: Path | None = None):
+    """The design record set (assessment/study.py, hazard/matching.py; :func:`_match`, seeds 1..N): one set,
+    deterministic by its seeds, for the isolator's verification and the dynamics stage. ``d``: writes
+    d/records/ (record_NN.csv, set.json, spectra.png); None writes nothing. Returns (RecordSet, target)."""
+    from ..assessment.study import write_records
+
+    hz = site(ctx.config)
+    rs = _match(ctx)
     if d is not None:
         from ..report.fragility_section import records_title
         from ..report.hazard_plots import plot_spectra

@@ -29,13 +29,95 @@ SECTION_FILES = ("plates_section.png", "plates_section.svg")
 """The section's files, written beside the plates' (after them)."""
 
 
-def write_plates_with_section(geom: PlateGeometry, out_dir, segments: int = 256) -> dict[str, Path]:
+def write_plates_with_section(geom: PlateGeometry, out_dir, segments: int = 256, design: dict | None = None
+                              ) -> dict[str, Path]:
     """The plates' files (:func:`statue2model.isolator.plates.write_plates`, its keys) and then
-    their section (keys ``section_png``, ``section_svg``: plates_section.png / .svg) in ``out_dir``."""
+    their section (keys ``section_png``, ``section_svg``: plates_section.png / .svg) in ``out_dir``; with
+    the ``design`` (design.json's dict) also the carpenter's dimensioned drawing (``drawing_svg``,
+    ``drawing_png``: drawing.svg / .png, :func:`plot_plates_drawing`)."""
     paths = write_plates(geom, out_dir, segments=segments)
     out = Path(out_dir)
     paths["section_png"], paths["section_svg"] = plot_plates_section(geom, *(out / n for n in SECTION_FILES))
+    if design is not None:
+        paths["drawing_svg"], paths["drawing_png"] = plot_plates_drawing(geom, design, out / "drawing.svg",
+                                                                         out / "drawing.png")
     return paths
+
+
+def plot_plates_drawing(geom: PlateGeometry, design: dict, svg: Path, png: Path) -> tuple[Path, Path]:
+    """The carpenter's drawing (mm): the plate in plan with its outline and overall dimensions, every groove
+    centre numbered and dimensioned from the plate centre, the opening circles, the fuse seats and drop
+    holes; beside it a table of the groove centres, and the notes: groove radius R and depth (the carved
+    ones with a liner), board stack, balls, liner, cost."""
+    plt = _pyplot()
+    fig, (ax, tx) = plt.subplots(1, 2, figsize=(16, 9), gridspec_kw={"width_ratios": [1.25, 1]})
+    h = 0.5 * geom.side * MM
+    ax.plot([-h, h, h, -h, -h], [-h, -h, h, h, -h], "k-", lw=1.5)
+    circles = geom.circles("bottom")
+    for k, (kind, x, y, r) in enumerate(circles):
+        style = {"groove": ("saddlebrown", "-"), "seat": ("steelblue", "-"), "hole": ("steelblue", "--")}[kind]
+        ax.add_patch(plt.Circle((x * MM, y * MM), r * MM, fill=False, color=style[0], ls=style[1], lw=1))
+    for k, (x, y) in enumerate(geom.groove_centres):
+        ax.plot(x * MM, y * MM, "k+", ms=10)
+        ax.annotate(f"G{k + 1}", (x * MM, y * MM), xytext=(6, 6), textcoords="offset points", fontsize=9)
+    # overall dimensions
+    off = 0.06 * h
+    ax.annotate("", (-h, -h - off), (h, -h - off), arrowprops={"arrowstyle": "<->", "lw": 0.8})
+    ax.text(0, -h - 2 * off, f"{geom.side * MM:.0f}", ha="center", va="top", fontsize=10)
+    ax.annotate("", (-h - off, -h), (-h - off, h), arrowprops={"arrowstyle": "<->", "lw": 0.8})
+    ax.text(-h - 2 * off, 0, f"{geom.side * MM:.0f}", ha="right", va="center", rotation=90, fontsize=10)
+    # one opening radius dimensioned
+    x0, y0 = geom.groove_centres[0]
+    a = geom.opening_radius * MM
+    ax.annotate("", (x0 * MM, y0 * MM), (x0 * MM + a, y0 * MM), arrowprops={"arrowstyle": "<-", "lw": 0.8})
+    ax.text(x0 * MM + a / 2, y0 * MM + 4, f"a {a:.1f}", ha="center", va="bottom", fontsize=8)
+    ax.plot(0, 0, "kx")
+    ax.set_aspect("equal")
+    ax.set_xlim(-h - 4 * off, h + off)
+    ax.set_ylim(-h - 4 * off, h + off)
+    ax.set_title("bottom plate, carved face up (mm; the top plate is its mirror, grooves facing down)", fontsize=10)
+    ax.set_xlabel("x, mm (origin: plate centre)")
+    ax.set_ylabel("y, mm")
+    tx.axis("off")
+    layers = design.get("layers") or [[geom.thickness, 1]]
+    lines = [f"Rolling-ball isolator: {design.get('n_balls', len(geom.groove_centres))} balls, "
+             f"{design.get('layout', '')}",
+             f"plate {geom.side * MM:.0f} x {geom.side * MM:.0f} x {geom.thickness * MM:.0f} mm: "
+             + " + ".join(f"{int(k)} x {t * MM:g} mm" for t, k in layers) + f" {design.get('surface_name') or ''}",
+             f"grooves: sphere R {geom.R * MM:.1f} mm, depth {geom.depth * MM:.2f} mm, opening radius "
+             f"{cap_open(geom) * MM:.1f} mm (rolling surface)"]
+    if geom.liner > 0:
+        lines.append(f"  liner {geom.liner * MM:g} mm: carve R {geom.cut_R * MM:.1f} mm, depth "
+                     f"{geom.cut_depth * MM:.2f} mm, opening radius {geom.opening_radius * MM:.1f} mm")
+    lines.append(f"balls: {design.get('ball_material', '')} {2 * geom.ball_radius * MM:g} mm diameter; gap between "
+                 f"the plates {geom.gap * MM:.1f} mm")
+    if geom.fuse_centres:
+        lines.append(f"fuse: {len(geom.fuse_centres)} balls of {2 * geom.fuse_ball_radius * MM:.1f} mm in seats "
+                     f"{geom.fuse_seat_depth * MM:.2f} mm deep; drop holes {geom.fuse_hole_diameter * MM:.1f} mm x "
+                     f"{geom.fuse_hole_depth * MM:.1f} mm (bottom plate)")
+    if design.get("cost"):
+        lines.append(f"cost {design['cost']:.0f} EUR (bom.csv)")
+    lines += ["", "groove centres (mm from the plate centre):"]
+    lines += [f"  G{k + 1:<3d} x {x * MM:9.1f}   y {y * MM:9.1f}" for k, (x, y) in enumerate(geom.groove_centres)]
+    if geom.fuse_centres:
+        lines += ["fuse seats:"] + [f"  F{k + 1:<3d} x {x * MM:9.1f}   y {y * MM:9.1f}"
+                                    for k, (x, y) in enumerate(geom.fuse_centres)]
+    tx.text(0.0, 1.0, "\n".join(lines), va="top", ha="left", family="monospace", fontsize=8.5,
+            transform=tx.transAxes)
+    fig.tight_layout()
+    from ..io.files import atomic_write
+
+    for path in (svg, png):
+        atomic_write(path, lambda p, f=fig: f.savefig(p, format=Path(path).suffix[1:], dpi=120))
+    plt.close(fig)
+    return svg, png
+
+
+def cap_open(geom: PlateGeometry) -> float:
+    """The rolling surface's opening radius, m."""
+    from ..isolator.plates import cap_opening_radius
+
+    return cap_opening_radius(geom.R, geom.depth)
 
 
 def plot_plates_section(geom: PlateGeometry, png: Path, svg: Path) -> tuple[Path, Path]:

@@ -86,66 +86,75 @@ def prototype_section(res, previews: bool) -> dict:
 
 
 def isolator_section(res) -> dict:
-    """The isolator stage: an IsolatorDesign ``res`` (its plates were written when it passed)."""
-    from ..isolator.design import fails_only_on_ball_load
+    """The isolator stage: an isolator Design ``res`` (its plates, drawing and bill of materials were written
+    when it passed)."""
+    from ..isolator.bearing import SURFACES
+    from ..isolator.layout import LAYOUTS
 
     figs, text, warnings = [], [], []
+    dev = res.device
+    what = (f"{LAYOUTS[dev.layout].name}, {dev.ball} balls of {2 * res.r * 1000:g} mm on "
+            f"{SURFACES[dev.surface].name}") if dev else f"{res.n_grooves} balls"
     if res.passed:
+        figs.append(fig("plates/drawing.png", "The carpenter's drawing: the bottom plate in plan with every groove "
+                                              "centre, the opening circles, the fuse seats and the notes (mm; "
+                                              "plates/drawing.svg)"))
         figs.append(fig("plates/plates_section.png", "Section through the bottom and top plates, a groove and "
                                                      "its ball (dimensions in mm)"))
-        text.append("CNC files: plates/bottom_plate.dxf, plates/top_plate.dxf (outline CUT_OUTSIDE, groove "
-                    "openings POCKET, centres DRILL), solids as STL and 3MF.")
-    elif fails_only_on_ball_load(res.to_dict()):
-        warnings.append(f"The nearest device fails on the ball load alone: {res.failure}. Its mechanics pass every "
-                        "check, so the analyses on the isolator run on it; its plates are not written until "
-                        "[isolator] ball_capacity holds a load-tested capacity of the grooves that carries the load.")
+        text.append(f"The device: {what}; plates {res.side * 1000:.0f} x {res.side * 1000:.0f} x "
+                    f"{res.thickness * 1000:.0f} mm. It costs about {res.cost:.0f} EUR (isolator/bom.csv; prices "
+                    "from isolator/prices.py, [isolator.prices] overrides them). CNC files: plates/bottom_plate.dxf, "
+                    "plates/top_plate.dxf (outline CUT_OUTSIDE, groove openings POCKET, centres DRILL), solids as "
+                    "STL and 3MF, plates/drawing.svg.")
     else:
-        warnings.append(f"No isolator in range works: {res.failure}. No plates were written, and the analyses "
-                        "on the isolator are skipped.")
+        wwp = (res.what_would_pass or {}).get("text")
+        warnings.append((wwp or "No isolator in range passes every check.") + " No plates were written, and the "
+                        "analyses on the isolator are skipped.")
     warnings += [f"advisory check not met: {ck.name} ({ck.why})" for ck in res.checks
                  if not ck.required and not ck.passed]
-    rows = [[ck.name, fmt(ck.value), fmt(ck.limit), ck.unit, fmt(ck.ratio, 3),
+    fr = res.friction or {}
+    if fr.get("basis") in ("assumed", "extrapolated"):
+        warnings.append(f"The rolling friction is {fr['basis']}: {fr.get('note', '')}")
+    rows = [[ck.level, ck.name, fmt(ck.value), fmt(ck.limit), ck.unit, fmt(ck.ratio, 3),
              "pass" if ck.passed else ("fail" if ck.required else "note"), ck.why] for ck in res.checks]
-    summary = {"design": "PASS" if res.passed else (
-                   "FAIL on the ball load alone (the grooves must carry more; the mechanics pass)"
-                   if fails_only_on_ball_load(res.to_dict()) else "FAIL"),
-               "grooves / balls": f"R {res.R:.3f} m, r {res.r:.4f} m, {res.n_grooves} grooves",
+    summary = {"design": "PASS" if res.passed else "FAIL",
+               "device": what,
+               "grooves": f"R {res.R:.3f} m, opening radius {res.opening_radius * 1000:.1f} mm, depth "
+                          f"{res.depth * 1000:.1f} mm",
                "period T": f"{res.T:.2f} s",
                "plate": f"{res.side:.3f} x {res.side:.3f} x {res.thickness:.3f} m",
-               "plate acceleration": f"{res.a_design:.4f} m/s^2 (limit {res.a_lim:.4f} m/s^2)",
-               "travel": f"{res.d_design:.4f} m x {res.margin:g} + mu R_hat = {res.travel_need:.4f} m "
-                         f"(capacity {res.capacity:.4f} m, {res.capacity_limited_by})"}
+               "rolling friction": f"mu {res.mu:.4g} ({fr.get('basis', 'given')})",
+               "travel capacity": f"{res.capacity:.4f} m ({res.capacity_limited_by})",
+               "load per ball": f"{res.ball_capacity.get('load_per_ball', 0):.0f} N of "
+                                f"{res.ball_capacity.get('per_ball', 0):.0f} N"}
+    if res.passed:
+        summary["cost"] = f"{res.cost:.0f} EUR"
     text.append(f"Chosen among {res.candidates.get('passing', 0)} passing of {res.candidates_tried} candidates: "
                 f"{res.criterion}.")
-    tables = [{"title": "Design checks (each passes when value <= limit; ratio = value / limit)",
-               "columns": ["check", "value", "limit", "unit", "ratio", "result", "why"],
-               "rows": rows, "status_column": 5}]
+    tables = [{"title": "Design checks (each passes when value <= limit; ratio = value / limit): the statue at the "
+                        "design level, the device at the collapse level (SLC) and with a reserve",
+               "columns": ["level", "check", "value", "limit", "unit", "ratio", "result", "why"],
+               "rows": rows, "status_column": 6}]
     v = getattr(res, "verification", None) or {}
     if v:
         mg, rec = v["margins"], v["records"]
-        summary["time-history margins"] = (f"travel {fmt(mg['travel'], 3)}, acceleration {fmt(mg['acceleration'], 3)}, "
-                                           f"bearing {fmt(mg['bearing'], 3)} (limit / demand, > 1 passes)")
-        met = {True: "; the set's rules met", False: "; the set's rules NOT met", None: ""}[rec.get("rules_met")]
-        text.append(f"Verified by time histories ({v['model']}) on {rec['count']} records ({rec['source']}{met}): "
-                    f"the {v['statistic']} over the records, every record at mu_low {v['mu_low']:.4g} and mu_high "
-                    f"{v['mu_high']:.4g}, each demand at the bound that governs it. Margins: "
-                    + "; ".join(f"{k}: {d}" for k, d in v["definitions"].items())
-                    + f". The capacity covers the larger of the spectral and the time-history travel need (here "
-                      f"the {v['demand']['capacity_sized_on']}).")
-        if res.what_would_pass:
-            warnings.append(f"What would pass: {res.what_would_pass['text']}.")
-        cand = []
-        for row in res.candidates.get("rows") or []:
-            m = row.get("margins")
-            if m and len(cand) < 10:
-                cand.append([fmt(row["R"]), fmt(row["r"] * 1000), row["n_grooves"], fmt(row["T"], 3),
-                             fmt(row["side"], 3), fmt(row["m_o"], 3), fmt(m["travel"], 3), fmt(m["acceleration"], 3),
-                             fmt(m["bearing"], 3), fmt(row["balance"], 3), "pass" if row["passed"] else "fail"])
-        tables.append({"title": f"Candidates by the criterion with their time-history margins (first {len(cand)} "
-                                f"of {res.candidates.get('verified', 0)} verified, "
-                                f"{res.candidates.get('passing', 0)} pass)",
-                       "columns": ["R (m)", "r (mm)", "grooves", "T (s)", "side (m)", "top plate (kg)", "travel",
-                                   "acceleration", "bearing", "balance", "result"],
-                       "rows": cand, "status_column": 10})
+        summary["margins"] = ", ".join(f"{k} {fmt(x, 3)}" for k, x in mg.items() if x is not None)
+        text.append(f"Verified by time histories ({v['model']}) on {len(v.get('sets') or [])} record sets of "
+                    f"{rec['count']} records: the {v['statistic']} over each set, every record at mu_low "
+                    f"{v['mu_low']:.4g} and mu_high {v['mu_high']:.4g}. Collapse level: {v['slc']['rule']}. "
+                    + (f"Reserve: {v['reserve']['rule']} (here {v['reserve']['pga'] / 9.81:.3f} g, "
+                       f"{v['reserve']['pga_over_design']:.2f} x the design PGA)." if v.get("reserve") else "")
+                    + " Margins: " + "; ".join(f"{k}: {d}" for k, d in v["definitions"].items()) + ".")
+        tables.append({"title": "The record sets the device holds on",
+                       "columns": ["set", "seeds", "records", "mean travel (m)", "mean felt (m/s^2)",
+                                   "travel need (m)", "rules met"],
+                       "rows": [[s["name"], s["seeds"], s["records"], fmt(s["travel"], 4), fmt(s["felt"], 4),
+                                 fmt(s["need"], 4), {True: "yes", False: "NO", None: "-"}[s.get("rules_met")]]
+                                for s in v.get("sets") or []]})
+    if res.bom:
+        tables.append({"title": f"Bill of materials (EUR; total {res.cost:.2f})",
+                       "columns": ["item", "material", "quantity", "unit", "unit cost", "cost"],
+                       "rows": [[r["item"], r["material"], fmt(r["quantity"], 4), r["unit"], fmt(r["unit_cost"], 2),
+                                 fmt(r["cost"], 2)] for r in res.bom]})
     return {"summary": summary, "text": text + list(res.notes), "warnings": warnings, "figures": figs,
             "tables": tables}
