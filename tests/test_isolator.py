@@ -263,36 +263,33 @@ def test_design_meets_its_checks_and_explains_failures():
         design(statue, mu=0.01)
 
 
-def test_design_chooses_three_or_four_grooves_by_plate_size():
-    """Without n_grooves both layouts are searched together and CRITERION picks one:
-    the same device as the search restricted to that layout, with a plate no heavier
-    than PLATE_TOLERANCE above the lighter layout's; the notes give both layouts' best
-    plates. (Updated for the new selection rule: the smallest plate is now taken within
-    a tolerance, then the largest acceleration margin, so the lighter layout no longer
-    wins outright.)"""
-    from statue2model.isolator.design import PLATE_TOLERANCE
+def test_design_chooses_among_layouts_by_the_criterion():
+    """Both layouts searched together: CRITERION (the cheapest passing device, design.py) picks one, the
+    same device as the search restricted to that layout, no dearer than the cheaper layout's best
+    (beyond COST_TOLERANCE)."""
+    from statue2model.isolator.design import COST_TOLERANCE
 
     statue = _statue()
     spec = ec8(0.05 * G, "A")
     three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
     four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
-    auto = design(statue, spectrum=spec, mu=0.0073)
+    auto = design(statue, spectrum=spec, mu=0.0073, layouts=("ring3", "ring4"))
     assert three.passed and four.passed and auto.passed
+    assert (three.layout, four.layout) == ("ring3", "ring4")
     same = three if auto.n_grooves == 3 else four
-    assert (auto.R, auto.r, auto.side, auto.thickness) == (same.R, same.r, same.side, same.thickness)
-    assert auto.m_o <= (1 + PLATE_TOLERANCE) * min(three.m_o, four.m_o) + 1e-9
-    assert auto.notes[0].startswith(f"3 grooves: best plate {three.side:.3f} m")
-    assert auto.notes[1].startswith(f"4 grooves: best plate {four.side:.3f} m")
-    # with a large demand the plate size follows the overturning checks, where 4 grooves
-    # put the tipping lines further out (L_cr = spacing / 2, not spacing / (2 sqrt 3)):
-    # 3 grooves no longer fit on the largest plate
+    assert auto.device == same.device and auto.cost == pytest.approx(same.cost)
+    assert auto.cost <= (1 + COST_TOLERANCE) * min(three.cost, four.cost) + 1e-9
+    assert auto.candidates["passing"] == three.candidates["passing"] + four.candidates["passing"]
+    # with a large demand the plate size follows the overturning checks, where 4 grooves put the tipping
+    # lines further out (L_cr = spacing / 2, not spacing / (2 sqrt 3)): 3 grooves no longer fit
     spec = ec8(0.25 * G, "C")
     three = design(statue, spectrum=spec, mu=0.0073, n_grooves=3)
     four = design(statue, spectrum=spec, mu=0.0073, n_grooves=4)
-    auto = design(statue, spectrum=spec, mu=0.0073)
-    assert four.passed and not three.passed and auto.n_grooves == 4 and auto.side == four.side
-    assert {c.key for c in three.checks if c.required and not c.passed} & {"plate_size", "travel", "overturning"}
-    assert auto.notes[0] == "3 grooves: none passes"
+    auto = design(statue, spectrum=spec, mu=0.0073, layouts=("ring3", "ring4"))
+    assert four.passed and not three.passed and auto.n_grooves == 4 and auto.device == four.device
+    assert {c.key for c in three.checks if c.required and not c.passed} & {
+        "plate_size", "travel", "travel_slc", "overturning", "overturning_slc"}
+    assert three.candidates["passing"] == 0
 
 
 def test_bad_isolators():

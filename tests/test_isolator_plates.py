@@ -212,8 +212,10 @@ def test_fuse_seats_and_holes():
 # --------------------------------------------------------------------------- bad geometry
 
 @pytest.mark.parametrize("change,match", [
-    ({"depth": 0.03 - MIN_BOTTOM}, "leaves less than 5 mm"),
+    ({"depth": 0.03 - MIN_BOTTOM + 1e-4}, "leaves less than 5 mm"),
     ({"depth": 0.026, "R": 1.0, "ball_radius": 0.03}, "leaves less than 5 mm"),
+    ({"depth": 0.012, "liner": 0.0131}, "groove depth 25.1 mm leaves less than 5 mm"),       # the liner's cut
+    ({"liner": -0.001}, "liner"),
     ({"depth": 0.3}, "less than its radius"),
     ({"depth": 0.0125, "R": 0.012, "thickness": 0.05, "ball_radius": 0.0121, "groove_centres": ((0, 0),)},
      "less than its radius"),
@@ -228,6 +230,16 @@ def test_fuse_seats_and_holes():
 def test_bad_geometry_is_refused(change, match):
     with pytest.raises(InputError, match=match):
         PlateGeometry(**{**REALISTIC, **change})
+
+
+def test_exactly_min_bottom_left_is_accepted():
+    """The design's depth check passes at cut depth = thickness - MIN_BOTTOM: the plate takes it."""
+    g = PlateGeometry(side=0.6, thickness=0.03, R=1.0, depth=0.03 - MIN_BOTTOM, groove_centres=((0.0, 0.0),),
+                      ball_radius=0.03)
+    assert g.cut_depth == pytest.approx(0.025)
+    lined = PlateGeometry(side=0.6, thickness=0.03, R=1.0, depth=0.03 - MIN_BOTTOM - 0.0032, liner=0.0032,
+                          groove_centres=((0.0, 0.0),), ball_radius=0.03)
+    assert lined.cut_depth == pytest.approx(0.025)
 
 
 @pytest.mark.parametrize("change,match", [
@@ -303,3 +315,111 @@ def test_write_plates(tmp_path):
             assert (holes[0].dxf.center.x, holes[0].dxf.center.y) == pytest.approx((30.0, 0.0))
         else:
             assert holes == []
+
+
+# --------------------------------------------------------------------------- plates of a design
+
+DESIGN_CASES = {"ring3": 3, "ring5": 5, "grid3x4": 12}
+
+
+@pytest.fixture(scope="module")
+def designs():
+    """Designs of the Venere restricted to one layout each (and one with the thesis' rubber liner)."""
+    from statue2model.geometry.rocking_params import RockingParams
+    from statue2model.hazard.code_spectra import G as G0
+    from statue2model.hazard.code_spectra import ec8
+    from statue2model.isolator.design import design
+
+    venere = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.7994})
+    kw = dict(spectrum=ec8(0.25 * G0, "C"), mu=0.0073, R_grid=(0.8, 1.2, 1.6), balls=(0.02, 0.025))
+    out = {lay: design(venere, layouts=lay, surfaces="beech", **kw) for lay in DESIGN_CASES}
+    out["beech_rubber"] = design(venere, layouts="ring4", surfaces="beech_rubber", **kw)
+    for d in out.values():          # each can be made (passing or the nearest makeable one)
+        assert all(c.passed for c in d.checks if c.key in ("depth", "proud", "plate_size")), d.failure
+    return out
+
+
+def _pockets(path, radius_mm):
+    import ezdxf
+
+    msp = ezdxf.readfile(str(path)).modelspace()
+    circles = [e for e in msp.query("CIRCLE") if e.dxf.layer == POCKET]
+    grooves = [e for e in circles if abs(e.dxf.radius - radius_mm) < 1e-6]
+    points = [e for e in msp.query("POINT") if e.dxf.layer == DRILL]
+    return circles, grooves, points
+
+
+@pytest.mark.parametrize("layout", sorted(DESIGN_CASES))
+def test_the_dxf_of_a_design_has_one_groove_opening_per_ball(designs, layout, tmp_path):
+    from statue2model.isolator.layout import LAYOUTS
+    from statue2model.isolator.plates import write_plates
+
+    d = designs[layout]
+    n = DESIGN_CASES[layout]
+    assert d.n_grooves == n == len(d.groove_centres) and d.layout == layout
+    g = PlateGeometry.from_design(d.to_dict())
+    assert g.liner == 0.0 and g.opening_radius == pytest.approx(d.opening_radius, abs=1e-12)
+    # the centres are the layout's, scaled by the design's spacing
+    assert np.allclose(g.groove_centres, LAYOUTS[layout].centres(d.spacing), atol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                          # no lxml: no 3MF, a warning
+        paths = write_plates(g, tmp_path, segments=16)
+    for which in ("bottom", "top"):
+        assert audit(paths[f"{which}_dxf"]) == []
+        circles, grooves, points = _pockets(paths[f"{which}_dxf"], g.opening_radius * 1e3)
+        assert len(grooves) == n == len(circles)                  # no fuse: every pocket circle is a groove's
+        assert len(points) == n
+        flip = -1 if which == "top" else 1
+        got = sorted((round(p.dxf.location.x, 6), round(p.dxf.location.y, 6)) for p in points)
+        assert np.allclose(got, sorted((round(flip * x * 1e3, 6), round(y * 1e3, 6)) for x, y in g.groove_centres))
+        centres = sorted((round(c.dxf.center.x, 6), round(c.dxf.center.y, 6)) for c in grooves)
+        assert centres == got
+
+
+def test_the_hand_built_layouts_match(tmp_path):
+    """The same count from the layouts alone, by hand: 3, 5 and 12 grooves of a 30 mm-deep board."""
+    from statue2model.isolator.layout import LAYOUTS
+    from statue2model.isolator.plates import write_plates
+
+    for key, n in DESIGN_CASES.items():
+        lay = LAYOUTS[key]
+        s = 0.2
+        side = 2 * (lay.extent(s) + 0.08 + 0.02)
+        g = PlateGeometry(side=side, thickness=0.03, R=0.30, depth=0.012, groove_centres=lay.centres(s),
+                          ball_radius=0.0183)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            paths = write_plates(g, tmp_path / key, segments=8)
+        _, grooves, points = _pockets(paths["bottom_dxf"], g.opening_radius * 1e3)
+        assert len(grooves) == len(points) == n
+
+
+def test_a_liner_is_carved_R_plus_liner_and_the_drawing_is_written(designs, tmp_path):
+    """Beech with the thesis' 3.2 mm rubber layer: the rolling surface is the design's (R, depth); the plate
+    is carved with a sphere of radius R + liner, liner deeper, so its opening circle is the carved one."""
+    d = designs["beech_rubber"]
+    dev = d.device
+    assert dev.layer == 0.0032 and dev.surface == "beech_rubber"
+    dd = d.to_dict()
+    assert dd["liner"] == 0.0032 and dd["cut_depth"] == pytest.approx(d.depth + 0.0032)
+    g = PlateGeometry.from_design(dd)
+    assert g.liner == 0.0032 and g.cut_R == pytest.approx(d.R + 0.0032) and g.cut_depth == pytest.approx(dev.cut_depth)
+    assert g.opening_radius == pytest.approx(cap_opening_radius(d.R + 0.0032, d.depth + 0.0032), rel=1e-12)
+    assert g.opening_radius == pytest.approx(dev.carved_opening, rel=1e-12) and g.opening_radius > d.opening_radius
+    assert g.removed_volume == pytest.approx(4 * cap_volume(d.R + 0.0032, d.depth + 0.0032), rel=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        paths = write_plates_with_section(g, tmp_path / "plates", segments=32, design=dd)
+    circles, grooves, points = _pockets(paths["bottom_dxf"], g.opening_radius * 1e3)
+    assert len(grooves) == len(points) == 4 == len(circles)
+    # the carved groove's deepest point: cut_depth below the face, on the axis
+    v = to_trimesh(plate_solid(g, "bottom", segments=32)).vertices
+    x0, y0 = g.groove_centres[0]
+    near = np.hypot(v[:, 0] - x0, v[:, 1] - y0) < 1e-9
+    assert v[near, 2].min() == pytest.approx(g.thickness - g.cut_depth, abs=1e-9)
+    # the carpenter's drawing, with a design
+    assert paths["drawing_png"].name == "drawing.png" and paths["drawing_svg"].name == "drawing.svg"
+    assert paths["drawing_png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    svg = paths["drawing_svg"].read_text()
+    assert "<svg" in svg[:2000]
+    assert not list((tmp_path / "plates").glob(".*.part"))

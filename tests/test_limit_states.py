@@ -200,21 +200,32 @@ def test_capacity_exceeded_outright_and_counted_as_a_loss():
     assert ls.first_exceeded["isolated"] == "full_contact"
 
 
-def test_ball_load_against_the_thesis_tests():
-    """W / n against 30 kg on four 20 mm balls scaled by (r / 0.02)^2."""
+def test_ball_load_against_the_designs_surface():
+    """W / n against the long-term capacity of a ball on the design's groove surface (design.json
+    ``ball_capacity.per_ball``, isolator/bearing.py): 25 mm balls on beech, below the calibration ball, carry
+    30 kg / 4 on a 40 mm ball scaled by (D / 40 mm)^2 (the relative dent), / 1.6 for creep."""
+    from statue2model.isolator.bearing import SURFACES, ball_capacity
+
     model = thesis()
+    cap = ball_capacity(0.025, SURFACES["beech"])
+    allow = 30 * G / 4 * (0.025 / 0.040) ** 2 / 1.6               # 17.96 N
+    assert cap.load == pytest.approx(allow, rel=1e-9)
     d = {"R": 0.30, "r": 0.0125, "M": 21.664, "mu": 0.0073, "n_grooves": 3, "capacity": 0.1, "margin": 1.5,
-         "R_hat": 2 * (0.30 - 0.0125), "passed": True}
+         "R_hat": 2 * (0.30 - 0.0125), "passed": True,
+         "ball_capacity": {"per_ball": cap.load, "criterion": cap.criterion, "source": cap.source, "surface": "beech"}}
     ls = evaluate(model, [two_sided(0.3, 0.3)], design=d)
     b = ls.row("bearing", "isolated")
     W = 21.664 * G
-    allow = 30 * G / 4 * (0.0125 / 0.02) ** 2                      # 28.74 N
-    assert b.demand == pytest.approx(W / 3, rel=1e-12) and b.capacity == pytest.approx(allow, rel=1e-12)
-    assert b.exceeded and b.ratio == pytest.approx(W / 3 / allow, rel=1e-12)
+    assert b.demand == pytest.approx(W / 3, rel=1e-12) and b.capacity == pytest.approx(allow, rel=1e-9)
+    assert b.exceeded and b.ratio == pytest.approx(W / 3 / allow, rel=1e-9) and b.n_exceeding == 1
     assert b.details["n_balls_needed"] == math.ceil(W / allow)
+    assert b.details["surface"] == "beech" and b.details["criterion"].startswith("relative dent")
     assert any("rubber layer" in o for o in b.details["options"])
     assert any("harder groove" in o for o in b.details["options"])
     assert ls.governing["isolated"].name == "bearing"
+    # a design that does not pass its own checks is analysed, with a warning
+    failing = evaluate(model, [two_sided(0.3, 0.3)], design={**d, "passed": False})
+    assert "the isolator design does not pass its own required checks" in failing.warnings
 
 
 def test_json_has_no_nan_and_says_why_a_number_is_missing():

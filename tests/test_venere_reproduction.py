@@ -175,10 +175,11 @@ def test_the_thesis_device_on_the_reproduced_spectrum(chain):
     # so on these inputs the thesis' device lets the statue feel 10 % more than its uplift
     assert not d.passed and d.failure.startswith("plate acceleration below the statue's uplift limit")
     assert next(c for c in d.checks if c.key == "acceleration").ratio == pytest.approx(1.1048, abs=1e-3)
-    # travel: SDe on the prototype = a T^2 / (4 pi^2) = 0.026506 m; with the 1.5 margin and
-    # mu R_hat: 0.04414 m, within the thesis' 0.15 m stroke (and the grooves' 0.15 m here)
+    # travel: SDe on the prototype = a T^2 / (4 pi^2) = 0.026506 m; with the 1.5 margin and the
+    # offset friction may leave at its upper bound, mu_high R_hat (mu x 0.0108 / 0.0073): 0.04624 m,
+    # within the thesis' 0.15 m stroke (and the grooves' 0.15 m here)
     assert d.d_design == pytest.approx(0.433367 * 1.5539 ** 2 / (4 * math.pi ** 2), rel=1e-3)
-    assert d.travel_need == pytest.approx(1.5 * d.d_design + MU * 0.60, rel=1e-9)
+    assert d.travel_need == pytest.approx(1.5 * d.d_design + MU * 0.0108 / 0.0073 * 0.60, rel=1e-9)
     assert d.travel_need < THESIS_STROKE and d.capacity_groove == pytest.approx(THESIS_STROKE, abs=5e-4)
 
 

@@ -182,6 +182,15 @@ def fixed_state(verdict: dict) -> str:
     return "full contact"
 
 
+NO_DEVICE = {"friction": "it lifts below the balls' own rolling resistance (restrain it)",
+             "pit": "it lifts below the balls' own rolling resistance (restrain it)",
+             "acceleration": "no device in range keeps it in full contact (restrain it)",
+             "ball_load": "too heavy for the groove surfaces in range",
+             "plate_size": "the device it needs exceeds the largest plate",
+             "reserve": "no device in range keeps a reserve to where it would overturn"}
+"""The device column's words for the kind of reason no design passes (isolator.design.what_would_pass)."""
+
+
 def _device(verdict: dict, data: dict) -> dict:
     iso = verdict.get("isolated") or {}
     if not iso:
@@ -193,7 +202,8 @@ def _device(verdict: dict, data: dict) -> dict:
     geo = (f"R {R:.2f} m" if R is not None else "R -") + (f", r {r * 1000:.1f} mm" if r is not None else "") \
         + (f", {n} grooves" if n is not None else "") + (f", T {T:.2f} s" if T is not None else "")
     if iso.get("passed"):
-        state, text = "passed", f"{geo}: passes"
+        cost = _finite(iso.get("cost"))
+        state, text = "passed", f"{geo}: passes" + (f", about {cost:.0f} EUR" if cost else "")
     elif iso.get("conditional"):
         state = "conditional"
         b = _row(verdict.get("limit_states"), "bearing", "isolated") or {}
@@ -203,10 +213,8 @@ def _device(verdict: dict, data: dict) -> dict:
     else:
         state = "none"
         reason = str(iso.get("reason") or "no design in range passes")
-        names = [part.split(":")[0].strip() for part in reason.split(" [")[0].split("; ") if part.strip()]
-        names = [x for x in names if not x.startswith("and ")]
-        text = "none: fails " + ", ".join(names[:2]) + (f" (+{len(names) - 2} more)" if len(names) > 2 else "")
-        note = "; ".join(x for x in (reason, str(iso.get("what_would_pass") or "")) if x)
+        text = "none: " + NO_DEVICE.get(iso.get("reason_key"), "no design in range passes")
+        note = reason
         return {"device_state": state, "device": text, "R": R, "r": r, "n_grooves": n, "T": T, "device_note": note}
     return {"device_state": state, "device": text, "R": R, "r": r, "n_grooves": n, "T": T,
             "device_note": str(iso.get("what_would_pass") or "")}

@@ -86,7 +86,7 @@ BEARING_OPTIONS = (
     "a harder groove surface (a hardwood, resin or metal insert or liner in each groove)",
     "a rubber layer on the grooves (the thesis' device, ch. 5.2.3: it spreads the contact and adds damping)",
     "more balls (the load per ball is W / n)",
-    "larger balls (the capacity grows as r^2)",
+    "larger balls (on wood the capacity grows as r^2 up to 40 mm balls, more slowly above)",
     "fuse balls that carry the plate at rest (SDI-BPS, ch. 2.4; the design's fuse), so the rolling balls "
     "are loaded only while the plate moves",
 )

@@ -152,9 +152,14 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
         demand = design.get("travel_need", design.get("d_design"))
         wwp = (design.get("what_would_pass") or {}).get("text")
         v = design.get("verification") or {}
+        sets = v.get("sets") or []
+        felt = (max(float(s_["felt"]) for s_ in sets) if sets else
+                (design.get("a_design") or 0.0) + design.get("mu", 0.0) * G)    # time histories, else Se(T) + mu g
         isolated = {"passed": bool(design.get("passed")), "conditional": False, "what_would_pass": wwp,
+                    "reason_key": (design.get("what_would_pass") or {}).get("reason"),
                     "th_margins": design.get("th_margins"), "capacity": cap, "travel_demand": demand,
-                    "travel_margin": _ratio(cap, demand), "T": design.get("T"), "R": design.get("R"),
+                    "travel_margin": _ratio(cap, demand), "felt": felt, "felt_margin": _ratio(uplift, felt),
+                    "T": design.get("T"), "R": design.get("R"),
                     "r": design.get("r"), "n_grooves": design.get("n_grooves"), "layout": design.get("layout"),
                     "surface": design.get("surface_name") or design.get("surface"), "cost": design.get("cost"),
                     "slc_rule": (v.get("slc") or {}).get("rule"),
@@ -337,7 +342,7 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
         return (f"the designed isolator does not protect at the design level: {bearing['title']} exceeded "
                 f"({_rv(bearing)})")
     cost = isolated.get("cost")
-    return f"isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
+    return "isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
 
 
 def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:

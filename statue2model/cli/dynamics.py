@@ -389,7 +389,7 @@ def cmd_records(args) -> int:
     target = ground = parse_spectrum(args.spectrum)
     if args.floor:
         target = parse_floor(args.floor, ground)
-    required, why = design_band(args.t1, args.t_is)
+    required, why = design_band(args.t1, args.t_is, ground.code)
     band = args.band if args.band is not None else required
     if args.duration is None:
         args.duration = duration_for_band(band)

@@ -193,6 +193,8 @@ def _cmd_design(args) -> int:
     out = Path(args.json)
     bom = out.with_name(out.stem + "_bom.csv")
     group = OutputGroup.files([out, out.with_suffix(".txt"), bom], "isolator design")   # checked before any work
+    if args.ball_capacity is not None and args.surface is None:
+        raise InputError("--ball-capacity is a load test of one groove surface: name it with --surface")
     res = design(statue, mu=args.mu, spectrum=spectrum, slc=slc, slc_why=why, motion=motion, target=args.target,
                  alpha=(aL, aR), n_grooves=args.grooves, thickness=args.thickness, fuse_release=args.fuse_release,
                  ball_capacity=args.ball_capacity, surfaces=args.surface, layouts=args.layout,
@@ -205,8 +207,8 @@ def _cmd_design(args) -> int:
     print(report)
     print(f"\nwrote {out}, {out.with_suffix('.txt').name} and {bom.name}")
     if not res.passed:
-        raise InputError(f"no design meets every check: {(res.what_would_pass or {}).get('text') or res.failure}; "
-                         f"see {out.with_suffix('.txt')}")
+        why = ((res.what_would_pass or {}).get("text") or res.failure or "").rstrip(".")
+        raise InputError(f"no design meets every check: {why}; see {out.with_suffix('.txt')}")
     return 0
 
 

@@ -97,8 +97,8 @@ PLAUSIBLE: dict[str, Plausible] = {
     "capacity": Plausible("isolator capacity (largest plate displacement)", "m", 0.005, 1.0, 1e-4, 10.0,
                           _LENGTH_TYPOS),
     "plate_thickness": Plausible("isolator plate thickness", "m", 0.01, 0.2, 0.01, 0.2, _LENGTH_TYPOS),
-    # a load test of a groove surface, N on the thesis' 40 mm ball (beech 73.6; a hardened steel race
-    # carries about 23 kN before the ISO 76 dent): above 60 kN no surface a ball rolls on
+    # a load test of a groove surface, N on the thesis' 40 mm ball (beech 73.6; a flat hardened steel race
+    # about 11.5 kN at ISO 76's dent): above 60 kN no surface a ball rolls on
     "ball_capacity": Plausible("load a ball carries on the grooves (N on a 40 mm ball)", "N", 10.0, 25e3, 0.1,
                                60e3, (("kN", 1e3), ("kgf", 9.80665))),
     # ground motions: the largest recorded PGA is about 4 g; 100 g is no ground motion

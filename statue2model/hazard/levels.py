@@ -10,13 +10,15 @@ gamma_x (10.3(2); recommended 1.2 for buildings). So:
   ordinate, displacements included, x 1.2);
 * NTC site with the site's SLC parameters given (``slc``: a_g, F0, T_C* read off the hazard grid at
   the SLC return period, hazard/ntc_grid.py): that spectrum;
-* NTC site without them: a_g scaled by the hazard's slope between the two return periods,
-  a_g,SLC = a_g (T_R,SLC / T_R,ls)^(1 / K_HAZARD), F0 and T_C* kept (S_S and T_D recomputed);
-  the ratio of the return periods does not depend on V_R: ln(1 - P_VR,ls) / ln(1 - 0.05).
-  K_HAZARD = 1.6 is the conservative end of the slope at the one grid cell bundled here (the Paolo
-  Orsi museum, Syracuse: a_g 975 / 475 years gives 2.1, SLC / SLA at V_R 75 years 1.7; EN 1998-1
-  2.1(4) Note: "of the order of 3" elsewhere): an approximation, said in the design. A limit state
-  not named (no ``ls=``) is read as SLV.
+* NTC site without them: a_g and T_C* scaled by the hazard's growth between the two return periods,
+  a_g,SLC = a_g (T_R,SLC / T_R,ls)^(1 / K_HAZARD) and T_C*,SLC = T_C* (T_R,SLC / T_R,ls)^TC_EXPONENT, F0
+  kept (S_S, C_C and T_D recomputed); the ratio of the return periods does not depend on V_R:
+  ln(1 - P_VR,ls) / ln(1 - 0.05). K_HAZARD = 1.6 and TC_EXPONENT = 0.2 are the conservative end of the
+  growth at the one grid cell bundled here (the Paolo Orsi museum, Syracuse: a_g 975 / 475 years gives
+  K 2.1, SLC / SLA at V_R 75 years 1.7; T_C* grows with exponents 0.14-0.19; EN 1998-1 2.1(4) Note: "of
+  the order of 3" elsewhere). An approximation for the isolator's long periods (their displacement grows
+  with a_g T_C T_D), said in the design: give the site's own SLC parameters. A limit state not named
+  (no ``ls=``) is read as SLV.
 
 >>> from statue2model.hazard.code_spectra import parse_spectrum
 >>> text, why = collapse_spectrum_text("ec8:ag=0.25g,ground=C,type=1")
@@ -24,7 +26,7 @@ gamma_x (10.3(2); recommended 1.2 for buildings). So:
 ('ec8:ag=0.3g,ground=C,type=1', 1.2)
 >>> text, why = collapse_spectrum_text("ntc2018:ag=0.0669g,F0=2.511,Tc=0.286,soil=C,topo=T1,ls=SLA")
 >>> text                                      # (ln 0.37 / ln 0.95)^(1 / 1.6) = 6.38
-'ntc2018:ag=0.426652g,F0=2.511,Tc=0.286,soil=C,topo=T1,ls=SLC'
+'ntc2018:ag=0.426652g,F0=2.511,Tc=0.517432,soil=C,topo=T1,ls=SLC'
 """
 from __future__ import annotations
 
@@ -38,6 +40,8 @@ P_VR = {"SLO": 0.81, "SLD": 0.63, "SLV": 0.10, "SLC": 0.05, "SLA": 0.63}
 """NTC 2018 Tab. 3.2.I (SLA as SLD: Direttiva P.C.M. 9/2/2011 par. 2.3, docs/venere.md)."""
 K_HAZARD = 1.6
 """a_g ~ T_R^(1 / K_HAZARD) between two return periods, only where the site's SLC parameters are not given."""
+TC_EXPONENT = 0.2
+"""T_C* ~ T_R^TC_EXPONENT, likewise."""
 
 
 def _items(text: str) -> tuple[str, list[tuple[str, str]]]:
@@ -79,12 +83,20 @@ def collapse_spectrum_text(spectrum: str, slc: str | None = None) -> tuple[str, 
         return spectrum, "the design spectrum is the SLC one (ls=SLC)"
     ratio = math.log(1 - P_VR[ls]) / math.log(1 - P_VR["SLC"])
     factor = ratio ** (1.0 / K_HAZARD)
-    out = [(k, _fmt(design.a_g * factor / G) + "g") if k.lower() == "ag" else (k, v) for k, v in items
-           if k.lower() != "ls"]
+    tc = ratio ** TC_EXPONENT
+
+    def scaled(k, v):
+        if k.lower() == "ag":
+            return k, _fmt(design.a_g * factor / G) + "g"
+        if k.lower() == "tc":
+            return k, _fmt(float(v) * tc)
+        return k, v
+
+    out = [scaled(k, v) for k, v in items if k.lower() != "ls"]
     out.append(("ls", "SLC"))
     why = (f"NTC 2018 / Circolare C7.10.5.3: the device at SLC (P_VR 5 %); without the site's SLC parameters "
            f"([isolator] slc_spectrum) a_g is scaled from {ls} by (T_R ratio {ratio:.3g})^(1/{K_HAZARD:g}) = "
-           f"{factor:.3g} (hazard/levels.py: an approximation; F0, T_C* kept)")
+           f"{factor:.3g} and T_C* by its ^{TC_EXPONENT:g} = {tc:.3g} (hazard/levels.py: an approximation; F0 kept)")
     if design.limit_state is None:
         why += "; the design spectrum names no limit state (ls=): read as SLV"
     return f"{code}:" + ",".join(f"{k}={v}" for k, v in out), why

@@ -51,10 +51,11 @@ the rubber layer) and four-groove device (Table 25: resin 20 mm balls), roughly 
 load (Fig. 86). Rolling resistance on a soft surface is the ball climbing out of its own dent,
 whose shape is set by the load relative to what the surface carries, so each measured pair is
 fitted as mu = a + b u with u = P / F_short(D) the utilisation of the short-term capacity
-(P = W / n the load per ball): FRICTION_DATA. A pair the thesis measured is read from its fit;
-inside the measured loads that is data, outside an extrapolation; a pair it did not measure
-(another hardwood: the beech fit of the same ball material; polymers and steel races: a
-constant from the literature) is an assumption, and :class:`FrictionEstimate` says which.
+(P = W / n the load per ball): FRICTION_DATA (resin balls: the table of the nearest ball size).
+A pair the thesis measured is read from its fit: with its ball size and inside the measured loads
+that is data ("measured"), outside them an extrapolation; another ball size, another hardwood (the
+beech fit of the same ball material), polymers and steel races (a constant from the literature) are
+assumptions ("assumed"), and :class:`FrictionEstimate` says which.
 The design verifies at the bounds mu x (MU_LOW_FACTOR, MU_HIGH_FACTOR)
 (statue2model.rocking.sampling.friction_bounds: Table 25's spread about its nominal value).
 
@@ -146,12 +147,12 @@ BALLS_MATERIALS = {
 SURFACES = {
     "beech": Surface(
         "beech", "beech boards (the thesis)", "wood", "dent", 34e6, 2.5, 1 / (1 + K_DEF_WOOD), 700.0,
-        {"steel": "steel_beech", "resin": "resin_beech"},
+        {"steel": "steel_beech", "resin": ("resin_beech", "resin_beech_19")},
         "calibrated on the thesis' grooves (30 kg on four 20 mm balls undamaged, ch. 6.4); Brinell HB 34-37 N/mm^2 "
         "(EN 1534, MODEL.md section 9), Meyer n 2.5 (Koczan et al. 2021); creep k_def 0.6 (EN 1995-1-1 Tab. 3.2)"),
     "robinia": Surface(
         "robinia", "robinia (black locust) boards", "wood", "dent", 48e6, 2.5, 1 / (1 + K_DEF_WOOD), 750.0,
-        {"steel": "steel_beech", "resin": "resin_beech"},
+        {"steel": "steel_beech", "resin": ("resin_beech", "resin_beech_19")},
         "Brinell HB about 48 N/mm^2 across the grain (Wagenfuehr, Holzatlas; parquet tables give 43-50); "
         "Meyer n and creep as beech (assumed); friction: the beech fits at the same utilisation (assumed)"),
     "beech_rubber": Surface(
@@ -272,6 +273,10 @@ def ball_capacity(D: float, surface: Surface, R: float | None = None, long_term:
     lt = surface.long_term if long_term else 1.0
     if surface.criterion == "race":
         short = race_rating(D, R)
+        if tested is not None:           # a load test of the race on a 40 mm ball, scaled as the rating
+            short *= tested / race_rating(D0, R)
+            return Capacity(short * lt, short, "a load test, scaled as the ISO 76 rating", "a load test of the race",
+                            0.0)
         return Capacity(short * lt, short, f"ISO 76 static rating / s0 {S0_RACE:g}", surface.source, 0.0)
     d_abs, d_rel = DENT_CALIBRATION, DENT_CALIBRATION / D0 * D
     f_abs = dent_load(d_abs, D, surface.hb, surface.n)
@@ -330,6 +335,8 @@ def rolling_friction(D: float, P: float, ball: BallMaterial, surface: Surface, R
     spec = surface.friction.get(ball.key)
     if spec is None:
         raise InputError(f"{ball.name} are not an option on {surface.name}")
+    if isinstance(spec, tuple):                      # several tables of this pair: the one of the nearest ball
+        spec = min(spec, key=lambda k: abs(FRICTION_DATA[k][1] - D))
     if not isinstance(spec, str):
         mu = float(spec)
         return FrictionEstimate(mu, mu * MU_LOW_FACTOR, mu * MU_HIGH_FACTOR, "assumed",
@@ -341,6 +348,9 @@ def rolling_friction(D: float, P: float, ball: BallMaterial, surface: Surface, R
     if surface.key not in ("beech", "beech_rubber") or (surface.key == "beech_rubber" and ball.key == "steel"):
         basis, note = "assumed", (f"{what}, read at the same utilisation of {surface.name} (u = {u:.2f}): "
                                   "no thesis data for this pair")
+    elif abs(D - FRICTION_DATA[spec][1]) > 0.001:
+        basis, note = "assumed", (f"{what}, read for {D * 1000:g} mm balls at the same utilisation (u = {u:.2f}): "
+                                  f"the table measured {FRICTION_DATA[spec][1] * 1000:g} mm balls only")
     elif lo - 1e-9 <= u <= hi + 1e-9:
         basis, note = "measured", f"{what}, inside its measured loads (u = {u:.2f} in {lo:.2f}-{hi:.2f})"
     else:

@@ -45,7 +45,7 @@ loaded ball of a rigid plate under the overturning moment M a l), against the sh
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 GAMMA_X = 1.2
 """EN 1998-1 10.3(2): reliability factor on the isolators' displacements (hazard/levels.py)."""
@@ -80,10 +80,35 @@ of standard polymer sheets (1500 x 3000 mm); a wooden plate that wide is glued f
 side_max`` sets another (1.25 m: a 1250 x 2500 mm bed)."""
 
 
-@dataclass(frozen=True)
-class Check:
+class Lazy:
+    """A check's explanation built when it is first read (a search evaluates thousands of checks and shows a
+    few): ``str()`` of it, or ``+`` a string, gives the text."""
+
+    __slots__ = ("_make", "_text")
+
+    def __init__(self, make):
+        self._make, self._text = make, None
+
+    def __str__(self) -> str:
+        if self._text is None:
+            self._text = self._make()
+        return self._text
+
+    def __add__(self, other: str) -> str:
+        return str(self) + other
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+    def __eq__(self, other) -> bool:
+        return str(self) == str(other)
+
+    __hash__ = None
+
+
+class Check(NamedTuple):
     """One check: passes when value <= limit (both in ``unit``). ``level``: "design", "SLC",
-    "reserve" or "static"; ``key`` its identifier."""
+    "reserve" or "static"; ``key`` its identifier. (A named tuple: a search builds hundreds of thousands.)"""
 
     name: str
     passed: bool
@@ -107,7 +132,7 @@ class Check:
         fin = lambda x: x if math.isfinite(x) else None                 # noqa: E731 (JSON has no inf)
         return {"name": self.name, "key": self.key, "passed": self.passed, "value": fin(self.value),
                 "limit": fin(self.limit), "unit": self.unit, "ratio": fin(ratio), "required": self.required,
-                "level": self.level, "why": self.why}
+                "level": self.level, "why": str(self.why)}
 
 
 def travel_need(u: float, mu_high: float, R_hat: float, margin: float = DISPLACEMENT_MARGIN) -> float:

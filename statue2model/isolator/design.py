@@ -47,7 +47,8 @@ Checks (value <= limit; ``level`` design, SLC or static):
     acceleration_friction  Se + mu_high g <= a_lim;  recentring  R_hat <= 20 d (ASCE 7-16 17.2.4.4)
 
 A candidate that fails depth, proud, plate_size or fuse_layout cannot be made: it is never shown as
-the nearest. Choice (CRITERION): the cheapest passing device by its bill of materials (prices.py);
+the nearest while one that can be made exists (when none can, the least bad is shown with a note
+saying so, and ``nearest_makeable`` false in design.json). Choice (CRITERION): the cheapest passing device by its bill of materials (prices.py);
 ties (within COST_TOLERANCE) the larger least margin, then the smaller plate, fewer balls, the larger
 ball. When none passes, the nearest makeable candidate (fewest failing required checks, then the
 smallest worst ratio) is shown with ``failure`` and ``what_would_pass`` (one sentence: the reason a
@@ -77,6 +78,7 @@ from . import checks as C
 from .bearing import BALLS_MATERIALS, SURFACES, ball_capacity, dent_depth, pit_release, rolling_friction
 from .checks import (
     DISPLACEMENT_MARGIN,
+    Lazy as L,
     EDGE,
     GAP,
     GAMMA_X,
@@ -146,7 +148,6 @@ class Device:
     side: float
     side_needed: float
     spacing: float
-    centres: tuple
     L_cr: float
     opening_radius: float
     depth: float
@@ -157,6 +158,11 @@ class Device:
     @property
     def D(self) -> float:
         return 2 * self.r
+
+    @property
+    def centres(self) -> tuple:
+        """((x, y), ...) of the groove centres, m (plate centre at 0)."""
+        return LAYOUTS[self.layout].centres(self.spacing)
 
     @property
     def R_hat(self) -> float:
@@ -360,6 +366,9 @@ class Design:
     def th_margins(self) -> dict | None:
         return self.verification.get("margins") if self.verification else None
 
+    def _makeable(self) -> bool:
+        return all(c.passed for c in self.checks if c.key in MAKEABLE)
+
     def isolator(self, model: str = "coulomb", q: float = 30.0) -> Isolator:
         return Isolator(R=self.R, r=self.r, M=self.M, mu=self.mu, model=model, q=q, capacity=self.capacity)
 
@@ -381,6 +390,7 @@ class Design:
                    surface_name=SURFACES[dev.surface].name if dev else None, ball_material=dev.ball if dev else None,
                    layers=[list(x) for x in dev.layers] if dev else None, cut_depth=dev.cut_depth if dev else None,
                    liner=dev.layer if dev else 0.0, cost=round(self.cost, 2),
+                   nearest_makeable=bool(dev and self.passed or self._makeable()),
                    bom=[dict(r) for r in self.bom], currency="EUR",
                    schema="statue2model.isolator_design/4")
         return _finite_tree(out)
@@ -405,7 +415,7 @@ class Design:
             f"  rolling friction mu {self.mu:.4g} ({(self.friction or {}).get('basis', 'given')}); travel capacity "
             f"{self.capacity:.4f} m ({self.capacity_limited_by}; groove {self.capacity_groove:.4f} m, tipping "
             f"{self.capacity_tip:.4f} m)",
-            f"  cost {self.cost:.0f} EUR (bom.csv; prices.py, [isolator.prices])",
+            f"  cost {self.cost:.0f} EUR (the bill of materials below; prices.py, [isolator.prices])",
             "",
             "checks (each passes when value <= limit; ratio = value / limit):",
         ]
@@ -597,7 +607,7 @@ def _size(R, r, ball, layout, surface, dem: Demand, cx: _Context, floor: float =
         fuse_r = (gap / 2 / (1.0 - c) if cx.fuse_ball is None else cx.fuse_ball) if gap > 0 else 0.0
         n_fuse = lay.n if fuse_r > 0 else 0
     dev = Device(R=R, r=r, ball=ball, layout=layout, n=lay.n, surface=surface, layers=layers, thickness=t,
-                 side=side, side_needed=side_needed, spacing=sp, centres=lay.centres(sp), L_cr=lay.L_cr(sp),
+                 side=side, side_needed=side_needed, spacing=sp, L_cr=lay.L_cr(sp),
                  opening_radius=a, depth=depth, m_o=m_o, fuse_ball=fuse_r, n_fuse=n_fuse)
     return dev, fr, need
 
@@ -682,49 +692,55 @@ def _evaluate(dev: Device, fr, need: float, dem: Demand, cx: _Context, with_fuse
     pit = 0.0
     if s.criterion == "dent":
         pit = pit_release(r, dent_depth(P / s.long_term, dev.D, s.hb, s.n), g)
-    where = f"(limited by the {limited}: groove {cap_g:.4f} m, tipping {cap_t:.4f} m)"
-    stack = " + ".join(f"{k} x {tt * 1000:g} mm" for tt, k in dev.layers)
+    where = L(lambda: f"(limited by the {limited}: groove {cap_g:.4f} m, tipping {cap_t:.4f} m)")
+    stack = L(lambda: " + ".join(f"{k} x {tt * 1000:g} mm" for tt, k in dev.layers))
+    a_d = dem.a_design
     checks = [
-        C.acceleration_check(dem.a_design, a_lim, f"felt Se(T) {dem.a_design:.4f} m/s^2 "
-                             f"{'<=' if dem.a_design <= a_lim else '>'} {cx.why_lim}"),
+        C.acceleration_check(a_d, a_lim, L(lambda: f"felt Se(T) {a_d:.4f} m/s^2 {'<=' if a_d <= a_lim else '>'} "
+                                           f"{cx.why_lim}")),
         Check("rolling friction below the statue's uplift limit", mu_hi * g <= a_lim, mu_hi * g, a_lim,
-              f"mu_high g = {mu_hi * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (below mu g the plate does not roll and the "
-              "statue feels the ground)", unit="m/s^2", key="friction"),
+              L(lambda: f"mu_high g = {mu_hi * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (below mu g the plate does not roll "
+                        "and the statue feels the ground)"), unit="m/s^2", key="friction"),
         Check("the balls roll out of their pits before the statue lifts", pit <= a_lim, pit, a_lim,
-              f"a pit of the long-term dent under {P:.0f} N releases the ball at {pit:.4f} m/s^2 ({pit / g:.4f} g; "
-              "eq. 52) vs the uplift limit", unit="m/s^2", key="pit"),
-        Check("with the friction force added", dem.a_design + mu_hi * g <= a_lim, dem.a_design + mu_hi * g, a_lim,
-              f"Se + mu_high g = {dem.a_design + mu_hi * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (the thesis checks Se "
-              "alone)", required=False, unit="m/s^2", key="acceleration_friction"),
-        C.travel_check(need_d, cap, f"{DISPLACEMENT_MARGIN:g} x d {dem.d:.4f} m + mu_high R_hat "
-                       f"{mu_hi * R_hat:.4f} m = {need_d:.4f} m vs capacity {cap:.4f} m {where}"),
-        C.travel_check(need_slc, cap, f"{SLC_MARGIN:g} x d_SLC {dem.d_slc:.4f} m + mu_high R_hat = {need_slc:.4f} m "
-                       f"vs capacity {cap:.4f} m ({cx.slc_why})", level="SLC", key="travel_slc"),
+              L(lambda: f"a pit of the long-term dent under {P:.0f} N releases the ball at {pit:.4f} m/s^2 "
+                        f"({pit / g:.4f} g; eq. 52) vs the uplift limit"), unit="m/s^2", key="pit"),
+        Check("with the friction force added", a_d + mu_hi * g <= a_lim, a_d + mu_hi * g, a_lim,
+              L(lambda: f"Se + mu_high g = {a_d + mu_hi * g:.4f} m/s^2 vs {a_lim:.4f} m/s^2 (the thesis checks Se "
+                        "alone)"), required=False, unit="m/s^2", key="acceleration_friction"),
+        C.travel_check(need_d, cap, L(lambda: f"{DISPLACEMENT_MARGIN:g} x d {dem.d:.4f} m + mu_high R_hat "
+                                              f"{mu_hi * R_hat:.4f} m = {need_d:.4f} m vs capacity {cap:.4f} m {where}")),
+        C.travel_check(need_slc, cap, L(lambda: f"{SLC_MARGIN:g} x d_SLC {dem.d_slc:.4f} m + mu_high R_hat = "
+                                                f"{need_slc:.4f} m vs capacity {cap:.4f} m ({cx.slc_why})"),
+                       level="SLC", key="travel_slc"),
         Check("top plate does not overturn (eq. 49)", dem.d <= d_max + 1e-12, dem.d, d_max,
-              f"design displacement {dem.d:.4f} m vs d_max = L_cr - a = {dev.L_cr:.4f} - {a_s:.4f} m (l = {l:.4f} m)",
-              unit="m", key="overturning"),
+              L(lambda: f"design displacement {dem.d:.4f} m vs d_max = L_cr - a = {dev.L_cr:.4f} - {a_s:.4f} m "
+                        f"(l = {l:.4f} m)"), unit="m", key="overturning"),
         Check("top plate does not overturn at SLC (eq. 49)", SLC_MARGIN * dem.d_slc <= d_max_slc + 1e-12,
-              SLC_MARGIN * dem.d_slc, d_max_slc, f"{SLC_MARGIN:g} x d_SLC {dem.d_slc:.4f} m vs L_cr - a_SLC l / g = "
-              f"{d_max_slc:.4f} m", unit="m", key="overturning_slc", level="SLC"),
+              SLC_MARGIN * dem.d_slc, d_max_slc, L(lambda: f"{SLC_MARGIN:g} x d_SLC {dem.d_slc:.4f} m vs L_cr - "
+                                                          f"a_SLC l / g = {d_max_slc:.4f} m"),
+              unit="m", key="overturning_slc", level="SLC"),
         Check("the grooves fit in the plate's boards", dev.cut_depth <= t - MIN_BOTTOM + 1e-12, dev.cut_depth,
-              t - MIN_BOTTOM, f"cut {dev.cut_depth * 1000:.1f} mm deep in {stack} ({t * 1000:g} mm; at most "
-              f"{MAX_LAYERS} boards), at least {MIN_BOTTOM * 1000:g} mm must remain", unit="m", key="depth",
-              level="static"),
+              t - MIN_BOTTOM, L(lambda: f"cut {dev.cut_depth * 1000:.1f} mm deep in {stack} ({t * 1000:g} mm; at "
+                                        f"most {MAX_LAYERS} boards), at least {MIN_BOTTOM * 1000:g} mm must remain"),
+              unit="m", key="depth", level="static"),
         Check("the plates stay apart (balls stand proud of the grooves)", dev.depth <= r - MIN_GAP / 2,
-              dev.depth, r - MIN_GAP / 2, f"depth {dev.depth:.4f} m vs ball radius {r:.4f} m less {MIN_GAP / 2:.4f} "
-              f"m: gap 2 (r - depth) = {2 * (r - dev.depth):.4f} m", unit="m", key="proud", level="static"),
+              dev.depth, r - MIN_GAP / 2, L(lambda: f"depth {dev.depth:.4f} m vs ball radius {r:.4f} m less "
+                                                    f"{MIN_GAP / 2:.4f} m: gap 2 (r - depth) = "
+                                                    f"{2 * (r - dev.depth):.4f} m"),
+              unit="m", key="proud", level="static"),
         Check("plate within the largest allowed side", dev.side <= cx.side_max + 1e-12, dev.side,
-              cx.side_max, f"side {dev.side:.3f} m vs {cx.side_max:.3f} m (panel width and CNC bed; the travel and "
-              f"tipping asked {dev.side_needed:.3f} m at the largest lever arm)",
+              cx.side_max, L(lambda: f"side {dev.side:.3f} m vs {cx.side_max:.3f} m (the CNC bed; the travel and "
+                                     f"tipping asked {dev.side_needed:.3f} m at the largest lever arm)"),
               unit="m", key="plate_size", level="static"),
         Check("restoring force recentres the plate", R_hat <= C.recentring_limit(dem.d) + 1e-12, R_hat,
-              C.recentring_limit(dem.d), f"R_hat {R_hat:.3f} m vs d / (2 x {C.RESTORING:g}) (ASCE 7-16 17.2.4.4); "
-              "a weaker pendulum may drift", required=False, unit="m", key="recentring"),
-        C.ball_load_check(P, capl.load, f"{P:.0f} N on each of {n} {dev.ball} balls of {dev.D * 1000:g} mm vs "
-                          f"{capl.load:.0f} N ({s.name}, {capl.criterion}, long-term)"),
-        C.ball_load_check(P_dyn, cap_short, f"W / n + M a l / spread = {P:.0f} + {P_dyn - P:.0f} N (felt "
-                          f"{felt_slc:.3f} m/s^2 at SLC) vs the short-term {cap_short:.0f} N", level="SLC",
-                          key="ball_load_slc"),
+              C.recentring_limit(dem.d), L(lambda: f"R_hat {R_hat:.3f} m vs d / (2 x {C.RESTORING:g}) (ASCE 7-16 "
+                                                   "17.2.4.4); a weaker pendulum may drift"),
+              required=False, unit="m", key="recentring"),
+        C.ball_load_check(P, capl.load, L(lambda: f"{P:.0f} N on each of {n} {dev.ball} balls of {dev.D * 1000:g} mm "
+                                                  f"vs {capl.load:.0f} N ({s.name}, {capl.criterion}, long-term)")),
+        C.ball_load_check(P_dyn, cap_short, L(lambda: f"W / n + M a l / spread = {P:.0f} + {P_dyn - P:.0f} N (felt "
+                                                      f"{felt_slc:.3f} m/s^2 at SLC) vs the short-term "
+                                                      f"{cap_short:.0f} N"), level="SLC", key="ball_load_slc"),
     ]
     fuse = {}
     if cx.fuse_release is not None:
@@ -732,14 +748,15 @@ def _evaluate(dev: Device, fr, need: float, dem: Demand, cx: _Context, with_fuse
         back = math.inf if fuse["release"] is None else fuse["release"]
         no_ball = "no room for a fuse ball: the plates touch" if fuse["release"] is None else ""
         checks.append(Check("fuse releases before the statue rocks", back < a_lim, back, a_lim,
-                            no_ball or f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2",
+                            no_ball or L(lambda: f"release {back:.4f} m/s^2 ({back / g:.3f} g) vs {a_lim:.4f} m/s^2"),
                             unit="m/s^2", key="fuse"))
         if with_fuse_layout:
             seats, wall = _fuse_layout(dev, fuse) if fuse["ball_radius"] > 0 else ((), -math.inf)
             fuse["centres"] = [list(p) for p in seats]
             checks.append(Check("fuse seats and drop holes fit between the grooves", MIN_WALL <= wall + 1e-12,
-                                MIN_WALL, wall, no_ball or f"least wood between the cutouts {wall:.4f} m, at least "
-                                f"{MIN_WALL:.3f} m", unit="m", key="fuse_layout", level="static"))
+                                MIN_WALL, wall, no_ball or L(lambda: f"least wood between the cutouts {wall:.4f} m, "
+                                                                     f"at least {MIN_WALL:.3f} m"),
+                                unit="m", key="fuse_layout", level="static"))
     rows = tuple(bill(dev, cx.prices))
     return Candidate(dev, dem, fr, fr.mu, fr.mu_low, fr.mu_high, cap, cap_g, cap_t, need, l, d_max, capl, cap_short,
                      tuple(checks), rows, total(rows), cx)
@@ -853,7 +870,12 @@ def search(statue, *, spectrum=None, motion=None, slc=None, slc_why: str | None 
         raise InputError(f"no ball layout has {n_grooves} balls (layouts: "
                          f"{', '.join(str(v) for v in sorted({lay.n for lay in LAYOUTS.values()}))} balls)")
     lays = tuple(k for k in _choices("layout", layouts, LAYOUTS) if n_grooves is None or LAYOUTS[k].n == n_grooves)
+    if not lays:
+        raise InputError(f"no layout of {n_grooves} balls among {', '.join(_choices('layout', layouts, LAYOUTS))}")
     surfs = _choices("groove surface", surfaces, SURFACES)
+    if ball_capacity is not None and len(surfs) != 1:
+        raise InputError("a ball capacity is a load test of one groove surface: name that surface (--surface, "
+                         "[isolator] surface)")
     mats = _choices("ball material", materials, BALLS_MATERIALS)
     if min_side is None:
         min_side = 2 * max(statue.b_L, statue.b_R) + 2 * EDGE
@@ -864,6 +886,30 @@ def search(statue, *, spectrum=None, motion=None, slc=None, slc_why: str | None 
     low = cx.mu_given[1] if cx.mu_given else 0.0039
     demand = _demand_fn(spectrum, slc, motion, low, g)
     out = []
+    with _no_gc():                  # thousands of small objects that live on: the cyclic collector only slows it
+        _fill(out, balls, R_grid, lays, surfs, mats, demand, cx)
+    if not out:
+        raise InputError("no candidate in range: no groove radius is larger than the balls' diameter, or no ball "
+                         "material rolls on the surfaces chosen")
+    return _search_result(out, cx, R_grid, balls, lays, surfs, mats, boards, side_max, spectrum, slc, why_slc,
+                          motion, target, alpha, statue)
+
+
+class _no_gc:
+    def __enter__(self):
+        import gc
+
+        self.was = gc.isenabled()
+        gc.disable()
+
+    def __exit__(self, *exc):
+        import gc
+
+        if self.was:
+            gc.enable()
+
+
+def _fill(out, balls, R_grid, lays, surfs, mats, demand, cx) -> None:
     for r in sorted(balls):
         for R in sorted(R_grid):
             if R <= 2 * r:
@@ -878,9 +924,10 @@ def search(statue, *, spectrum=None, motion=None, slc=None, slc_why: str | None 
                             continue
                         dev, fr, need = _size(R, r, ball, layout, surface, dem, cx)
                         out.append(_evaluate(dev, fr, need, dem, cx))
-    if not out:
-        raise InputError("no candidate in range: no groove radius is larger than the balls' diameter, or no ball "
-                         "material rolls on the surfaces chosen")
+
+
+def _search_result(out, cx, R_grid, balls, lays, surfs, mats, boards, side_max, spectrum, slc, why_slc, motion,
+                   target, alpha, statue) -> "Search":
     ranges = (f"R {min(R_grid):g} to {max(R_grid):g} m, r {min(balls):g} to {max(balls):g} m, layouts "
               f"{', '.join(lays)}, surfaces {', '.join(surfs)}, balls {', '.join(mats)}, boards "
               f"{', '.join(f'{t * 1000:g}' for t in boards)} mm (stacked up to {MAX_LAYERS}), plate up to "
@@ -923,7 +970,7 @@ def design(statue, *, mu: float | None = None, spectrum=None, motion=None, slc=N
            fuse_release: float | None = None, fuse_ball: float | None = None, min_side: float | None = None,
            side_max: float = SIDE_MAX, g: float = G, ball_capacity: float | None = None, a_lim: float | None = None,
            a_lim_why: str | None = None, price_table: dict | None = None, mu_low: float | None = None,
-           mu_high: float | None = None, margin=None, travel_floor=None, wood_density=None) -> Design:
+           mu_high: float | None = None) -> Design:
     """The cheapest device for ``statue`` (RockingParams) on the spectral demand (module docstring;
     verify.py checks it by time histories). ``mu`` None: each ball/surface pair's measured law."""
     srch = search(statue, spectrum=spectrum, motion=motion, slc=slc, slc_why=slc_why, mu=mu, mu_low=mu_low,
@@ -958,7 +1005,7 @@ def choose(statue, srch: Search, ignore=(), verified=None) -> Design:
         if best is None:
             best = min(cands, key=_closeness)
             notes.append("no candidate in range can be made (every one fails a groove, board, plate-size or fuse "
-                         "check): the least bad is shown")
+                         "check): the least bad is shown only to say why, not as a device to build")
         best = with_fuse_layout(best)
         failure = failure_text(best.checks) + f" [nearest of {len(cands)} candidates; {srch.ranges}]"
         wwp = what_would_pass(best, cands)
@@ -994,7 +1041,8 @@ def _design_from(c: Candidate, statue, *, inputs=None, tried=1, candidates=None,
         a_design=c.demand.a_design, a_lim=cx.a_lim, d_design=c.demand.d, d_max=c.d_max, lever_arm=c.lever,
         safety_length=safety_length(c.demand.a_design, c.lever, cx.g), L_cr=dev.L_cr, spacing=dev.spacing,
         side=dev.side, thickness=dev.thickness, depth=dev.depth, opening_radius=dev.opening_radius,
-        groove_centres=dev.centres, fuse=fuse, checks=tuple(checks if checks is not None else c.checks),
+        groove_centres=dev.centres, fuse=fuse,
+        checks=tuple(k._replace(why=str(k.why)) for k in (checks if checks is not None else c.checks)),
         input=inputs or {}, candidates_tried=tried, notes=tuple(notes), capacity=c.capacity,
         capacity_groove=c.capacity_groove, capacity_tip=c.capacity_tip, travel_need=c.need,
         margin=DISPLACEMENT_MARGIN, candidates=candidates or {}, failure=failure, criterion=criterion, device=dev,
@@ -1018,11 +1066,15 @@ def what_would_pass(best: Candidate, cands=(), reasons: dict | None = None) -> d
     acc_keys = {"acceleration", "th_acceleration"}
     out = {"candidate": {"R": best.R, "r": best.r, "n_grooves": best.n_grooves, "layout": best.device.layout,
                          "surface": best.device.surface, "side": best.side, "T": best.T}}
-    if "friction" in bad or "pit" in bad:
-        key = "friction" if "friction" in bad else "pit"
-        out.update(reason=key, restrain=True, text=(
+    if "friction" in bad:
+        out.update(reason="friction", restrain=True, text=(
             f"It lifts at so little acceleration ({lim / g:.3f} g) that the balls' own rolling resistance would "
             f"rock it before the plate moves; {RESTRAIN}."))
+        return out
+    if "pit" in bad:
+        out.update(reason="pit", restrain=True, text=(
+            f"It lifts at so little acceleration ({lim / g:.3f} g) that the balls would not roll out of the small "
+            f"pits their weight presses into the grooves before it rocks; {RESTRAIN}."))
         return out
     if bad & acc_keys:
         low = min(c.demand.a_design for c in cands) if cands else best.demand.a_design
@@ -1040,8 +1092,9 @@ def what_would_pass(best: Candidate, cands=(), reasons: dict | None = None) -> d
     if bad & {"plate_size", "travel", "travel_slc", "th_travel", "th_travel_slc", "reserve", "overturning",
               "overturning_slc"}:
         reason = "reserve" if "reserve" in bad else "plate_size"
+        design_level = bad & {"travel", "th_travel", "overturning"}
         what = ("to keep a reserve up to where it would overturn without the device" if reason == "reserve"
-                else "for the design earthquake")
+                else "for the design earthquake" if design_level else "for the collapse-level earthquake (SLC)")
         out.update(reason=reason, restrain=True, side_needed=best.side_needed, text=(
             f"The device it needs {what} is larger than a {best.cx.side_max:g} m panel (its grooves must travel "
             f"{best.need:.2f} m, a plate about {best.side_needed:.2f} m wide); a custom larger device, or "
@@ -1056,7 +1109,7 @@ def assess(statue, *, R: float, r: float, n_grooves: int, opening_radius: float,
            thickness: float, mu: float, spectrum=None, motion=None, slc=None, target: float | None = None,
            alpha: tuple[float, float] = (1.0, 1.0), fuse_release: float | None = None, fuse_ball: float | None = None,
            side_max: float = SIDE_MAX, g: float = G, ball_capacity: float | None = None, surface: str = "beech",
-           ball: str = "resin", layout: str | None = None, wood_density=None, margin=None) -> Design:
+           ball: str = "resin", layout: str | None = None) -> Design:
     """Check a given device (no search): grooves R, balls r, ``n_grooves`` grooves of opening radius
     ``opening_radius``, centres ``spacing`` apart (layout ``layout``, default the ring of n), a square plate
     ``side`` x ``thickness`` (m) on ``surface``, under one design input."""
@@ -1084,8 +1137,7 @@ def assess(statue, *, R: float, r: float, n_grooves: int, opening_radius: float,
         fuse_r = (gap / 2 / (1.0 - c) if fuse_ball is None else fuse_ball) if gap > 0 else 0.0
         n_fuse = lay.n if fuse_r > 0 else 0
     dev = Device(R=R, r=r, ball=ball, layout=layout, n=lay.n, surface=surface, layers=((thickness, 1),),
-                 thickness=thickness, side=side, side_needed=side, spacing=spacing, centres=lay.centres(spacing),
-                 L_cr=lay.L_cr(spacing), opening_radius=opening_radius, depth=depth, m_o=m_o,
+                 thickness=thickness, side=side, side_needed=side, spacing=spacing, L_cr=lay.L_cr(spacing), opening_radius=opening_radius, depth=depth, m_o=m_o,
                  fuse_ball=fuse_r, n_fuse=n_fuse)
     fr = _friction(dev.D, (cx.m + m_o) * g / lay.n, ball, surface, R, cx)
     need = travel_need(dem.d, fr.mu_high, dev.R_hat)

@@ -58,7 +58,8 @@ def prices(overrides: dict | None = None) -> dict:
         if k not in PRICES:
             raise InputError(f"[isolator.prices] has no item {k!r} (items: {', '.join(PRICES)})")
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-            raise InputError(f"[isolator.prices] {k} must be a price >= 0 in EUR, got {v!r}")
+            unit = "h" if k.endswith("_h") and k != "machine_h" else "EUR"
+            raise InputError(f"[isolator.prices] {k} must be a number >= 0 ({unit}), got {v!r}")
         out[k] = float(v)
     return out
 

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-LADDER = 14
+LADDER = 10
 LOWEST = 0.1
-BISECTIONS = 7
+BISECTIONS = 6
 
 
 @dataclass(frozen=True)

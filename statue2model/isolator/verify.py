@@ -55,7 +55,7 @@ Example
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -65,7 +65,7 @@ from ..hazard.motions import GroundMotion
 from . import checks as C
 from .checks import DISPLACEMENT_MARGIN, RESERVE_LEVEL, SLC_MARGIN, Check, travel_need
 from .design import BALLS, COST_TOLERANCE, CRITERION, R_GRID, SHOWN_FAILING, SHOWN_PASSING, Candidate, \
-    _design_from, failure_text, nearest, resized, search, what_would_pass
+    _design_from, _no_gc, failure_text, nearest, resized, search, what_would_pass
 from .device import G, Isolator
 
 REPLACED = ("acceleration",)
@@ -157,10 +157,11 @@ def _peaks(task) -> list:
     out = []
     for R_hat, lo, hi, motions in items:
         res = []
-        for mu in (lo, hi):
+        for mu in ((lo,) if lo == hi else (lo, hi)):
             iso = Isolator(R=R_hat / 2 + 0.01, r=0.01, M=1.0, mu=mu, g=g)
             runs = [simulate(iso, m, dt_out=DT_OUT) for m in motions]
             res.append((np.array([x.u_max for x in runs]), np.array([x.acc_abs_max for x in runs])))
+        res = res * (3 - len(res))
         out.append(Peaks(res[0][0], res[1][0], res[0][1], res[1][1]))
     return out
 
@@ -320,7 +321,7 @@ def _verify_one(c: Candidate, runner: _Runner, reserve_on, stat) -> Verified:
             break
         key = _key(c2)
     th, margins = _th_checks(c2, dem, key, reserve_on, cx.a_lim, cx.why_lim, stat)
-    spectral = tuple(replace(k, required=False, why=k.why + " (advisory: the time histories decide)")
+    spectral = tuple(k._replace(required=False, why=k.why + " (advisory: the time histories decide)")
                      if k.key in REPLACED else k for k in c2.checks)
     return Verified(c2, spectral + th, margins, key)
 
@@ -403,7 +404,7 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
            a_lim: float | None = None, a_lim_why: str | None = None, records_info: dict | None = None,
            extra_sets=(), fixed_model=None, design_pga: float | None = None, reserve_level: float = RESERVE_LEVEL,
            rtol: float = 1e-7, balls=BALLS, R_grid=R_GRID, g: float = G, executor=None, spectrum=None,
-           motion=None, slc=None, slc_why: str | None = None, margin=None, **kwargs):
+           motion=None, slc=None, slc_why: str | None = None, **kwargs):
     """The cheapest isolator for ``statue`` (RockingParams) that passes every spectral and time-history
     check (module docstring) on the design set ``records`` and the ``extra_sets`` (RecordSet), at the
     collapse level ``slc`` (a spectrum; None: the design one x gamma_x) and, with ``fixed_model`` (the
@@ -449,11 +450,12 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
     pool = [c for c in srch.candidates if c.passes(ignore=REPLACED + ("fuse_layout",))]
     screen = _Screen(records, pool, scales, slc_ratio, stat, g, executor) if pool else None
     estimated = []
-    for c in pool:
-        floor, felt = screen.floor(c)
-        c2 = resized(c, floor * (1 + SCREEN_CLEARANCE))
-        if felt <= cx.a_lim and c2.passes(ignore=REPLACED):
-            estimated.append(c2)
+    with _no_gc():
+        for c in pool:
+            floor, felt = screen.floor(c)
+            c2 = resized(c, floor * (1 + SCREEN_CLEARANCE))
+            if felt <= cx.a_lim and c2.passes(ignore=REPLACED):
+                estimated.append(c2)
     estimated.sort(key=lambda c: c.cost)
     verified: list[Verified] = []
     best = None

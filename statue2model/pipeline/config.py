@@ -401,7 +401,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             if isinstance(value, bool) or not float(value).is_integer():
                 raise ValueError("must be a whole number")
             return int(value)
-        elif isinstance(default, str) or key in ("spectrum", "motion", "scheduler"):
+        elif isinstance(default, str) or key in ("spectrum", "motion", "scheduler", "slc_spectrum"):
             if not isinstance(value, str):
                 raise ValueError("must be a string")
             return value
@@ -719,6 +719,9 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
             check_plausible("ball_capacity", i.ball_capacity, "[isolator] ball_capacity")
         except InputError as exc:
             bad(str(exc))
+        if i.surface == "auto":
+            bad("[isolator] ball_capacity is a load test of one groove surface: name that surface with [isolator] "
+                "surface")
     try:
         site(cfg)
     except InputError as exc:

@@ -154,7 +154,7 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     from ..hazard.motions import parse_spec
     from ..isolator.plates import PlateGeometry
     from ..isolator.prices import write_bom
-    from ..isolator.verify import RecordSet, verify
+    from ..isolator.verify import verify
     from ..report.isolator_plots import write_plates_with_section
     from ..report.stage_sections import isolator_section
 
@@ -171,7 +171,7 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     info = {"source": "design set", "rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
             "band_reason": rs.to_dict().get("band_reason"), "seeds": f"1-{n}",
             "duration_s": max(r.duration for r in rs.records)}
-    extra = [_extra_set(ctx, k) for k in range(1, c.extra_sets + 1)]
+    extra = _extra_sets(ctx, c.extra_sets)
     slc, slc_why = (None, None)
     if c.spectrum:
         slc_hz, slc_why = collapse_site(hz, c.slc_spectrum)
@@ -201,17 +201,42 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
                      "sets": len(v.get("sets") or []), "slc": v.get("slc"), "reserve": v.get("reserve")}}
 
 
-def _extra_set(ctx: Context, k: int):
-    """The isolator's k-th further record set: the design set's target, band and size, seeds k x EXTRA_SEEDS + 1 ...
-    (isolator.verify.RecordSet, with its rules and band)."""
+def _extra_sets(ctx: Context, n_sets: int) -> list:
+    """The isolator's further record sets: the design set's target, band and size, set k with seeds
+    k x EXTRA_SEEDS + 1 .. (isolator.verify.RecordSet, with its rules and band), matched on the run's executor."""
     from ..isolator.verify import RecordSet
 
-    rs = _match(ctx, seed=k * EXTRA_SEEDS + 1)
-    n = len(rs.records)
-    return RecordSet(f"seeds {k * EXTRA_SEEDS + 1}-{k * EXTRA_SEEDS + n}", tuple(rs.records),
-                     f"{k * EXTRA_SEEDS + 1}-{k * EXTRA_SEEDS + n}",
-                     {"rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
-                      "band_reason": rs.to_dict().get("band_reason")})
+    if n_sets < 1:
+        return []
+    seeds = [k * EXTRA_SEEDS + 1 for k in range(1, n_sets + 1)]
+    tasks = [_match_args(ctx, seed) for seed in seeds]
+    ex = ctx.executor
+    sets = ([_match_task(t) for t in tasks] if ex is None or getattr(ex, "workers", 1) < 2 else
+            list(ex.map(_match_task, tasks, desc="isolator: further record sets")))
+    out = []
+    for seed, rs in zip(seeds, sets):
+        n = len(rs.records)
+        out.append(RecordSet(f"seeds {seed}-{seed + n - 1}", tuple(rs.records), f"{seed}-{seed + n - 1}",
+                             {"rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
+                              "band_reason": rs.to_dict().get("band_reason")}))
+    return out
+
+
+def _match_args(ctx: Context, seed: int) -> tuple:
+    from ..isolator.design import longest_period
+
+    c = ctx.config.dynamics
+    hz = site(ctx.config)
+    return (hz.target, c.fragility_records, c.fragility_duration, hz.building_period if hz.on_floor else None,
+            longest_period() if enabled("isolator", ctx.config) else None, seed, hz.ground.code)
+
+
+def _match_task(args):
+    """match_records(*args) (module level: runs on a worker)."""
+    from ..assessment.study import match_records
+
+    target, n, duration, T1, T_is, seed, code = args
+    return match_records(target, n, duration, T1=T1, T_is=T_is, seed=seed, code=code)
 
 
 # --- dynamics -------------------------------------------------------------------------------------
@@ -269,15 +294,7 @@ def _match(ctx: Context, seed: int = 1):
     """A record set of the project's design target (the site's ground or floor spectrum), over the band of the
     building's period and, when the isolator stage is enabled, of every period its search can pick (the site's
     code: EC8 2 T_is, NTC 1.2 T_is of the longest, hazard/matching.py design_band), seeds seed.. ."""
-    from ..assessment.study import match_records
-    from ..isolator.design import longest_period
-
-    c = ctx.config.dynamics
-    hz = site(ctx.config)
-    return match_records(hz.target, c.fragility_records, c.fragility_duration,
-                         T1=hz.building_period if hz.on_floor else None,
-                         T_is=longest_period() if enabled("isolator", ctx.config) else None, seed=seed,
-                         code=hz.ground.code)
+    return _match_task(_match_args(ctx, seed))
 
 
 def _design_set(ctx: Context, d: Path | None = None):
@@ -295,6 +312,17 @@ def _design_set(ctx: Context, d: Path | None = None):
         write_records(d / "records", rs)
         plot_spectra(rs, d / "records" / "spectra.png", records_title(rs, hz.target))
     return rs, hz.target
+
+
+def _slc_pga(ctx: Context) -> float | None:
+    """The design target's PGA at the collapse level (SLC, hazard/levels.py) when the isolator designs on a
+    spectrum, else None."""
+    from ..hazard.levels import collapse_site
+
+    ic = ctx.config.isolator
+    if not (ic.enabled and ic.spectrum):
+        return None
+    return collapse_site(site(ctx.config), ic.slc_spectrum)[0].pga
 
 
 def _uplift_band(ctx: Context):
@@ -322,7 +350,7 @@ def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
                       ctx.executor, mu_low=ic.mu_low, mu_high=ic.mu_high, rounds=c.fragility_rounds)
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
-    plot_fragility(study.result, d / "fragility.png", design_im=study.pga)
+    plot_fragility(study.result, d / "fragility.png", design_im=study.pga, slc_im=_slc_pga(ctx))
     return study
 
 

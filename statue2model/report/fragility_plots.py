@@ -72,10 +72,12 @@ def _draw_curve(ax, c, base, scale, unit, xs):
                 label=f"{word}: median {c.median / scale:.3g}{unit}; not identified")
 
 
-def plot_fragility(res, path, design_im: float | None = None):
+def plot_fragility(res, path, design_im: float | None = None, slc_im: float | None = None):
     """The curves of a FragilityResult ``res`` as a PNG at ``path``: one panel per limit state
-    (module docstring), fixed base and isolated in each; ``design_im``: the design level (PGA
-    m/s^2, or PGV m/s), a vertical line in every panel."""
+    (module docstring), fixed base and isolated in each (the overturning panel holds the fixed base's
+    overturning and the isolator's failure: the device must lie at or right of it); ``design_im``: the
+    design level (PGA m/s^2, or PGV m/s), ``slc_im``: the collapse level (SLC) the device is checked at,
+    vertical lines in every panel."""
     plt = _pyplot()
     rows = panels(res)
     fig, axes = plt.subplots(1, len(rows), figsize=(4.1 * len(rows) + 0.4, 4.6), squeeze=False, sharey=True)
@@ -91,6 +93,9 @@ def plot_fragility(res, path, design_im: float | None = None):
         if show_design:
             ax.axvline(design_im / scale, color="k", ls="--", lw=1.1,
                        label=f"design {'PGA' if pga else 'PGV'} {design_im / scale:.3f}{unit}")
+        if pga and slc_im is not None and np.isfinite(slc_im) and slc_im > 0:
+            ax.axvline(slc_im / scale, color="firebrick", ls=":", lw=1.3,
+                       label=f"collapse level (SLC) PGA {slc_im / scale:.3f}{unit}")
         ax.set_title(TITLES.get(ls, ls), fontsize=9.5)
         ax.set_xlabel("PGA (g)" if pga else "PGV (m/s)")
         ax.set_ylim(-0.02, 1.02)
