@@ -48,8 +48,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 SCANS = ("meshes/dancing_girl.ply", "meshes/maria_barjatinskaja.ply", "meshes/nefertiti_bust.obj")
 SITES = ("ec8:ag=0.25g,ground=C,type=1", "ntc2018:ag=0.2g,F0=2.4,Tc=0.3,soil=B,topo=T1,ls=SLV")
-SYNTHETIC = (("statuette 50 kg", dict(b=0.09, h=0.35, m=50.0)),
-             ("life-size 1500 kg", dict(b=0.30, h=1.0, m=1500.0)))
+SYNTHETIC = (("statuette 50 kg", {"b": 0.09, "h": 0.35, "m": 50.0}),
+             ("life-size 1500 kg", {"b": 0.30, "h": 1.0, "m": 1500.0}))
 EXTRA_SEEDS = 100            # pipeline.stages.EXTRA_SEEDS: further set k takes seeds k x 100 + 1 ..
 
 

@@ -60,8 +60,10 @@ Example
 >>> from statue2model.hazard.code_spectra import ec8
 >>> statue = RockingParams.from_dict({"m": 12.074, "h": 0.3523, "b_L": 0.1995, "b_R": 0.0805, "I_G": 0.8})
 >>> d = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, thickness=0.03)
->>> d.passed, d.surface, d.layout, d.n_grooves, d.cost > 0
-(True, 'beech', 'ring3', 3, True)
+>>> d.passed, d.cost == round(sum(row["cost"] for row in d.bom), 2) or abs(d.cost - sum(r["cost"] for r in d.bom)) < 1e-9
+(True, True)
+>>> d.what_would_pass is None and all(c.passed for c in d.checks if c.required)
+True
 >>> bad = design(statue, spectrum=ec8(0.05 * 9.80665, "A"), mu=0.0073, alpha=(0.02, 0.02))
 >>> bad.passed, bad.what_would_pass["reason"]
 (False, 'friction')
@@ -1055,15 +1057,17 @@ RESTRAIN = ("restrain it instead: a discreet clamp or anchor at its base, design
             "from rocking")
 
 
-def what_would_pass(best: Candidate, cands=(), reasons: dict | None = None) -> dict:
+def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None = None) -> dict:
     """Why no device in range passes, in one sentence a conservator understands, and what would work
-    instead: {"reason": the failing kind, "text": the sentence, numbers}."""
+    instead: {"reason": the failing kind, "text": the sentence, numbers}. ``reasons``: more failing check keys
+    (the time histories'); ``felt``: the least felt acceleration the time histories found (m/s^2). The
+    acceleration is named the reason only when no candidate in range keeps the felt acceleration below the
+    uplift limit."""
     bad = {k.key for k in best.checks if k.required and not k.passed}
     g = best.cx.g
     lim = best.cx.a_lim
     if reasons:
         bad |= set(reasons)
-    acc_keys = {"acceleration", "th_acceleration"}
     out = {"candidate": {"R": best.R, "r": best.r, "n_grooves": best.n_grooves, "layout": best.device.layout,
                          "surface": best.device.surface, "side": best.side, "T": best.T}}
     if "friction" in bad:
@@ -1076,29 +1080,32 @@ def what_would_pass(best: Candidate, cands=(), reasons: dict | None = None) -> d
             f"It lifts at so little acceleration ({lim / g:.3f} g) that the balls would not roll out of the small "
             f"pits their weight presses into the grooves before it rocks; {RESTRAIN}."))
         return out
-    if bad & acc_keys:
-        low = min(c.demand.a_design for c in cands) if cands else best.demand.a_design
+    low = min(c.demand.a_design for c in cands) if cands else best.demand.a_design
+    least = low if felt is None else min(low, felt)
+    if bad & {"acceleration", "th_acceleration"} and least > lim:
         top = max((c for c in cands if c.demand.a_design <= low * 1.001), key=lambda c: c.T) if cands else best
         out.update(reason="acceleration", restrain=True, text=(
             f"No rolling-ball device in range keeps it in full contact: even the softest (period {top.T:.1f} s) "
-            f"passes it {top.demand.a_design / g:.3f} g, above the {lim / g:.3f} g that lifts it; {RESTRAIN}."))
+            f"passes it {least / g:.3f} g, above the {lim / g:.3f} g that lifts it; {RESTRAIN}."))
         return out
-    if bad & {"ball_load", "ball_load_slc"}:
+    if bad & {"plate_size", "travel", "travel_slc", "th_travel", "th_travel_slc", "reserve", "overturning",
+              "overturning_slc", "depth", "proud"}:
+        levels = {"travel": "design", "th_travel": "design", "travel_slc": "SLC", "th_travel_slc": "SLC",
+                  "reserve": "reserve"}
+        needs = [(k.value, levels[k.key]) for k in best.checks if k.key in levels]
+        need, level = max(needs) if needs else (best.need, "design")
+        reason = "reserve" if level == "reserve" else "plate_size"
+        what = {"reserve": "to keep a reserve up to where it would overturn without the device",
+                "design": "for the design earthquake", "SLC": "for the collapse-level earthquake (SLC)"}[level]
+        out.update(reason=reason, restrain=True, side_needed=best.side_needed, travel_needed=need, text=(
+            f"The device it needs {what} is larger than a {best.cx.side_max:g} m panel (its grooves must travel "
+            f"{need:.2f} m, a plate about {best.side_needed:.2f} m wide); a custom larger device, or {RESTRAIN}."))
+        return out
+    if bad & {"ball_load", "ball_load_slc", "th_ball_load_slc"}:
         P = best.W / best.n_grooves
         out.update(reason="ball_load", restrain=False, text=(
             f"It is too heavy for the groove surfaces in range ({P:.0f} N per ball against at most "
             f"{best.ball_capacity.load:.0f} N); a specialist's steel-race isolator would carry it, or {RESTRAIN}."))
-        return out
-    if bad & {"plate_size", "travel", "travel_slc", "th_travel", "th_travel_slc", "reserve", "overturning",
-              "overturning_slc"}:
-        reason = "reserve" if "reserve" in bad else "plate_size"
-        design_level = bad & {"travel", "th_travel", "overturning"}
-        what = ("to keep a reserve up to where it would overturn without the device" if reason == "reserve"
-                else "for the design earthquake" if design_level else "for the collapse-level earthquake (SLC)")
-        out.update(reason=reason, restrain=True, side_needed=best.side_needed, text=(
-            f"The device it needs {what} is larger than a {best.cx.side_max:g} m panel (its grooves must travel "
-            f"{best.need:.2f} m, a plate about {best.side_needed:.2f} m wide); a custom larger device, or "
-            f"{RESTRAIN}."))
         return out
     out.update(reason="other", restrain=False, text=(
         f"No device in range passes every check ({failure_text(best.checks, shown=1)}); {RESTRAIN}."))

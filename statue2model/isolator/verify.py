@@ -33,9 +33,10 @@ every spectral check is evaluated again. Time-history checks (required): the fel
 statistic of the peak |absolute plate acceleration| on every set, against the statue's uplift limit:
 replaces the spectral Se(T) <= a_lim, which stays advisory), the three travels against the capacity,
 and the most loaded ball at SLC with the records' felt acceleration. The cheapest candidate that passes
-is chosen (ties within design.COST_TOLERANCE: the larger least margin); the search stops once the next
-candidate's spectral price (a lower bound: its verified price can only grow) exceeds the best verified
-one. Friction bounds are rounded outward to a grid of MU_STEP (mu_low down, mu_high up) so that devices
+is chosen (ties within design.COST_TOLERANCE: the larger least margin). The candidates are taken in the order
+of their price re-cut for the screen's estimate of the travel (_Screen), and the search stops once every
+candidate left has a spectral price (a lower bound: the verified cut can only be larger) above the best
+verified one, or an estimated price more than SCREEN_SLACK above it, or after MAX_VERIFIED. Friction bounds are rounded outward to a grid of MU_STEP (mu_low down, mu_high up) so that devices
 of one period share their runs.
 
 Example
@@ -81,6 +82,10 @@ MAX_VERIFIED = 36
 BATCH = 6
 SCREEN_CLEARANCE = 0.02
 """The screen's travel estimate is raised 2 % before the candidates are re-cut and priced."""
+SCREEN_SLACK = 0.10
+"""The screen's price may overstate the verified one (the screen's travel is estimated): the search goes on
+while a candidate's estimated price is within COST_TOLERANCE + SCREEN_SLACK of the best verified one and its
+spectral price (a true lower bound) within COST_TOLERANCE."""
 SCREEN_PERIODS = 10
 SCREEN_MUS = 9
 DEFINITIONS = {
@@ -449,21 +454,25 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
     reserve_on = reserve is not None
     pool = [c for c in srch.candidates if c.passes(ignore=REPLACED + ("fuse_layout",))]
     screen = _Screen(records, pool, scales, slc_ratio, stat, g, executor) if pool else None
-    estimated = []
+    estimated = []                      # (the re-cut candidate, its spectral price: a lower bound of the verified)
     with _no_gc():
         for c in pool:
             floor, felt = screen.floor(c)
             c2 = resized(c, floor * (1 + SCREEN_CLEARANCE))
             if felt <= cx.a_lim and c2.passes(ignore=REPLACED):
-                estimated.append(c2)
-    estimated.sort(key=lambda c: c.cost)
+                estimated.append((c2, c.cost))
+    estimated.sort(key=lambda e: e[0].cost)
+    low = [math.inf] * (len(estimated) + 1)     # the least spectral price of the candidates not yet verified
+    for k in range(len(estimated) - 1, -1, -1):
+        low[k] = min(low[k + 1], estimated[k][1])
     verified: list[Verified] = []
     best = None
     i = 0
     while i < len(estimated) and len(verified) < MAX_VERIFIED:
-        if best is not None and estimated[i].cost > best.cost * (1 + COST_TOLERANCE):
+        if best is not None and (low[i] > best.cost * (1 + COST_TOLERANCE)
+                                 or estimated[i][0].cost > best.cost * (1 + COST_TOLERANCE + SCREEN_SLACK)):
             break
-        batch = estimated[i:i + BATCH]
+        batch = [c for c, _ in estimated[i:i + BATCH]]
         i += len(batch)
         runner.fill([_key(c) for c in batch])
         for c in batch:
@@ -480,20 +489,16 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
     if best is not None:
         chosen, failure, wwp = best, None, None
     else:
-        pool = [v for v in verified if v.candidate.makeable]
-        if pool:
-            chosen = min(pool, key=lambda v: (sum(1 for k in v.checks if k.required and not k.passed),
-                                              max(k.ratio for k in v.checks if k.required), v.cost))
-        else:
-            near = nearest(srch.candidates) or min(srch.candidates, key=lambda c: c.cost)
-            key = _key(near)
-            dem = runner.get(key)
-            th, mg = _th_checks(near, dem, key, reserve_on, cx.a_lim, cx.why_lim, stat)
-            chosen = Verified(near, near.checks + th, mg, key)
+        made = [v for v in verified if v.candidate.makeable]
+        # the nearest verified device that can be made; when none can, the nearest verified one all the same (it
+        # says why: the note and nearest_makeable false), never an undersized one the time histories did not cut
+        chosen = min(made or verified, key=lambda v: (sum(1 for k in v.checks if k.required and not k.passed),
+                                                      max(k.ratio for k in v.checks if k.required), v.cost))
         bad = {k.key for k in chosen.checks if k.required and not k.passed}
         failure = failure_text(chosen.checks) + (f" [nearest of {len(verified)} candidates verified, "
                                                  f"{len(srch.candidates)} tried; {srch.ranges}]")
-        wwp = what_would_pass(chosen.candidate, srch.candidates, reasons=bad)
+        wwp = what_would_pass(chosen.candidate, srch.candidates, reasons=bad,
+                              felt=min(runner.get(v.key).sets[0][2] for v in verified))
     dem = runner.get(chosen.key)
     R_hat, lo, hi = chosen.key
     set_rows = []
@@ -533,8 +538,10 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
                     "statue without the device: the device's failure median lies at or right of the fixed base's "
                     "overturning median"},
         "candidates_verified": len(verified), "candidates_passing": n_pass, "runs": runner.runs,
-        "search": "cheapest first by the spectral price; stops once the next spectral price exceeds the best "
-                  f"verified one by {COST_TOLERANCE:.0%}",
+        "search": "cheapest first by the price re-cut for the screen's travel estimate; stops once every "
+                  f"candidate left has a spectral price more than {COST_TOLERANCE:.0%} above the best verified one "
+                  f"or an estimated price more than {COST_TOLERANCE + SCREEN_SLACK:.0%} above it, or after "
+                  f"{MAX_VERIFIED} verified",
     }
     ranked = sorted(verified, key=lambda v: (not v.passed, v.cost))
     table = {"criterion": CRITERION, "tried": len(srch.candidates), "verified": len(verified), "passing": n_pass,
