@@ -63,6 +63,17 @@ def test_the_reserve_decides_the_device_and_can_fail():
     assert res["travel"] == pytest.approx(float(np.median(res["travel_per_record"])), rel=1e-12)
     if d.passed:
         assert reserve.passed and d.capacity >= need * (1 - 1e-9)
+    # the two empirical curves compared rank by rank: where the device fails (its travel capacity passed) against
+    # where the statue overturns without it, on the same records
+    tail = res["tail"]
+    assert len(tail["fixed_sorted"]) == len(tail["device_sorted"]) == 7
+    assert tail["fixed_sorted"] == sorted(res["thresholds"])
+    dominated = all(dv >= fx * (1 - 1e-9) for dv, fx in zip(tail["device_sorted"], tail["fixed_sorted"]))
+    assert tail["dominates"] == dominated
+    if not dominated:
+        a = tail["worse_from"]
+        assert sum(x <= a for x in tail["device_sorted"]) == tail["device_fails"] > tail["fixed_fails"] == sum(
+            x <= a for x in tail["fixed_sorted"])
     small = verify(statue, side_max=0.45, **kw)
     assert not small.passed
     bad = {c.key for c in small.checks if c.required and not c.passed}

@@ -163,7 +163,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                     "r": design.get("r"), "n_grooves": design.get("n_grooves"), "layout": design.get("layout"),
                     "surface": design.get("surface_name") or design.get("surface"), "cost": design.get("cost"),
                     "slc_rule": (v.get("slc") or {}).get("rule"),
-                    "reserve_pga": (v.get("reserve") or {}).get("pga"), "sets": len(v.get("sets") or [])}
+                    "reserve_pga": (v.get("reserve") or {}).get("pga"), "sets": len(v.get("sets") or []),
+                    "tail": (v.get("reserve") or {}).get("tail")}
         if dyn is not None:
             fail = dyn.get("first_failure_pga_isolated", dyn.get("first_overturn_pga_isolated"))
             isolated["first_failure_pga"] = fail
@@ -187,6 +188,12 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             if th.get("reserve") is not None:
                 line += (f", travel {_n(finite_number(th.get('reserve')))} where half the records overturn the "
                          f"statue without it ({_g(isolated['reserve_pga'])})")
+                tail = isolated.get("tail") or {}
+                if tail and not tail.get("dominates"):
+                    n_rec = len(tail.get("fixed_sorted") or [])
+                    line += (f"; below that its failure curve lies left of the fixed base's overturning curve: from "
+                             f"{_g(tail['worse_from'])} {tail['device_fails']} of {n_rec} records pass its travel "
+                             f"capacity while {tail['fixed_fails']} overturn the statue without it")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else

@@ -46,22 +46,28 @@ def _overturns(model, motion, scale: float, rtol: float) -> bool:
     return bool(simulate(model, motion.scaled(scale), rtol=rtol).overturned)
 
 
-def _one(task) -> Reserve:
-    model, motion, cap, rtol = task
-    ladder = np.geomspace(min(LOWEST, cap), cap, LADDER)
+def lowest(fails, cap: float) -> float | None:
+    """The lowest scale in (0, cap] at which ``fails(scale)`` holds, found from below (module docstring: a
+    ladder, then bisections against the step before); None when it never does up to ``cap``."""
     lo = 0.0
-    for s in ladder:
-        if _overturns(model, motion, float(s), rtol):
+    for s in np.geomspace(min(LOWEST, cap), cap, LADDER):
+        if fails(float(s)):
             hi = float(s)
             for _ in range(BISECTIONS):
                 mid = 0.5 * (lo + hi)
-                if _overturns(model, motion, mid, rtol):
+                if fails(mid):
                     hi = mid
                 else:
                     lo = mid
-            return Reserve(hi, True)
+            return hi
         lo = float(s)
-    return Reserve(float(cap), False)
+    return None
+
+
+def _one(task) -> Reserve:
+    model, motion, cap, rtol = task
+    s = lowest(lambda x: _overturns(model, motion, x, rtol), cap)
+    return Reserve(float(cap), False) if s is None else Reserve(s, True)
 
 
 def overturning_scales(model, records, caps, rtol: float = 1e-7, executor=None) -> list[Reserve]:
@@ -71,3 +77,47 @@ def overturning_scales(model, records, caps, rtol: float = 1e-7, executor=None) 
     if executor is None or getattr(executor, "workers", 1) < 2:
         return [_one(t) for t in tasks]
     return list(executor.map(_one, tasks, desc="isolator: where the fixed base overturns"))
+
+
+def capacity_scales(R_hat: float, mu_low: float, mu_high: float, records, capacity: float, offset: float,
+                    caps, g: float) -> list[float]:
+    """For each record (GroundMotion) the lowest scale (<= its cap; the cap when none) at which the top plate of
+    period 2 pi sqrt(R_hat / g), at either friction bound, travels more than ``capacity - offset`` (m): where
+    the device fails under that record. The same ladder and bisections as :func:`overturning_scales`."""
+    from .device import Isolator
+    from .time_history import simulate
+
+    isos = [Isolator(R=R_hat / 2 + 0.01, r=0.01, M=1.0, mu=mu, g=g) for mu in {mu_low, mu_high}]
+    room = capacity - offset
+
+    def fails(m, s):
+        return any(simulate(iso, m.scaled(s), dt_out=1.0).u_max > room for iso in isos)
+
+    out = []
+    for m, cap in zip(records, caps):
+        found = lowest(lambda x, m=m: fails(m, x), cap)
+        out.append(float(cap) if found is None else found)
+    return out
+
+
+def tail(fixed_pgas, device_pgas) -> dict:
+    """The two empirical failure curves over the same records, compared: ``dominates`` when every k-th lowest
+    failure PGA of the device is at least the fixed base's k-th lowest overturning PGA (the device's curve at or
+    right of the fixed base's everywhere), else ``worse_from``, the lowest PGA where more records fail on the
+    device than overturn without it, and the counts there.
+
+    >>> tail([0.5, 0.6, 0.7], [0.55, 0.65, 0.8])["dominates"]
+    True
+    >>> t = tail([0.5, 0.6, 0.7], [0.45, 0.7, 0.8]); t["dominates"], t["worse_from"], t["device_fails"], t["fixed_fails"]
+    (False, 0.45, 1, 0)
+    """
+    f, d = np.sort(np.asarray(fixed_pgas, float)), np.sort(np.asarray(device_pgas, float))
+    dominates = bool(np.all(d >= f * (1 - 1e-9)))
+    out = {"dominates": dominates, "fixed_sorted": f.tolist(), "device_sorted": d.tolist()}
+    if not dominates:
+        for a in d:
+            nd, nf = int((d <= a).sum()), int((f <= a).sum())
+            if nd > nf:
+                out.update(worse_from=float(a), device_fails=nd, fixed_fails=nf)
+                break
+    return out

@@ -501,6 +501,14 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
                               felt=min(runner.get(v.key).sets[0][2] for v in verified))
     dem = runner.get(chosen.key)
     R_hat, lo, hi = chosen.key
+    tail_info = None
+    if reserve is not None:
+        from .reserve import capacity_scales, tail
+
+        caps = [reserve_level * pga0 / m.pga for m in records]
+        dev_s = capacity_scales(R_hat, lo, hi, records, chosen.candidate.capacity, hi * R_hat, caps, g)
+        tail_info = tail([r.scale * m.pga for r, m in zip(reserve, records)],
+                         [s_ * m.pga for s_, m in zip(dev_s, records)])
     set_rows = []
     for s, (name, u, a) in zip(sets, dem.sets):
         si = s.info or {}
@@ -536,7 +544,11 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
                     f"{reserve_level:g} x the design PGA): every record scaled to it, the median travel + mu_high "
                     "R_hat must fit, so that at most half the records exceed the capacity where half overturn the "
                     "statue without the device: the device's failure median lies at or right of the fixed base's "
-                    "overturning median"},
+                    "overturning median",
+            "tail": tail_info,
+            "tail_rule": "each design record's lowest PGA at which the device passes its capacity (either friction "
+                         "bound, mu_high R_hat off centre) against the lowest at which the statue overturns on a fixed "
+                         "base: the empirical curves, compared rank by rank"},
         "candidates_verified": len(verified), "candidates_passing": n_pass, "runs": runner.runs,
         "search": "cheapest first by the price re-cut for the screen's travel estimate; stops once every "
                   f"candidate left has a spectral price more than {COST_TOLERANCE:.0%} above the best verified one "

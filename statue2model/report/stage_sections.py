@@ -112,6 +112,14 @@ def isolator_section(res) -> dict:
                         "analyses on the isolator are skipped.")
     warnings += [f"advisory check not met: {ck.name} ({ck.why})" for ck in res.checks
                  if not ck.required and not ck.passed]
+    tail = ((getattr(res, "verification", None) or {}).get("reserve") or {}).get("tail") or {}
+    if res.passed and tail and not tail.get("dominates"):
+        n = len(tail.get("fixed_sorted") or [])
+        warnings.append(f"The device keeps its failure median at or beyond where half the design records overturn the "
+                        f"statue without it, but not its lower tail: from {tail['worse_from'] / 9.81:.3f} g "
+                        f"{tail['device_fails']} of {n} records pass the device's travel capacity while "
+                        f"{tail['fixed_fails']} overturn the statue on a fixed base (a larger plate or more friction "
+                        "would close it).")
     fr = res.friction or {}
     if fr.get("basis") in ("assumed", "extrapolated"):
         warnings.append(f"The rolling friction is {fr['basis']}: {fr.get('note', '')}")
