@@ -157,7 +157,9 @@ def row_of(name, params, site_name, d, wall) -> dict:
 def print_table(rows) -> None:
     w = {c: max(len(c), *(len(r[c]) for r in rows)) for c in COLUMNS}
     left = {"body", "site", "layout", "surface", "pass"}
-    line = lambda r: " ".join(r[c].ljust(w[c]) if c in left else r[c].rjust(w[c]) for c in COLUMNS)
+    def line(r):
+        return " ".join(r[c].ljust(w[c]) if c in left else r[c].rjust(w[c]) for c in COLUMNS)
+
     print(line({c: c for c in COLUMNS}))
     for r in rows:
         print(line(r))

@@ -1057,13 +1057,14 @@ RESTRAIN = ("restrain it instead: a discreet clamp or anchor at its base, design
             "from rocking")
 
 
-def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None = None) -> dict:
+def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None = None, checks=None) -> dict:
     """Why no device in range passes, in one sentence a conservator understands, and what would work
     instead: {"reason": the failing kind, "text": the sentence, numbers}. ``reasons``: more failing check keys
     (the time histories'); ``felt``: the least felt acceleration the time histories found (m/s^2). The
     acceleration is named the reason only when no candidate in range keeps the felt acceleration below the
-    uplift limit."""
-    bad = {k.key for k in best.checks if k.required and not k.passed}
+    uplift limit. ``checks``: the candidate's checks with the time histories' (default: its own)."""
+    checks = best.checks if checks is None else tuple(checks)
+    bad = {k.key for k in checks if k.required and not k.passed}
     g = best.cx.g
     lim = best.cx.a_lim
     if reasons:
@@ -1092,7 +1093,7 @@ def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None 
               "overturning_slc", "depth", "proud"}:
         levels = {"travel": "design", "th_travel": "design", "travel_slc": "SLC", "th_travel_slc": "SLC",
                   "reserve": "reserve"}
-        needs = [(k.value, levels[k.key]) for k in best.checks if k.key in levels]
+        needs = [(k.value, levels[k.key]) for k in checks if k.key in levels]
         need, level = max(needs) if needs else (best.need, "design")
         reason = "reserve" if level == "reserve" else "plate_size"
         what = {"reserve": "to keep a reserve up to where it would overturn without the device",
@@ -1108,7 +1109,7 @@ def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None 
             f"{best.ball_capacity.load:.0f} N); a specialist's steel-race isolator would carry it, or {RESTRAIN}."))
         return out
     out.update(reason="other", restrain=False, text=(
-        f"No device in range passes every check ({failure_text(best.checks, shown=1)}); {RESTRAIN}."))
+        f"No device in range passes every check ({failure_text(checks, shown=1)}); {RESTRAIN}."))
     return out
 
 

@@ -498,7 +498,7 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
         failure = failure_text(chosen.checks) + (f" [nearest of {len(verified)} candidates verified, "
                                                  f"{len(srch.candidates)} tried; {srch.ranges}]")
         wwp = what_would_pass(chosen.candidate, srch.candidates, reasons=bad,
-                              felt=min(runner.get(v.key).sets[0][2] for v in verified))
+                              felt=min(runner.get(v.key).sets[0][2] for v in verified), checks=chosen.checks)
     dem = runner.get(chosen.key)
     R_hat, lo, hi = chosen.key
     tail_info = None
