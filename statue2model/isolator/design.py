@@ -1082,7 +1082,7 @@ def what_would_pass(best: Candidate, cands=(), reasons=None, felt: float | None 
             f"pits their weight presses into the grooves before it rocks; {RESTRAIN}."))
         return out
     low = min(c.demand.a_design for c in cands) if cands else best.demand.a_design
-    least = low if felt is None else min(low, felt)
+    least = low if felt is None else felt          # the time histories decide where they ran
     if bad & {"acceleration", "th_acceleration"} and least > lim:
         top = max((c for c in cands if c.demand.a_design <= low * 1.001), key=lambda c: c.T) if cands else best
         out.update(reason="acceleration", restrain=True, text=(
