@@ -422,11 +422,10 @@ class Design:
             "checks (each passes when value <= limit; ratio = value / limit):",
         ]
         rows = [("result", "level", "check", "value", "limit", "unit", "ratio")]
+        num = lambda x, spec: format(x, spec) if math.isfinite(x) else "-"          # noqa: E731 (no inf in a file)
         for c in self.checks:
             mark = "pass" if c.passed else ("FAIL" if c.required else "note")
-            ratio = c.ratio
-            rows.append((mark, c.level, c.name, f"{c.value:.5g}", f"{c.limit:.5g}", c.unit,
-                         f"{ratio:.3f}" if math.isfinite(ratio) else "inf"))
+            rows.append((mark, c.level, c.name, num(c.value, ".5g"), num(c.limit, ".5g"), c.unit, num(c.ratio, ".3f")))
         widths = [max(len(r[i]) for r in rows) for i in range(7)]
         for r in rows:
             lines.append("  " + "  ".join(s.ljust(w) if i in (0, 1, 2, 5) else s.rjust(w)
