@@ -78,8 +78,14 @@ def reference(raw, footprint_polygon, direction_deg):
     com = np.array([c[0] - hx, c[1] - hy, c[2]])
     psi = math.radians(direction_deg)
     u = np.array([math.cos(psi), math.sin(psi)])
-    rel = np.asarray(hull.exterior.coords)[:-1] - c[:2]
-    b_R, b_L = (rel @ u).max(), -(rel @ u).min()
+    # b_R, b_L: where the rays from G's projection along +u and -u leave the footprint's hull (MODEL.md 1)
+    def ray(sign):
+        line = shapely.LineString([tuple(c[:2]), tuple(c[:2] + sign * 100.0 * u)])
+        hit = line.intersection(hull.exterior)
+        pts = [hit] if hit.geom_type == "Point" else list(hit.geoms)
+        return min(math.hypot(pt.x - c[0], pt.y - c[1]) for pt in pts)
+
+    b_R, b_L = ray(1.0), ray(-1.0)
     n = np.array([-math.sin(psi), math.cos(psi), 0.0])
     m, h, g = RHO * V, com[2], 9.81
     I_G = n @ I @ n

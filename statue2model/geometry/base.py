@@ -106,12 +106,15 @@ class ContactCase:
     a_min: float
 
     def b(self, com: np.ndarray, direction_deg: float) -> tuple[float, float]:
-        """(b_L, b_R) along ``direction_deg`` (m); 0 on a side where G is not inside."""
-        if len(self.hull) < 3:
+        """(b_L, b_R) along ``direction_deg`` (m): where the rays from G's projection along -x and +x leave this
+        contact hull (geometry/rocking_params.ray_exit); 0, 0 when G is not inside."""
+        from .rocking_params import ray_exit
+
+        if len(self.hull) < 3 or hull_edge_distances(self.hull, com[:2])[1].min() <= 0:
             return 0.0, 0.0
         psi = np.radians(direction_deg)
-        proj = (self.hull - com[:2]) @ np.array([np.cos(psi), np.sin(psi)])
-        return max(float(-proj.min()), 0.0), max(float(proj.max()), 0.0)
+        x = np.array([np.cos(psi), np.sin(psi)])
+        return ray_exit(self.hull, com[:2], -x)[0], ray_exit(self.hull, com[:2], x)[0]
 
 
 def contact_case(vertices: np.ndarray, com: np.ndarray, tol: float, g: float = G) -> ContactCase:

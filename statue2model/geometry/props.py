@@ -2,7 +2,8 @@
 
 Top-level keys: the rocking parameters under their MODEL.md names (m, h, b_L,
 b_R, I_G, d_L, d_R, delta_L, delta_R, I_L, I_R, p_L, p_R, a_L, a_R, e_L, e_R,
-direction_deg, g), volume, mass, density, com, inertia, footprint, base (contact
+direction_deg, g, obliquity_L, obliquity_R), volume, mass, density, com, inertia, footprint, tipping
+(the hull edges the body tips about toward -x and +x, with each ray's length and obliquity), base (contact
 tolerance, base roughness and warp, and b_L, b_R, a_min at half and double the
 tolerance), rose, and the
 provenance (source, kind, units, up, scale, height, log, warnings). SI units.
@@ -37,6 +38,10 @@ def props_dict(body, params, rose) -> dict:
     out.update(body.mass.to_dict())
     out.update(params.to_dict())
     out["footprint"] = body.footprint.to_dict()
+    from .rocking_params import tipping_edges
+
+    # the hull edges the body tips about toward +x and -x of the direction (the rays' exits, MODEL.md 1)
+    out["tipping"] = tipping_edges(body.footprint.hull, body.mass.com[:2], params.direction_deg)
     if body.base is not None:
         out["base"] = body.base.to_dict(body.mass.com, params.direction_deg, params.g)
     out["rose"] = rose.to_dict()

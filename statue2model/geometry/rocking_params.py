@@ -2,8 +2,12 @@
 
 Symbols (MODEL.md section 1; SI units). The excitation acts along the horizontal
 unit vector x at angle ``direction_deg`` (psi) in plan, measured from the body's
-+x axis toward +y. Rocking pivots are the extreme points of the footprint's
-convex hull along x.
++x axis toward +y. The body lifts when the resultant of gravity and inertia leaves the
+footprint's convex hull along the x ray through G's projection G' (MODEL.md section 1):
+b_R is the length of the ray from G' along +x to the hull's boundary, b_L along -x, and the
+body tips about the hull edge the ray leaves through (its tipping edge). Where that edge is
+oblique to x the ray is shorter than the extreme vertex's projection on x (which overstates
+the uplift); over all directions the minimum is the same (at an edge's normal).
 
 =========  ============================================================
 m          mass, kg
@@ -16,6 +20,8 @@ d_i        sqrt(b_i^2 + h^2), pivot i to G, m            (i = L, R)
 delta_i    atan(b_i / h), critical (overturning) angle, rad
 I_i        I_G + m d_i^2, inertia about pivot i, kg m^2
 p_i        sqrt(m g d_i / I_i), frequency parameter, rad/s
+obliquity_i  the angle (deg) between x (or -x) and the normal of the tipping edge: 0 where the
+           ray meets the edge square
 a_i        g b_i / h, uplift acceleration (West), m/s^2: a ground acceleration
            of -a_R (toward -x) lifts the body onto its right pivot
            (theta > 0), one of +a_L onto its left pivot (theta < 0)
@@ -66,6 +72,8 @@ class RockingParams:
     I_G: float
     direction_deg: float = 0.0
     g: float = G
+    obliquity_L: float = 0.0
+    obliquity_R: float = 0.0
 
     def __post_init__(self):
         for name in ("m", "h", "b_L", "b_R", "I_G", "g"):
@@ -151,6 +159,7 @@ class RockingParams:
         out["e_L_raw"], out["e_R_raw"] = self.e_L_raw, self.e_R_raw
         out["direction_deg"] = self.direction_deg
         out["g"] = self.g
+        out["obliquity_L"], out["obliquity_R"] = self.obliquity_L, self.obliquity_R
         return out
 
     @classmethod
@@ -197,12 +206,58 @@ def unit_vectors(direction_deg: float) -> tuple[np.ndarray, np.ndarray]:
     return np.array([math.cos(psi), math.sin(psi), 0.0]), np.array([-math.sin(psi), math.cos(psi), 0.0])
 
 
+def ray_exit(hull: np.ndarray, point: np.ndarray, x: np.ndarray) -> tuple[float, int, float]:
+    """Where the ray from ``point`` (2,) along the unit vector ``x`` (2,) leaves the convex CCW ``hull``
+    (k, 2): (length t, index k of the edge hull[k] -> hull[k + 1] it leaves through, cos of the angle
+    between x and that edge's outward normal). The ray leaves through the edge whose line it meets first,
+    t = min over the edges facing x (n . x > 0) of d_k / (n_k . x), d_k the point's distance to the edge's
+    line (positive inside).
+
+    >>> square = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    >>> t, k, c = ray_exit(square, np.zeros(2), np.array([1.0, 0.0]))
+    >>> round(t, 12), k, round(c, 12)
+    (1.0, 1, 1.0)
+    >>> round(ray_exit(square, np.zeros(2), np.array([1.0, 1.0]) / 2 ** 0.5)[0], 12)    # the corner
+    1.414213562373
+    """
+    normals, dist = hull_edge_distances(np.asarray(hull, dtype=float), np.asarray(point, dtype=float))
+    c = normals @ np.asarray(x, dtype=float)
+    facing = c > 1e-12
+    if not facing.any():
+        raise InputError("the footprint's hull is degenerate: no edge faces the direction")
+    t = np.full(len(c), np.inf)
+    t[facing] = dist[facing] / c[facing]
+    k = int(np.argmin(t))
+    return float(t[k]), k, float(c[k])
+
+
+def tipping_edges(hull: np.ndarray, com_xy: np.ndarray, direction_deg: float) -> dict:
+    """The hull edges the body tips about toward +x and -x of ``direction_deg``: {"R": ((x1, y1), (x2, y2)),
+    "L": ...} in the body's plan frame (m), with each ray's length and obliquity (deg)."""
+    x, _ = unit_vectors(direction_deg)
+    hull = np.asarray(hull, dtype=float)
+    out = {}
+    for side, sign in (("R", 1.0), ("L", -1.0)):
+        t, k, c = ray_exit(hull, com_xy, sign * x[:2])
+        a, b = hull[k], hull[(k + 1) % len(hull)]
+        out[side] = {"edge": [[float(a[0]), float(a[1])], [float(b[0]), float(b[1])]], "ray": t,
+                     "obliquity_deg": math.degrees(math.acos(min(1.0, c)))}
+    return out
+
+
 def rocking_params(mass: MassProperties, hull: np.ndarray, direction_deg: float, g: float = G) -> RockingParams:
     """Rocking parameters along ``direction_deg`` for a body with mass properties ``mass``
-    (base on z = 0) whose footprint has convex hull ``hull`` ((k, 2), m)."""
+    (base on z = 0) whose footprint has convex hull ``hull`` ((k, 2), m): b_R and b_L are the lengths
+    of the rays from G's projection along +x and -x to the hull's boundary (:func:`ray_exit`)."""
     x, y = unit_vectors(direction_deg)
-    proj = (np.asarray(hull) - mass.com[:2]) @ x[:2]
-    b_R, b_L = float(proj.max()), float(-proj.min())
+    hull = np.asarray(hull, dtype=float)
+    com = np.asarray(mass.com[:2], dtype=float)
+    if hull_edge_distances(hull, com)[1].min() <= 0:
+        raise InputError(
+            f"along {direction_deg:g} deg the centre of mass is outside the base: the body would not stand"
+        )
+    b_R, _, c_R = ray_exit(hull, com, x[:2])
+    b_L, _, c_L = ray_exit(hull, com, -x[:2])
     if b_R <= 0 or b_L <= 0:
         raise InputError(
             f"along {direction_deg:g} deg the centre of mass is outside the base: the body would not stand"
@@ -210,6 +265,7 @@ def rocking_params(mass: MassProperties, hull: np.ndarray, direction_deg: float,
     return RockingParams(
         m=mass.mass, h=float(mass.com[2]), b_L=b_L, b_R=b_R,
         I_G=mass.inertia_about_axis(y), direction_deg=float(direction_deg) % 360.0, g=g,
+        obliquity_L=math.degrees(math.acos(min(1.0, c_L))), obliquity_R=math.degrees(math.acos(min(1.0, c_R))),
     )
 
 
