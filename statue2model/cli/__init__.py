@@ -12,6 +12,7 @@
     statue2model run [MESH|FOLDER] [--config project.toml] [--out DIR] [--stages LIST] [--force]
                      [--workers N | --scheduler ADDRESS]      every stage, cached, with an HTML report
     statue2model config [--out project.toml]                  the project file with every default
+    statue2model validate CAMPAIGN.toml --out DIR [--models 2d,3d] [--identify OTHER.toml]   a shake-table campaign
 
 Errors in the input are printed as one line (``statue2model: error: ...``) with
 exit status 2 (also a refused output folder: one holding the user's files, or in use
@@ -59,7 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
-    from . import crosscheck, dynamics, fabrication, fragility, geometry, isolator, run
+    from . import crosscheck, dynamics, fabrication, fragility, geometry, isolator, run, validate
 
     geometry.add_parsers(sub)
     dynamics.add_parsers(sub)
@@ -68,6 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
     crosscheck.add_parsers(sub)
     fragility.add_parsers(sub)
     run.add_parsers(sub)
+    validate.add_parsers(sub)
     return parser
 
 

@@ -1,0 +1,271 @@
+"""``statue2model validate``: replay a shake-table campaign and say how often the models were right.
+
+For a campaign (statue2model.assessment.campaign: the specimen's scan, the table's axis in it, the tests'
+motion files and observed outcomes) it builds the specimen's Body (the scan read, repaired and stood up),
+its rocking geometry along the table's axis (geometry/rocking_params.py: where the rays leave the
+footprint), and predicts each test:
+
+2D   P(topple) and P(lift) over SAMPLES: the base contact at half, at and at double its tolerance
+     (geometry/base.py: the scan's contact band; each contact hull gives its own b_L, b_R along the axis)
+     x the restitution at E_FACTORS of eq. 15's (the scatter of Table 23): 9 runs of the rocking engine
+     per test. The model is Housner's, or the imperfect one with the identified alpha.
+3D   the PyBullet scene (crosscheck/statue_scene.py) on a sample of the tests (``sample``, spread over
+     the tests' PGAs), one run each: P is 0 or 1.
+
+The decision rule: a model predicts the outcome when P >= DECISION (0.5). Scores per model and outcome
+(assessment/campaign.py scores): the confusion counts, accuracy, precision, recall with 95 % Wilson
+intervals, and the Brier score of P.
+
+``identify``: another campaign (another object, the same kind of set-up) on which the contact's effective
+parameters are identified before predicting this one, as the thesis does with a prototype: the uplift
+reduction alpha (alpha_L = alpha_R: the real contact lifts at alpha times the scanned geometry's uplift, the
+thesis' imperfect model, eqs. 33-38) and a factor on the restitution, on the grid ALPHAS x E_GRID, the
+pair with the best balanced accuracy of the topple prediction (ties: the lower Brier score). The identified
+values and the other campaign's scores with them are reported.
+
+Writes ``OUT/validation.json`` (per test: the observed outcome, each model's P and prediction, the table's
+PGA and PGV; the scores; the identification) and ``OUT/validation.html`` (the scores, the confusion
+matrices, outcome against PGA and PGV, the misses listed).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+E_FACTORS = (0.95, 1.0, 1.05)
+"""The restitution at these multiples of eq. 15's (Table 23's scatter, as the fragility study samples it)."""
+DECISION = 0.5
+"""A model predicts the outcome when its P >= DECISION."""
+ALPHAS = (1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3)
+E_GRID = (0.9, 1.0, 1.05)
+MODELS = ("2d", "3d")
+SAMPLE_3D = 10
+"""Tests run in 3D by default (spread over the PGAs)."""
+
+
+@dataclass(frozen=True)
+class Contact:
+    """What the prediction assumes of the contact: the uplift reduction alpha and the restitution factor."""
+
+    alpha: float = 1.0
+    e_factor: float = 1.0
+    source: str = "the scan as it is (no identification)"
+
+
+def _body(campaign):
+    from ..geometry.body import load_body
+
+    s = campaign.specimen
+    return load_body(s.scan, units=s.units, up=s.up, density=None if s.mass is not None else s.density, mass=s.mass)
+
+
+def specimen_models(body, direction: float, contact: Contact = Contact()) -> list:
+    """The 2D models of the samples (module docstring): one per contact hull x restitution factor."""
+    from ..rocking.model import RockingModel
+
+    p0 = body.rocking(direction)
+    hulls = [c for c in body.base.cases] if body.base is not None else [None]
+    models = []
+    for case in hulls:
+        p = p0
+        if case is not None:
+            b_L, b_R = case.b(body.mass.com, direction)
+            if b_L <= 0 or b_R <= 0:
+                continue
+            p = replace(p0, b_L=b_L, b_R=b_R)
+        for f in E_FACTORS:
+            k = f * contact.e_factor
+            e_L, e_R = min(1.0, p.e_L * k), min(1.0, p.e_R * k)
+            if contact.alpha >= 1.0:
+                models.append(RockingModel.housner(p, e_L=e_L, e_R=e_R))
+            else:
+                models.append(RockingModel.imperfect(p, contact.alpha, contact.alpha, e_L=e_L, e_R=e_R))
+    if not models:
+        raise InputError("the specimen's centre of mass lies outside every contact hull: it would not stand")
+    return models
+
+
+def _run_2d(task) -> tuple[float, float]:
+    from ..rocking.engine import simulate
+
+    models, motion = task
+    top = lift = 0
+    for m in models:
+        r = simulate(m, motion)
+        top += bool(r.overturned)
+        lift += r.uplift_time is not None
+    return top / len(models), lift / len(models)
+
+
+def predict_2d(models, motions, executor=None) -> tuple[np.ndarray, np.ndarray]:
+    """(P(topple), P(lift)) per motion over the sample models."""
+    tasks = [(models, m) for m in motions]
+    if executor is None or getattr(executor, "workers", 1) < 2 or len(tasks) < 2:
+        res = [_run_2d(t) for t in tasks]
+    else:
+        res = list(executor.map(_run_2d, tasks, desc="validate: 2D"))
+    return np.array([r[0] for r in res]), np.array([r[1] for r in res])
+
+
+def _sample(pgas: np.ndarray, k: int) -> list[int]:
+    """``k`` test indices spread over the PGAs (their ranks, evenly)."""
+    order = np.argsort(pgas, kind="stable")
+    if k >= len(order):
+        return sorted(int(i) for i in order)
+    pick = np.unique(np.round(np.linspace(0, len(order) - 1, k)).astype(int))
+    return sorted(int(order[i]) for i in pick)
+
+
+def predict_3d(body, direction: float, motions, indices) -> dict:
+    """{test index: (toppled, lifted)} of the PyBullet scene on the tests ``indices``."""
+    from ..crosscheck.statue_scene import StatueScene, simulate_statue
+
+    scene = StatueScene.from_body(body, direction)
+    out = {}
+    for i in indices:
+        r = simulate_statue(scene, motions[i])
+        out[i] = (bool(r.overturned), r.uplift_time is not None)
+    return out
+
+
+def _read_motions(campaign) -> tuple[list, list[list[str]]]:
+    from ..hazard.lab import read_lab_motion
+
+    motions, notes = [], []
+    for t in campaign.tests:
+        m, n = read_lab_motion(t.file, campaign.motion, label=t.name)
+        motions.append(m)
+        notes.append(n)
+    return motions, notes
+
+
+def _balanced(obs, pred) -> float:
+    obs, pred = np.asarray(obs, bool), np.asarray(pred, bool)
+    pos, neg = obs.sum(), (~obs).sum()
+    parts = []
+    if pos:
+        parts.append((pred & obs).sum() / pos)
+    if neg:
+        parts.append((~pred & ~obs).sum() / neg)
+    return float(np.mean(parts)) if parts else 0.0
+
+
+def identify(campaign_path, executor=None, say=lambda m: None) -> dict:
+    """The contact parameters identified on the campaign at ``campaign_path`` (module docstring)."""
+    from ..assessment.campaign import load_campaign, scores
+
+    other = load_campaign(campaign_path)
+    body = _body(other)
+    motions, _ = _read_motions(other)
+    obs = [t.toppled for t in other.tests]
+    outcome = "topple"
+    if len(set(obs)) < 2 and all(t.lifted is not None for t in other.tests) and \
+            len({t.lifted for t in other.tests}) == 2:
+        obs, outcome = [t.lifted for t in other.tests], "lift"      # the outcome that varies there
+    best, rows = None, []
+    for a in ALPHAS:
+        for f in E_GRID:
+            say(f"identify: alpha {a:g}, restitution x {f:g}")
+            P_top, P_lift = predict_2d(specimen_models(body, other.specimen.direction, Contact(a, f)), motions,
+                                       executor)
+            P = P_top if outcome == "topple" else P_lift
+            pred = P >= DECISION
+            s = scores(obs, pred, P)
+            row = {"alpha": a, "e_factor": f, "balanced_accuracy": _balanced(obs, pred), "brier": s["brier"],
+                   "recall": s["recall"]["value"], "precision": s["precision"]["value"]}
+            rows.append(row)
+            key = (row["balanced_accuracy"], -row["brier"])
+            if best is None or key > best[0]:
+                best = (key, row)
+    chosen = best[1]
+    return {"campaign": other.name, "tests": len(other.tests), "outcome": outcome, "alpha": chosen["alpha"],
+            "e_factor": chosen["e_factor"], "balanced_accuracy": chosen["balanced_accuracy"],
+            "brier": chosen["brier"], "grid": rows,
+            "rule": "alpha_L = alpha_R and a factor on eq. 15's restitution over "
+                    f"{len(ALPHAS)} x {len(E_GRID)} values; the best balanced accuracy of the {outcome} prediction "
+                    "(topple where that campaign has toppled and standing tests, else lift), then the lower Brier "
+                    "score"}
+
+
+def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int = SAMPLE_3D, executor=None,
+             say=lambda m: None, contact: Contact | None = None) -> dict:
+    """Replay the campaign at ``campaign_path``; write OUT/validation.json and validation.html; return the record.
+    ``contact``: the contact to assume (Python only; ``identify_path`` identifies it instead)."""
+    from ..assessment.campaign import load_campaign
+    from ..assessment.fragility import pgv
+    from ..io.files import write_json
+    from ..quantities import G
+
+    bad = [m for m in models if m not in MODELS]
+    if bad or not models:
+        raise InputError(f"--models must name {' and/or '.join(MODELS)}, got {','.join(models) or 'none'}")
+    campaign = load_campaign(campaign_path)
+    out = Path(out)
+    contact = contact or Contact()
+    ident = None
+    if identify_path is not None:
+        ident = identify(identify_path, executor, say)
+        contact = Contact(ident["alpha"], ident["e_factor"], f"identified on campaign {ident['campaign']}")
+    say(f"validate: {len(campaign.tests)} tests of {campaign.name}")
+    body = _body(campaign)
+    direction = campaign.specimen.direction
+    p0 = body.rocking(direction)
+    motions, notes = _read_motions(campaign)
+    pgas = np.array([m.pga for m in motions])
+    pgvs = np.array([pgv(m) for m in motions])
+    tests = campaign.tests
+    rows = [{"name": t.name, "file": t.file.name, "toppled": t.toppled, "lifted": t.lifted,
+             "peak_rotation": t.peak_rotation, "pga": float(a), "pga_g": float(a / G), "pgv": float(v),
+             "notes": n} for t, a, v, n in zip(tests, pgas, pgvs, notes)]
+    result = {"schema": "statue2model.validation/1", "campaign": campaign.name, "tests": len(tests),
+              "specimen": {"scan": campaign.specimen.scan.name, "mass": body.mass.mass, "direction_deg": direction,
+                           "h": p0.h, "b_L": p0.b_L, "b_R": p0.b_R, "a_L": p0.a_L, "a_R": p0.a_R,
+                           "obliquity_L": p0.obliquity_L, "obliquity_R": p0.obliquity_R,
+                           "contact_band": None if body.base is None else
+                           body.base.rows(body.mass.com, direction, p0.g)},
+              "contact": {"alpha": contact.alpha, "e_factor": contact.e_factor, "source": contact.source},
+              "identification": ident, "decision": f"A model predicts the outcome when P >= {DECISION:g}",
+              "models": {}, "rows": rows}
+    if "2d" in models:
+        say("validate: 2D on every test")
+        smodels = specimen_models(body, direction, contact)
+        P, L = predict_2d(smodels, motions, executor)
+        for r, p, q in zip(rows, P, L):
+            r["p_topple_2d"], r["topple_2d"] = float(p), bool(p >= DECISION)
+            r["p_lift_2d"], r["lift_2d"] = float(q), bool(q >= DECISION)
+        result["models"]["2d"] = _model_scores(tests, rows, "2d", range(len(tests)),
+                                               f"{len(smodels)} runs a test: the contact hulls x restitution "
+                                               f"{', '.join(f'{f:g}' for f in E_FACTORS)}")
+    if "3d" in models:
+        idx = _sample(pgas, int(sample))
+        say(f"validate: 3D on {len(idx)} of {len(tests)} tests")
+        res = predict_3d(body, direction, motions, idx)
+        for i, (top, lift) in res.items():
+            rows[i].update(p_topple_3d=float(top), topple_3d=top, p_lift_3d=float(lift), lift_3d=lift)
+        result["models"]["3d"] = _model_scores(tests, rows, "3d", idx,
+                                               f"one PyBullet run a test, {len(idx)} tests spread over the PGAs")
+    write_json(out / "validation.json", result)
+    from ..report.validation_page import write_validation_page
+
+    write_validation_page(result, out / "validation.html", out)
+    return result
+
+
+def _model_scores(tests, rows, model: str, indices, how: str) -> dict:
+    from ..assessment.campaign import scores
+
+    idx = list(indices)
+    obs = [tests[i].toppled for i in idx]
+    out = {"tests": len(idx), "how": how,
+           "topple": scores(obs, [rows[i][f"topple_{model}"] for i in idx], [rows[i][f"p_topple_{model}"] for i in idx])}
+    lifted = [i for i in idx if tests[i].lifted is not None]
+    if lifted:
+        out["lift"] = scores([tests[i].lifted for i in lifted], [rows[i][f"lift_{model}"] for i in lifted],
+                             [rows[i][f"p_lift_{model}"] for i in lifted])
+    out["misses"] = [rows[i]["name"] for i in idx if rows[i][f"topple_{model}"] != tests[i].toppled]
+    return out
+
