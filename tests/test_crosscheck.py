@@ -47,8 +47,9 @@ def test_inertia_from_our_mass_properties(statue):
     assert chk["com_error_m"] < 1e-12
     assert chk["inertia_rel_error"] < 1e-9
     # the scene is turned so that the 2D params along +x are those of the weakest direction
-    assert statue.x_R - statue.com[0] == pytest.approx(statue.params.b_R, rel=1e-9)
-    assert statue.com[0] - statue.x_L == pytest.approx(statue.params.b_L, rel=1e-9)
+    # (b_R by the ray from G', the extreme base point beyond it by < 0.1 mm: the edge is square to x)
+    assert 0 <= statue.x_R - statue.com[0] - statue.params.b_R < 1e-4
+    assert 0 <= statue.com[0] - statue.x_L - statue.params.b_L < 2e-3
     assert statue.hull[:, 2].min() == 0.0
 
 

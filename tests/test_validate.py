@@ -154,3 +154,17 @@ def test_a_tests_file_with_a_bad_row_names_it(campaign):
     tests.write_text(tests.read_text() + "t9,t0.txt,maybe,0\n")
     with pytest.raises(InputError, match="line 10: toppled must be 0 or 1"):
         load_campaign(campaign)
+
+
+def test_3d_runs_the_sample_on_the_contact_band(campaign, tmp_path):
+    """3D on a sample: each test on the scenes of the band's contacts (tol / 2, tol, 2 tol), P the fraction
+    that topple; the box (a flat base: every end of the band the same hull) topples at the top amplitude
+    in every scene and stays at the bottom one, as 2D predicts."""
+    out = tmp_path / "out3"
+    assert main(["validate", str(campaign), "--out", str(out), "--models", "2d,3d", "--sample", "2"]) == 0
+    r = json.loads((out / "validation.json").read_text())
+    rows3 = [row for row in r["rows"] if "p_topple_3d" in row]
+    assert [row["name"] for row in rows3] == ["t0", "t7"]
+    assert rows3[0]["p_topple_3d"] == 0.0 and rows3[1]["p_topple_3d"] == 1.0
+    assert rows3[1]["topple_3d"] is True and rows3[0]["lift_3d"] is False
+    assert "3 contacts of the band" in r["models"]["3d"]["how"] and r["models"]["3d"]["topple"]["n"] == 2

@@ -2,10 +2,14 @@
 
     statue2model crosscheck MESH_OR_PARAMS --motion SPEC [--isolator DESIGN.json] --out DIR
                             [--direction DEG] [--dt S] [--statue-dt S] [--iterations N] [--grid MM] [--groove G] [--segments N]
-                            [--pulse-freq HZ] [--quick] [--imperfect] [--records N]
+                            [--pulse-freq HZ] [--quick] [--imperfect] [--records N] [--only-motion]
 
 MESH_OR_PARAMS is a scan (its convex hull and mass properties are used) or a
 PARAMS.json of rocking parameters (then a prism with those m, h, b_L, b_R, I_G).
+A motion file of three columns (time, a_x, a_y in the scan's frame) is resolved along the
+excitation direction and across it: the 2D model runs on the first, the 3D scene once on it alone
+(like with like) and once on both. --only-motion runs the user's motion alone (no calibration,
+free rocking, pulses or boundaries): a shake-table test or a floor record in seconds.
 Writes DIR/crosscheck.json (a list ``cases``) and overlay plots (PNG): statue2model.crosscheck.compare
 runs the cases, statue2model.report.crosscheck_plots writes the folder.
 """
@@ -24,7 +28,10 @@ def add_parsers(sub) -> None:
                        "and overlaid time histories.")
     p.add_argument("source", metavar="MESH_OR_PARAMS", help="a scan, or the PARAMS.json of `statue2model props`")
     p.add_argument("--motion", required=True, metavar="SPEC", help="ground motion as for `rock` (the recorded-"
-                   "motion case and the isolated statue); free:theta0=RAD runs the standard cases only")
+                   "motion case and the isolated statue); free:theta0=RAD runs the standard cases only; a file "
+                   "of time, a_x, a_y (scan frame) runs in 3D with both components as well")
+    p.add_argument("--only-motion", action="store_true", help="the user's motion alone: the statue (and the "
+                   "isolated statue, --groove exact) under --motion in 3D and 2D, without the standard cases")
     p.add_argument("--isolator", metavar="DESIGN.json", help="the JSON of `statue2model isolator design`")
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--direction", type=finite_float, metavar="DEG", help="excitation direction (default: weakest)")
@@ -70,7 +77,7 @@ def load_scene(source: str, direction: float | None = None):
 def _cmd_crosscheck(args) -> int:
     from ..crosscheck.isolator_scene import IsolatorScene
     from ..crosscheck.world import SimSettings, check_user_dt
-    from ..hazard.motions import parse_spec
+    from ..hazard.motions import along, parse_spec_components
     from ..io.files import open_output
     from .isolator import read_design
 
@@ -82,8 +89,18 @@ def _cmd_crosscheck(args) -> int:
     statue_settings = SimSettings(dt=args.statue_dt, solver_iterations=args.iterations)
     for name, dt in (("--dt", args.dt), ("--statue-dt", args.statue_dt)):
         check_user_dt(name, dt)
-    motion, _ = parse_spec(args.motion)
+    comps, _ = parse_spec_components(args.motion)
+    if args.only_motion and comps[0].kind == "none":
+        raise InputError("--only-motion needs a ground motion (a record or a pulse), not free:theta0")
+    if args.only_motion and args.isolator and args.groove != "exact":
+        raise InputError("--only-motion runs the isolator with --groove exact (the ball scenes calibrate "
+                         "their friction on a free vibration first)")
+    if args.only_motion and (args.imperfect or args.records):
+        raise InputError("--only-motion runs the user's motion alone: drop --imperfect and --records")
     scene = load_scene(args.source, args.direction)
+    motion, motion_y = comps[0], None
+    if len(comps) == 2:
+        motion, motion_y = along(*comps, scene.params.direction_deg)
     iso = None
     if args.isolator:
         d = read_design(args.isolator)            # a design `isolator design` rejected is refused
@@ -100,10 +117,10 @@ def _cmd_crosscheck(args) -> int:
     # only once the inputs are read (a bad input leaves no folder), before any work: a folder with
     # the user's files (or another command's) is refused, and the outputs appear together
     with open_output(args.out, "crosscheck", command="crosscheck", can_reuse=False) as od:
-        return _crosscheck(args, od, scene, motion, iso, settings, statue_settings)
+        return _crosscheck(args, od, scene, motion, iso, settings, statue_settings, motion_y)
 
 
-def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
+def _crosscheck(args, od, scene, motion, iso, settings, statue_settings, motion_y=None) -> int:
     from ..crosscheck.compare import compare
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.output import summary, table
@@ -121,9 +138,11 @@ def _crosscheck(args, od, scene, motion, iso, settings, statue_settings) -> int:
     comp = compare(scene, motion, iso_scene=iso, settings=settings, statue_settings=statue_settings,
                    contact=contact,
                    pulse_freq=args.pulse_freq, quick=args.quick, imperfect=args.imperfect,
-                   records=args.records, progress=lambda m: print(f"  running: {m}", flush=True))
+                   records=args.records, progress=lambda m: print(f"  running: {m}", flush=True),
+                   only_motion=args.only_motion, motion_y=motion_y)
     extra = {"scene": {"name": scene.name, "params": scene.params.to_dict(), "hull_vertices": len(scene.hull)},
              "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(), "contact": contact.to_dict(), "motion": motion.to_dict(),
+             "motion_across": None if motion_y is None else motion_y.to_dict(), "only_motion": bool(args.only_motion),
              "notes": notes}
     with group as g:
         paths = write_crosscheck(comp, g.tmp, extra)

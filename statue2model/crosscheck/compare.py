@@ -27,6 +27,7 @@ statue2model.report.crosscheck_plots.
 """
 from __future__ import annotations
 
+from ..errors import InputError
 from .boundary import BOUNDARY_FREQS, boundary_cases
 from .case import Comparison
 from .contact import ContactSettings
@@ -43,7 +44,8 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
             contact: ContactSettings | None = None, pulse_freq: float = 1.5, quick: bool = False,
             progress=None, e_L: float | None = None, e_R: float | None = None,
             boundary_freqs=None, statue_settings: SimSettings | None = None, imperfect: bool = False,
-            records: int = 0, levels=None, workers: int = 2) -> Comparison:
+            records: int = 0, levels=None, workers: int = 2, only_motion: bool = False,
+            motion_y=None) -> Comparison:
     """All cases of the module docstring for one statue (and isolator, if given). ``e_L``, ``e_R``:
     the user's restitution (a prototype test; default eq. 15); ``boundary_freqs``: the frequencies of
     the overturning-boundary cases (default BOUNDARY_FREQS[quick]). Engine settings: ``statue_settings``
@@ -51,8 +53,18 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
     dt 2 ms), ``settings`` for the ball isolator scene, the imperfect base and the record ensemble
     (default ``SimSettings()``, dt 0.5 ms). ``imperfect``: also the imperfect-base cases; ``records``: also the ensemble of that many
     records (0: none) at ``levels`` (default ensemble.LEVELS) on ``workers`` processes; their run
-    details (``runs['imperfect base: ...']``, ``runs['records']``) with non-finite numbers as null."""
+    details (``runs['imperfect base: ...']``, ``runs['records']``) with non-finite numbers as null.
+
+    ``only_motion``: the user's motion alone (no restitution calibration, free rocking, pulses or
+    boundaries; with an isolator scene the isolated statue under the component along the direction,
+    without its free vibration), as :func:`only_motion_cases`; ``motion_y``: the motion's horizontal
+    component across the direction (a record with two, :func:`statue2model.hazard.motions.along`)."""
     say = progress or (lambda msg: None)
+    if only_motion:
+        return only_motion_cases(scene, motion, motion_y=motion_y, iso_scene=iso_scene,
+                                 settings=STATUE_SETTINGS if statue_settings is None else statue_settings,
+                                 contact=ContactSettings() if contact is None else contact, quick=quick,
+                                 e_L=e_L, e_R=e_R, say=say)
     iso_settings = SimSettings() if settings is None else settings
     settings = STATUE_SETTINGS if statue_settings is None else statue_settings
     contact = ContactSettings() if contact is None else contact
@@ -75,6 +87,10 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
         say(f"motion {motion.label}")
         parts.append(motion_cases(scene, motion, settings, contact, free_time=1.0 if quick else 3.0, model=user,
                                   calib=rest, spread=not quick, e_user=(e_L, e_R)))
+        if motion_y is not None:
+            say(f"motion {motion.label}, both components")
+            parts.append(motion_cases(scene, motion, settings, contact, free_time=1.0 if quick else 3.0, model=user,
+                                      e_user=(e_L, e_R), motion_y=motion_y, label=both_label(motion)))
     if iso_scene is not None:
         parts += _isolator_parts(iso_scene, motion, settings if is_exact(iso_scene) else iso_settings, contact,
                                  quick, user, say)
@@ -86,6 +102,44 @@ def compare(scene: StatueScene, motion=None, *, iso_scene=None, settings: SimSet
         parts.append(ensemble_cases(scene, iso_settings, contact, n_records=records,
                                     levels=LEVELS if levels is None else levels, quick=bool(quick),
                                     workers=workers, progress=progress).comparison)
+    return Comparison.join(parts)
+
+
+def both_label(motion) -> str:
+    """The tag of the cases of a record's two horizontal components run together in 3D."""
+    return f"{motion.label} + across (both components)"
+
+
+def only_motion_cases(scene: StatueScene, motion, *, motion_y=None, iso_scene=None, settings: SimSettings,
+                      contact: ContactSettings, quick: bool = False, e_L: float | None = None,
+                      e_R: float | None = None, say=None) -> Comparison:
+    """The user's motion alone: the free-standing statue in 3D (with ``motion_y`` a second run with
+    both horizontal components, its cases tagged 'both components') against the user's 2D model
+    (``e_L``, ``e_R``: default eq. 15) on the component along the direction; with ``iso_scene`` the
+    isolated statue, fixed to the plate and free-standing, on that component (the isolator scenes
+    are driven along x). A run of a campaign's test or a floor record without the standard cases."""
+    say = say or (lambda msg: None)
+    if motion is None or motion.kind == "none":
+        raise InputError("--only-motion needs a ground motion (a record or a pulse), not free rocking")
+    user = user_model(scene, e_L, e_R)
+    free_time = 1.0 if quick else 3.0
+    say(f"motion {motion.label}")
+    parts = [motion_cases(scene, motion, settings, contact, free_time=free_time, model=user,
+                          spread=not quick, e_user=(e_L, e_R))]
+    if motion_y is not None:
+        say(f"motion {motion.label}, both components")
+        parts.append(motion_cases(scene, motion, settings, contact, free_time=free_time, model=user,
+                                  e_user=(e_L, e_R), motion_y=motion_y,
+                                  label=both_label(motion)))
+    if iso_scene is not None:
+        say("isolated statue")
+        parts.append(isolated_statue_cases(iso_scene, motion, settings, contact, free_time=1.0 if quick else 2.0,
+                                           mount="rigid", label="isolated statue (fixed to the plate)"))
+        if is_exact(iso_scene):
+            say("isolated statue, free-standing")
+            parts.append(isolated_statue_cases(iso_scene, motion, settings, contact, free_time=2.0,
+                                               mount="contact", label="isolated statue (free-standing)",
+                                               model=user))
     return Comparison.join(parts)
 
 

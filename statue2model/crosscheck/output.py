@@ -65,7 +65,8 @@ def table(cases) -> str:
     for c in cases:
         def fmt(v):
             return "-" if v is None else f"{v:.6g}"
-        err = "-" if c.kind == "equal" else (f"{c.rel_error * 100:.2f}%" if c.rel_error < 1e3 else "inf")
+        err = ("-" if c.kind == "equal" or (c.status == "not applicable" and not c.rel_error < 1e3) else
+               f"{c.rel_error * 100:.2f}%" if c.rel_error < 1e3 else "inf")
         tgt = "same" if c.kind == "equal" else (f"{c.target * 100:g}%" if c.kind == "relative" else f"{c.target:g}{c.unit}")
         st = {"met": "yes", "missed": "NO", "diagnostic": "diag (not counted)"}.get(c.status)
         if st is None:

@@ -24,6 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..hazard import motions
+from ..quantities import G
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from .boundary import overturn_amplitude_2d
@@ -64,13 +65,16 @@ def threshold_time_2d(model: RockingModel, motion, angle: float, t_end: float, d
 
 
 def no_lift_case(tag: str, r2, r3) -> Case:
-    """The peak rotation where neither model lifts off: not compared ('not applicable'), with the
-    reason; the 3D rotation of a body in full contact is the contact's compliance (a fraction of a
-    milliradian), not rocking, and the 2D model's is zero by definition."""
+    """The peak rotation where neither model lifts off (the non-pivot base edge stays below
+    LIFT_HEIGHT in both): not compared ('not applicable'), with the reason. The 3D rotation of a body
+    in full contact is the contact's compliance (a fraction of a milliradian), not rocking; the 2D
+    one is zero, or a hair past the exact uplift instant, of the same order as that compliance."""
+    q2 = max(abs(r2.theta_max_L), abs(r2.theta_max_R))
     q3 = max(abs(r3.theta_max_L), abs(r3.theta_max_R))
-    return Case(f"{tag}: peak rotation", "peak rotation", 0.0, q3, math.inf, 0.05, False, kind="relative", unit="rad",
+    return Case(f"{tag}: peak rotation", "peak rotation", q2, q3, math.inf, 0.05, False, kind="relative", unit="rad",
                 status="not applicable",
-                why=f"not applicable: neither model lifts off (2D in full contact; 3D's {q3:.2e} rad is the "
+                why=f"not applicable: neither model lifts off (the non-pivot base edge stays below "
+                    f"{LIFT_HEIGHT * 1000:g} mm in both: 2D {q2:.2e} rad, 3D {q3:.2e} rad, the order of the "
                     "contact's compliance, not rocking)")
 
 
@@ -139,9 +143,12 @@ def peak_before_first_impact_3d(r3) -> float | None:
     return float(q.max(initial=0.0))
 
 
-def _liftoff_cases(tag: str, model: RockingModel, motion, r2, r3, t_end: float) -> list:
+def _liftoff_cases(tag: str, model: RockingModel, motion, r2, r3, t_end: float) -> tuple[list, bool]:
     """Lift-off from the contacts: does it lift at all (same in both), when (LIFT_TARGET), and the
-    force-based lift-off as a diagnostic."""
+    force-based lift-off as a diagnostic. Returns the cases and whether either model lifted off by the
+    geometric criterion (the non-pivot base edge above LIFT_HEIGHT in both): the one criterion that
+    decides whether the peak rotation is compared, so a 2D rotation of a few 1e-5 rad (a hair past the
+    exact uplift instant) is never compared with the 3D contact's compliance."""
     tl2 = liftoff_time_2d(model, motion, t_end)
     cases = [Case.equal(f"{tag}: lifts off", tl2 is not None, r3.uplift_time is not None, quantity="lift-off",
                         note=f"non-pivot base edge above {LIFT_HEIGHT * 1000:g} mm (3D: contacts; 2D: "
@@ -160,7 +167,7 @@ def _liftoff_cases(tag: str, model: RockingModel, motion, r2, r3, t_end: float) 
             why="the contact solver's forces oscillate by 10-30 % of the load before uplift (micro-rocking in "
                 "the contact compliance), so the force criterion leads the rigid-body instant by up to ~7 ms: "
                 "shown, the geometric lift-off is the check"))
-    return cases
+    return cases, tl2 is not None or r3.uplift_time is not None
 
 
 def pulse_cases(scene: StatueScene, settings: SimSettings, contact: ContactSettings, freq: float = 1.5,
@@ -180,8 +187,8 @@ def pulse_cases(scene: StatueScene, settings: SimSettings, contact: ContactSetti
         r3 = simulate_statue(scene, m, settings=settings, contact=contact, free_time=free_time)
         scr = screen(model, m, r3, contact, t_end)
         cs = [Case.equal(f"{tag}: overturn", r2.overturned, r3.overturned, quantity="overturn")]
-        cs += _liftoff_cases(tag, model, m, r2, r3, m.end)
-        lifts = r2.uplift_time is not None or r3.uplift_time is not None
+        lift_cs, lifts = _liftoff_cases(tag, model, m, r2, r3, m.end)
+        cs += lift_cs
         p2, p3 = peak_before_first_impact_2d(r2), peak_before_first_impact_3d(r3)
         if lifts and (p2 is not None or p3 is not None):
             cs.append(Case.relative(f"{tag}: peak rotation before the first impact", "rad", p2, p3, 0.05,
@@ -209,11 +216,14 @@ def pulse_cases(scene: StatueScene, settings: SimSettings, contact: ContactSetti
 
 def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: ContactSettings,
                  free_time: float = 3.0, label: str | None = None, model: RockingModel | None = None,
-                 calib: dict | None = None, spread: bool = False, e_user: tuple = (None, None)
-                 ) -> Comparison:
+                 calib: dict | None = None, spread: bool = False, e_user: tuple = (None, None),
+                 motion_y=None) -> Comparison:
     """The user's motion on the free-standing statue. Checks: ``model`` (the user's 2D model,
     default eq. 15's e, or ``e_user``); with ``calib`` (restitution.calibrate_restitution) the peak
-    rotation of 2D given 3D's e is added as a diagnostic.
+    rotation of 2D given 3D's e is added as a diagnostic. ``motion_y``: the record's horizontal
+    component across the direction, run in 3D beside ``motion`` (the 2D model has ``motion`` only:
+    the cases say how far the second component takes the 3D body from the 2D prediction; a miss
+    names that component's PGA).
 
     ``spread``: also run the models' own sensitivity (2D with e x 0.99 and x 1.01, 2D with rtol 1e-6
     and 1e-10, 3D with dt / 2) and store the range of the peak rotation in the case's ``spread``
@@ -222,14 +232,15 @@ def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: Con
     tag = label or motion.label
     t_end = motion.end + free_time
     r2 = simulate_2d(model, motion, t_end=t_end, dt_out=DT_OUT_2D)
-    r3 = simulate_statue(scene, motion, settings=settings, contact=contact, free_time=free_time)
+    r3 = simulate_statue(scene, motion, settings=settings, contact=contact, free_time=free_time, motion_y=motion_y)
     scr = screen(model, motion, r3, contact, t_end)
     cases = [Case.equal(f"{tag}: overturn", r2.overturned, r3.overturned, quantity="overturn")]
-    cases += _liftoff_cases(tag, model, motion, r2, r3, t_end)
+    lift_cs, lifts = _liftoff_cases(tag, model, motion, r2, r3, t_end)
+    cases += lift_cs
     runs = {tag: r3.to_dict() | {"screen": scr}}
-    if r2.uplift_time is None and r3.uplift_time is None:
+    if not lifts:
         cases.append(no_lift_case(tag, r2, r3))
-    if not r2.overturned and not r3.overturned and r2.uplift_time is not None:
+    if not r2.overturned and not r3.overturned and lifts:
         q2, q3 = max(r2.theta_max_L, r2.theta_max_R), max(r3.theta_max_L, r3.theta_max_R)
         case = Case.relative(f"{tag}: peak rotation", "rad", q2, q3, 0.05, quantity="peak rotation")
         if spread:
@@ -241,7 +252,7 @@ def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: Con
                    "2D e x1.01": peak2(user_model(scene, *e_user, scale=1.01)),
                    "2D rtol 1e-6": peak2(model, rtol=1e-6), "2D rtol 1e-10": peak2(model, rtol=1e-10)}
             r3h = simulate_statue(scene, motion, settings=replace(settings, dt=settings.dt / 2), contact=contact,
-                                  free_time=free_time)
+                                  free_time=free_time, motion_y=motion_y)
             sp3 = {"3D dt / 2": math.nan if r3h.overturned else max(r3h.theta_max_L, r3h.theta_max_R)}
             v2 = [q2] + [v for v in sp2.values() if math.isfinite(v)]
             v3 = [q3] + [v for v in sp3.values() if math.isfinite(v)]
@@ -265,6 +276,12 @@ def motion_cases(scene: StatueScene, motion, settings: SimSettings, contact: Con
                 cases.append(Case.relative(f"{tag}: peak rotation (2D given 3D's e)", "rad",
                                            max(rd.theta_max_L, rd.theta_max_R), q3, 0.05,
                                            quantity="peak rotation").as_diagnostic(DIAG_WHY))
+    if motion_y is not None:
+        why = (f"the 3D body also feels the component across the direction (PGA {motion_y.pga / G:.3f} g, "
+               f"along it {motion.pga / G:.3f} g), which the 2D model has not")
+        cases = [c if c.met or c.status != "missed" else replace(c, why=(c.why + "; " if c.why else "") + why)
+                 for c in cases]
+        runs[tag]["motion_y_pga_g"] = motion_y.pga / G
     cases = [c.screened(scr) for c in cases]
     t2, y2 = _hist2d(r2)
     return Comparison(tuple(cases), {tag: {"t2": t2, "y2": y2, "t3": r3.t, "y3": r3.theta, "label": "theta (rad)"}},

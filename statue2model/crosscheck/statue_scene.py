@@ -110,9 +110,13 @@ class StatueScene:
     name: str = "statue"
 
     @classmethod
-    def from_body(cls, body, direction_deg: float | None = None, name: str | None = None) -> StatueScene:
+    def from_body(cls, body, direction_deg: float | None = None, name: str | None = None,
+                  tol: float | None = None) -> StatueScene:
         """Turn ``body`` (statue2model.geometry.body.Body) so that ``direction_deg``
-        (default: the weakest) is +x; flatten the base of its convex hull."""
+        (default: the weakest) is +x; stand it on its contact: the scan's points within ``tol`` (m,
+        default the footprint's contact tolerance; the contact band's tol / 2 and 2 tol,
+        geometry/base.py, give the scenes of its other ends) of the lowest are put on z = 0, the
+        rest of the convex hull kept as scanned."""
         import trimesh
 
         params = body.rocking(direction_deg)
@@ -122,17 +126,29 @@ class StatueScene:
         v = body.vertices @ Rz.T
         com = Rz @ body.mass.com
         inertia = Rz @ body.mass.inertia @ Rz.T
-        tol = float(body.footprint.tol)
-        hull = trimesh.Trimesh(v, body.faces, process=False).convex_hull.vertices.copy()
-        hull[hull[:, 2] <= tol, 2] = 0.0
+        tol = float(body.footprint.tol) if tol is None else float(tol)
+        if not (math.isfinite(tol) and tol >= 0):
+            raise InputError(f"contact tolerance must be a length >= 0, got {tol}")
+        # the scan's points within tol on the floor, then the convex hull: its base is the footprint's
+        # contact hull at tol (geometry/base.py contact_case), not only the hull vertices near the floor
+        pts = trimesh.Trimesh(v, body.faces, process=False).convex_hull.vertices
+        low = v[v[:, 2] <= tol]
+        pts = np.vstack([pts[pts[:, 2] > tol], np.column_stack([low[:, :2], np.zeros(len(low))])])
         # a plain ndarray: trimesh's TrackedArray makes every per-step numpy operation on it slow
-        hull = np.array(trimesh.convex.convex_hull(hull).vertices, dtype=float)
-        # the 2D parameters of the body PyBullet actually holds: pivots = extreme points along x of
-        # the flattened hull's base (they differ from the scan footprint's by up to 0.14 mm on the
-        # default scan: hull vertices within the tolerance, not the footprint polygon)
+        hull = np.array(trimesh.convex.convex_hull(pts).vertices, dtype=float)
+        # the 2D parameters of the body PyBullet actually holds, as props takes them from the scan's
+        # footprint: b_R, b_L where the rays from G' along +-x leave the flattened hull's base polygon
+        # (rocking_params.ray_exit; equal to the footprint's to 1e-9 m: the same contact hull). x_R, x_L:
+        # the base's extreme points along x, the 3D release pivot and the base points read for slip;
+        # they differ from the rays' where the tipping edge is oblique (30 deg on the default scan:
+        # b_L 0.352 m by the ray, 0.405 m to the extreme point)
         base = hull[hull[:, 2] == 0.0]
         x_R, x_L = float(base[:, 0].max()), float(base[:, 0].min())
-        params = replace(params, b_R=x_R - float(com[0]), b_L=float(com[0]) - x_L)
+        b_R, b_L = base_rays(base[:, :2], com[:2]) if len(base) >= 3 else (0.0, 0.0)
+        if not (b_R > 0 and b_L > 0):
+            raise InputError(f"the body cannot stand on its contact within {tol * 1000:.3g} mm of the floor "
+                             "(its centre of mass is not above it)")
+        params = replace(params, b_R=b_R, b_L=b_L)
         return cls(hull=hull, mass=float(body.mass.mass), com=com, inertia=inertia, params=params,
                    x_R=x_R, x_L=x_L, mesh=(v, np.asarray(body.faces)), name=name or "statue")
 
@@ -325,11 +341,14 @@ class Statue3DResult:
 def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: float | None = None,
                     settings: SimSettings | None = None, contact: ContactSettings | None = None,
                     dt_out: float = 0.002, collision: str = "hull", stop_on_overturn: bool = True,
-                    free_time: float = 5.0) -> Statue3DResult:
-    """Run scene (a): the statue on a rigid floor under ``motion`` (a GroundMotion along +x),
-    released from rest at theta0 (rad, about the right pivot if > 0). t_end defaults to the
-    end of the motion + ``free_time``; ``settings`` default to :data:`STATUE_SETTINGS`. The run
-    stops at overturning (|theta| >= delta).
+                    free_time: float = 5.0, motion_y=None) -> Statue3DResult:
+    """Run scene (a): the statue on a rigid floor under ``motion`` (a GroundMotion along +x, the
+    scene's excitation direction) and, if given, ``motion_y`` (the horizontal component across it,
+    along +y: a record's second component, :func:`statue2model.hazard.motions.along`), released
+    from rest at theta0 (rad, about the right pivot if > 0). t_end defaults to the end of the
+    motion + ``free_time``; ``settings`` default to :data:`STATUE_SETTINGS`. The run stops at
+    overturning (|theta| >= delta; theta is the rotation in the x-z plane, the out-of-plane tilt
+    is ``tilt_out``).
 
     Cost: the step loop only steps the engine and reads the base pose (and, for a run from rest
     until the non-pivot side has unloaded, the contact forces); rotation, base-point heights,
@@ -344,7 +363,7 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     if theta0 >= p2.delta_R or -theta0 >= p2.delta_L or not math.isfinite(theta0):
         raise InputError(f"theta0 = {theta0} rad is not between -delta_L and delta_R")
     if t_end is None:
-        t_end = motion.end + free_time
+        t_end = max(motion.end, 0.0 if motion_y is None else motion_y.end) + free_time
     if not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"t_end must be positive, got {t_end}")
     if not (math.isfinite(dt_out) and dt_out > 0):
@@ -353,6 +372,7 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     n = math.ceil(t_end / dt - 1e-9)
     every = max(1, round(dt_out / dt))
     acc = step_mean_acc(motion, 0.0, dt, n).tolist()
+    acc_y = [0.0] * n if motion_y is None else step_mean_acc(motion_y, 0.0, dt, n).tolist()
     _, V = inertia_frame(scene.inertia)
     hull_c = scene.hull - scene.com                   # hull about the com, link frame
     base_v, piv = base_vertices(scene)
@@ -370,9 +390,9 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
         last, stop_k, ot_k, bad_k = n, None, None, None    # last step kept; overturn / non-finite step
         checked, a_set = 0, None
         for k in range(1, n + 1):
-            a = acc[k - 1]
-            if a != a_set:                               # gravity (-a, 0, -g): World.set_ground_acc
-                gravity(-a, 0.0, -g, physicsClientId=cid)
+            a = (acc[k - 1], acc_y[k - 1])
+            if a != a_set:                               # gravity (-a, -a_y, -g): World.set_ground_acc
+                gravity(-a[0], -a[1], -g, physicsClientId=cid)
                 a_set = a
             step(physicsClientId=cid)
             pos, orn = get_pose(body, physicsClientId=cid)
@@ -432,6 +452,23 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
         wall_time=wall, steps=steps,
         inertia=check, max_pivot_slip=h["slip"], max_flight=max(0.0, h["flight"]),
         flight_time=h["n_flight"] * dt, unload_time=unload_t, max_lift=max(0.0, h["lift_max"]))
+
+
+def base_rays(base_xy: np.ndarray, com_xy: np.ndarray) -> tuple[float, float]:
+    """(b_R, b_L), m: the lengths of the rays from ``com_xy`` (2,) along +x and -x to where they leave
+    the convex hull of the base points ``base_xy`` (n, 2) - the rocking geometry of the x direction
+    (geometry.rocking_params.ray_exit)."""
+    from scipy.spatial import ConvexHull
+
+    from ..geometry.rocking_params import ray_exit
+
+    from scipy.spatial import QhullError
+
+    try:
+        poly = base_xy[ConvexHull(base_xy).vertices]      # counter-clockwise
+    except (QhullError, ValueError):                      # a point or a line: no area to stand on
+        return 0.0, 0.0
+    return (ray_exit(poly, com_xy, np.array([1.0, 0.0]))[0], ray_exit(poly, com_xy, np.array([-1.0, 0.0]))[0])
 
 
 def base_vertices(scene: StatueScene) -> tuple[np.ndarray, dict]:

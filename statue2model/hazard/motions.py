@@ -365,8 +365,9 @@ by :func:`read_record` into ``froude_scale``, so the record never drives a full-
 _FROUDE_RE = re.compile(r"#\s*statue2model:\s*Froude-scaled for a 1:([0-9.eE+-]+) prototype")
 
 
-def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
-    m = _read_csv_samples(path, dt, units)
+def _read_csv(path: Path, dt: float | None, units: str, components: int = 1) -> tuple[GroundMotion, ...]:
+    """The record's horizontal components (``components``: the most accepted, 1 or 2)."""
+    ms = _read_csv_samples(path, dt, units, components)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         first = f.readline()
     hit = _FROUDE_RE.match(first.strip())
@@ -377,11 +378,11 @@ def _read_csv(path: Path, dt: float | None, units: str) -> GroundMotion:
             lam = math.nan
         if not (math.isfinite(lam) and lam > 0):
             raise InputError(f"{path}: its header names a prototype scale 1:{hit.group(1)} that is not a number > 0")
-        m = replace(m, froude_scale=lam)
-    return m
+        ms = tuple(replace(m, froude_scale=lam) for m in ms)
+    return ms
 
 
-def _read_csv_samples(path: Path, dt: float | None, units: str) -> GroundMotion:
+def _read_csv_samples(path: Path, dt: float | None, units: str, components: int = 1) -> tuple[GroundMotion, ...]:
     rows, line_no = [], []
     # utf-8-sig: a byte-order mark (Excel's "CSV UTF-8") would otherwise make the first number a header
     for j, line in enumerate(path.read_text(encoding="utf-8-sig", errors="replace").splitlines(), start=1):
@@ -412,11 +413,17 @@ def _read_csv_samples(path: Path, dt: float | None, units: str) -> GroundMotion:
             raise InputError(f"{path}: one column of accelerations needs the time step: add dt=S to the spec")
         check_dt(dt, f"{path}: dt")
         _check_samples(data[:, 0] * factor, str(path), line_no)
-        return record(data[:, 0] * factor, dt, label=path.name)
-    if data.shape[1] != 2:
-        raise InputError(f"{path}: expected 1 column (acc) or 2 columns (time, acc), found {data.shape[1]}")
-    t, a = data[:, 0], data[:, 1]
-    _check_samples(a * factor, str(path), line_no)
+        return (record(data[:, 0] * factor, dt, label=path.name),)
+    if data.shape[1] == 3 and components == 1:
+        raise InputError(f"{path}: 3 columns (time and two horizontal components): this command takes one "
+                         "component; give a file with time, acc (the 3D cross-check reads both: "
+                         "statue2model crosscheck --only-motion)")
+    if data.shape[1] not in (2, 3):
+        raise InputError(f"{path}: expected 1 column (acc), 2 columns (time, acc) or 3 (time, a_x, a_y), "
+                         f"found {data.shape[1]}")
+    t = data[:, 0]
+    for col in range(1, data.shape[1]):
+        _check_samples(data[:, col] * factor, str(path), line_no)
     if not np.all(np.isfinite(t)):
         raise InputError(f"{path}: the time column holds a non-finite value")
     steps = np.diff(t)
@@ -436,12 +443,24 @@ def _read_csv_samples(path: Path, dt: float | None, units: str) -> GroundMotion:
         raise InputError(f"{path}: the record starts at a negative time ({t[0]:g} s)")
     step = (t[-1] - t[0]) / (len(t) - 1)
     check_dt(step, f"{path}: time step (the time column)")
-    return record(a * factor, step, start=float(t[0]), label=path.name)
+    if data.shape[1] == 2:
+        return (record(data[:, 1] * factor, step, start=float(t[0]), label=path.name),)
+    return tuple(record(data[:, c] * factor, step, start=float(t[0]), label=f"{path.name} {ax}")
+                 for c, ax in ((1, "x"), (2, "y")))
 
 
 def read_record(path, dt: float | None = None, units: str | None = None) -> GroundMotion:
     """Read an accelerogram file. ``.AT2`` files are in g; CSV files in m/s^2
-    unless ``units="g"``."""
+    unless ``units="g"``. A CSV of time and two horizontal components is refused with a
+    pointer to :func:`read_record_components`."""
+    return read_record_components(path, dt, units, components=1)[0]
+
+
+def read_record_components(path, dt: float | None = None, units: str | None = None,
+                           components: int = 2) -> tuple[GroundMotion, ...]:
+    """The horizontal components of an accelerogram file: one (``.AT2``, a one- or two-column CSV) or,
+    with ``components=2``, two from a CSV of three columns (time, a_x, a_y; x and y in the scan's
+    frame, as the excitation direction is)."""
     path = Path(path)
     if not path.is_file():
         raise InputError(f"motion file not found: {path}")
@@ -454,8 +473,28 @@ def read_record(path, dt: float | None = None, units: str | None = None) -> Grou
     if path.suffix.lower() == ".at2":
         if dt is not None:
             raise InputError(f"{path}: an .AT2 file gives its own DT; drop dt= from the spec")
-        return _read_at2(path)
-    return _read_csv(path, dt, units or "m/s2")
+        return (_read_at2(path),)
+    return _read_csv(path, dt, units or "m/s2", components)
+
+
+def along(ax: GroundMotion, ay: GroundMotion, direction_deg: float) -> tuple[GroundMotion, GroundMotion]:
+    """Two horizontal records (x, y; same sampling) resolved along the excitation direction (degrees
+    from +x toward +y) and across it: (a_x cos + a_y sin, -a_x sin + a_y cos)."""
+    if ax.kind != "record" or ay.kind != "record" or ax.dt != ay.dt or ax.samples.size != ay.samples.size \
+            or ax.start != ay.start:
+        raise InputError("the two horizontal components must be records of the same sampling")
+    c, s_ = math.cos(math.radians(direction_deg)), math.sin(math.radians(direction_deg))
+    a_par = c * ax.samples + s_ * ay.samples
+    a_perp = -s_ * ax.samples + c * ay.samples
+    base = ax.label.removesuffix(" x")
+    return tuple(replace(ax, samples=_frozen(a), label=f"{base} {what} {direction_deg:.1f} deg")
+                 for a, what in ((a_par, "along"), (a_perp, "across")))
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
 
 
 def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Path:
@@ -549,6 +588,14 @@ def _froude_scale(text: str) -> float:
 def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
     """Parse a SPEC string into (motion, theta0). See the module docstring and
     ``statue2model rock --help`` for the forms."""
+    motions_, theta0 = parse_spec_components(spec, base_dir, components=1)
+    return motions_[0], theta0
+
+
+def parse_spec_components(spec: str, base_dir=None, components: int = 2) -> tuple[tuple[GroundMotion, ...], float]:
+    """Parse a SPEC string into (the horizontal components, theta0): two where ``components`` is 2 and
+    the spec is a file of time, a_x, a_y (``pga=`` then scales both by one factor, so that the larger
+    component's peak is the PGA); one otherwise."""
     if ":" in spec:
         kind, _, rest = spec.partition(":")
     else:
@@ -577,37 +624,40 @@ def parse_spec(spec: str, base_dir=None) -> tuple[GroundMotion, float]:
         raise InputError(f"motion spec {spec!r}: start must be >= 0")
     if kind == "free":
         theta0 = _num("theta0", args["theta0"])
-        return free(), theta0
+        return (free(),), theta0
     if kind in ("cosine", "sine", "sines"):
         amp = parse_accel(args["amp"], "pulse amplitude", key="amp")
         freq = _num("freq", args["freq"], positive=True)
         if kind == "cosine":
-            return cosine_pulse(amp, freq, start), 0.0
+            return (cosine_pulse(amp, freq, start),), 0.0
         if kind == "sine":
-            return sine_pulse(amp, freq, start), 0.0
-        return sine_train(amp, freq, _num("cycles", args["cycles"], positive=True), start), 0.0
+            return (sine_pulse(amp, freq, start),), 0.0
+        return (sine_train(amp, freq, _num("cycles", args["cycles"], positive=True), start),), 0.0
     if kind == "rect":
-        return rect_pulse(parse_accel(args["amp"], "pulse amplitude", key="amp"), _num("dur", args["dur"], positive=True),
-                          start), 0.0
+        return (rect_pulse(parse_accel(args["amp"], "pulse amplitude", key="amp"),
+                           _num("dur", args["dur"], positive=True), start),), 0.0
     if kind == "synthetic":
         motion = synthetic_record(duration=_num("duration", args.get("duration", "20"), True),
                                   dt=_num("dt", args.get("dt", "0.01"), True),
                                   pga=parse_accel(args.get("pga", "0.3g"), "pga", key="pga"),
                                   seed=_seed(args.get("seed", "0")),
                                   f_g=_num("fg", args.get("fg", "2.5"), True))
-        return motion, 0.0
+        return (motion,), 0.0
     if kind == "bundled":     # a record shipped in the package data (statue2model/data/records)
         from ..io.paths import bundled_record
 
-        motion = read_record(bundled_record(args["name"]))
+        ms = (read_record(bundled_record(args["name"])),)
     else:
         path = Path(args["path"])
         if base_dir is not None and not path.is_absolute():
             path = Path(base_dir) / path
-        motion = read_record(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
-                             units=args.get("units"))
+        ms = read_record_components(path, dt=_num("dt", args["dt"], True) if "dt" in args else None,
+                                    units=args.get("units"), components=components)
     if "pga" in args:
-        motion = motion.scaled_to_pga(parse_accel(args["pga"], "pga", key="pga"))
+        big = max(ms, key=lambda m: m.pga)
+        factor = big.scaled_to_pga(parse_accel(args["pga"], "pga", key="pga")).pga / big.pga
+        ms = tuple(m.scaled(factor) for m in ms)
     if "scale" in args:
-        motion = motion.froude(_froude_scale(args["scale"]))
-    return motion, 0.0
+        lam = _froude_scale(args["scale"])
+        ms = tuple(m.froude(lam) for m in ms)
+    return ms, 0.0

@@ -10,7 +10,10 @@ footprint), and predicts each test:
      x the restitution at E_FACTORS of eq. 15's (the scatter of Table 23): 9 runs of the rocking engine
      per test. The model is Housner's, or the imperfect one with the identified alpha.
 3D   the PyBullet scene (crosscheck/statue_scene.py) on a sample of the tests (``sample``, spread over
-     the tests' PGAs), one run each: P is 0 or 1.
+     the tests' PGAs): the body stood on the contact of each end of the band (the scan's points within
+     tol / 2, tol and 2 tol of the lowest put on the floor, the 2D model's hulls), one run each: P is
+     the fraction of the 3 that topple (lift). eq. 15's restitution is the scene's own (a plastic
+     contact and the geometry), so the 3D sample has no restitution factor.
 
 The decision rule: a model predicts the outcome when P >= DECISION (0.5). Scores per model and outcome
 (assessment/campaign.py scores): the confusion counts, accuracy, precision, recall with 95 % Wilson
@@ -121,14 +124,23 @@ def _sample(pgas: np.ndarray, k: int) -> list[int]:
 
 
 def predict_3d(body, direction: float, motions, indices) -> dict:
-    """{test index: (toppled, lifted)} of the PyBullet scene on the tests ``indices``."""
+    """{test index: (P(topple), P(lift))} of the PyBullet scene on the tests ``indices``, over the
+    scenes of the contact band (module docstring; the nominal contact alone without a band)."""
     from ..crosscheck.statue_scene import StatueScene, simulate_statue
 
-    scene = StatueScene.from_body(body, direction)
+    tols = [c.tol for c in body.base.cases] if body.base is not None else [None]
+    scenes = []
+    for t in tols:
+        try:
+            scenes.append(StatueScene.from_body(body, direction, tol=t))
+        except InputError:
+            continue              # a contact the body cannot stand on (G outside its hull) is no scene
+    if not scenes:
+        raise InputError("the specimen cannot stand on any contact of its band: no 3D scene")
     out = {}
     for i in indices:
-        r = simulate_statue(scene, motions[i])
-        out[i] = (bool(r.overturned), r.uplift_time is not None)
+        rs = [simulate_statue(sc, motions[i]) for sc in scenes]
+        out[i] = (sum(bool(r.overturned) for r in rs) / len(rs), sum(r.uplift_time is not None for r in rs) / len(rs))
     return out
 
 
@@ -245,9 +257,12 @@ def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int
         say(f"validate: 3D on {len(idx)} of {len(tests)} tests")
         res = predict_3d(body, direction, motions, idx)
         for i, (top, lift) in res.items():
-            rows[i].update(p_topple_3d=float(top), topple_3d=top, p_lift_3d=float(lift), lift_3d=lift)
+            rows[i].update(p_topple_3d=float(top), topple_3d=bool(top >= DECISION), p_lift_3d=float(lift),
+                           lift_3d=bool(lift >= DECISION))
+        n_band = len(body.base.cases) if body.base is not None else 1
         result["models"]["3d"] = _model_scores(tests, rows, "3d", idx,
-                                               f"one PyBullet run a test, {len(idx)} tests spread over the PGAs")
+                                               f"PyBullet runs on the {n_band} contacts of the band a test, "
+                                               f"{len(idx)} tests spread over the PGAs")
     write_json(out / "validation.json", result)
     from ..report.validation_page import write_validation_page
 
