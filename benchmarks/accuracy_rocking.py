@@ -3,7 +3,8 @@
 
     python3 benchmarks/accuracy_rocking.py     # about 30 s
 """
-import math, sys
+import math
+import sys
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1] / "tests"))
 import test_rocking_accuracy as T
 from statue2model.hazard import motions

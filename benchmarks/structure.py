@@ -188,11 +188,11 @@ def main(argv=None) -> None:
     for c in cyc:
         print(f"  {len(c)}: " + " ".join(m.removeprefix(PACKAGE + '.') for m in c))
     funcs, mods = longest(args.root)
-    print(f"\nlongest functions (lines)")
+    print("\nlongest functions (lines)")
     for n, name in funcs[: args.top]:
         print(f"  {n:5d}  {name.removeprefix(PACKAGE + '.')}")
     print(f"functions over 60 lines: {sum(1 for n, _ in funcs if n > 60)}")
-    print(f"\nlongest modules (lines)")
+    print("\nlongest modules (lines)")
     for n, name in mods[: args.top]:
         print(f"  {n:5d}  {name.removeprefix(PACKAGE + '.')}")
 

@@ -42,8 +42,10 @@ def column(bottom=lambda x, y: 0 * x, radius=R, height=H, chamfer=0.0, rings=RIN
     verts.append([0.0, 0.0, height])
     v = np.array(verts, dtype=float)
     faces = []
-    ring = lambda i: 1 + (i - 1) * sectors + np.arange(sectors)   # i = 1..rings (+ wall levels)
-    nxt = lambda a: np.roll(a, -1)
+    def ring(i):
+        return 1 + (i - 1) * sectors + np.arange(sectors)   # i = 1..rings (+ wall levels)
+    def nxt(a):
+        return np.roll(a, -1)
     a = ring(1)
     faces.extend(np.column_stack([np.zeros(sectors, int), nxt(a), a]))   # facing down
     for i in range(1, rings + len(levels)):

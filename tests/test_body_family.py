@@ -91,9 +91,19 @@ def check_run(mesh: Path, out: Path, cfg: Path, capsys) -> dict:
     verdict = run["verdict"]
     rec = verdict["recommendation"]
     assert isinstance(rec, str) and len(rec) > 10, rec
-    assert f"Recommendation: {rec}" in printed.out
+    assert f"Reasoning: {rec}" in printed.out
     html = (out / "report.html").read_text()
     assert escape(rec) in html, "the report's recommendation differs from run.json's"
+    # the verdict in words (issue [21]): a known code, a plain headline of at most 40 words, the
+    # same in the console and on page 1; the numbers under it agree with the limit-state rows
+    from test_verdict import _plain
+
+    from statue2model.assessment.recommendation import Code
+
+    Code(verdict["code"])
+    assert verdict["headline"] in printed.out and f"[{verdict['code']}]" in printed.out
+    assert escape(verdict["headline"]) in html.split('id="verdict-reasoning"')[0]
+    _plain(verdict)
     # no non-finite number in any file the run wrote
     for p in out.rglob("*"):
         if p.suffix == ".json":

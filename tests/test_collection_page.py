@@ -9,6 +9,7 @@ import csv
 import io
 import json
 import os
+import re
 
 import pytest
 
@@ -27,6 +28,8 @@ REC = {
     "some": "no isolator needed by the codes' mean of effects, but 2 of 7 design records lift the statue on their own",
     HOSTILE: "no isolator needed at the design level: over the 7 design records the statue stays in full contact",
 }
+CODE = {"tips": "ISOLATE", "lifter": "DEVICE_DOES_NOT_PROTECT", "lifter2": "RUN_ISOLATOR_STAGE",
+        "some": "NO_ISOLATOR_BUT_RECORDS_LIFT", HOSTILE: "NO_ISOLATOR"}
 
 
 def _ls(fc_ratio, fc_exceeded, fc_n, ot_n, bearing=None):
@@ -58,7 +61,8 @@ def _result(name, *, a_min, ls, fl, isolated, sheets, status="warn", warnings=()
             "data": {"params": {"a_min": a_min, "weakest_deg": 45.0, "m": 100.0, "h": 0.5, "b_L": 0.2, "b_R": 0.2},
                      "prototype": {"n_sheets": sheets} if sheets is not None else {},
                      "dynamics": {"fragility_design_pga": PGA}},
-            "verdict": {"recommendation": REC[name], "status": status, "fixed": {"lifts": True},
+            "verdict": {"recommendation": REC[name], "code": CODE[name], "headline": f"headline of {name}",
+                        "status": status, "fixed": {"lifts": True},
                         "isolated": isolated, "limit_states": ls, "fragility": {"limit_states": fl},
                         "hazard": {"pga": PGA}}}
 
@@ -217,3 +221,61 @@ def test_sort_and_filter_in_headless_chromium(ranked, tmp_path):
     n, statuses = a["data-t-status"].split("|", 1)
     assert n == "5" and "not assessed" not in json.loads(statuses)
     assert "<b>calm" not in dom                                       # the hostile name stayed text
+
+
+def test_status_and_counts_come_from_the_code_not_the_words(results):
+    """Reword every recommendation (and drop the verdict's own status): the statuses, the ranking
+    and the counts stay the same; they come from the recommendation code."""
+    before = rank([object_row(r, "/museum/out") for r in results])
+    reworded = []
+    for r in results:
+        v = r.get("verdict")
+        reworded.append({**r, "verdict": {**v, "recommendation": "entirely other words", "status": "nonsense"}}
+                        if v else r)
+    after = rank([object_row(r, "/museum/out") for r in reworded])
+    assert [(r["object"], r["status"], r["code"]) for r in after] == [(r["object"], r["status"], r["code"])
+                                                                      for r in before]
+    assert summary(after) == summary(before)
+    # and the code decides: the same object under another code counts elsewhere
+    some = next(r for r in results if r["scan"] == "some.ply")
+    as_ok = object_row({**some, "verdict": {**some["verdict"], "code": "NO_ISOLATOR"}})
+    assert as_ok["status"] == "ok" and summary([as_ok])["to_consider"] == 0
+    assert object_row(some)["status"] == "warn" and summary([object_row(some)])["to_consider"] == 1
+
+
+def test_a_sliding_object_has_no_device_and_no_plates(results):
+    tips = next(r for r in results if r["scan"] == "tips.ply")
+    row = object_row({**tips, "verdict": {**tips["verdict"], "code": "SLIDES"}})
+    assert row["device_state"] == "not applicable" and "slides" in row["device"]
+    assert summary([row])["isolator_plates"] == 0 and summary([row])["devices_passed"] == 0
+
+
+def test_the_printed_page_keeps_every_objects_action(ranked, tmp_path):
+    """Printed (Chromium, A4 landscape): every object's recommended action (its code and headline)
+    and its risk today are on paper; the table is not cut at the page's edge (issue [21])."""
+    import shutil
+    import subprocess
+
+    from statue2model.report.browser import find_chromium, print_pdf
+
+    browser = find_chromium()
+    if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("no headless browser: .ci/install installs chromium-headless-shell")
+        pytest.skip("no headless browser (apt-get install chromium-headless-shell)")
+    page = write_collection_page(ranked, summary(ranked), tmp_path / "index.html", title="museum")
+    pdf = print_pdf(page, tmp_path / "index.pdf", browser=browser)
+    boxes = {tuple(round(float(x)) for x in m.split()) for m in re.findall(rb"/MediaBox\s*\[([^\]]*)\]",
+                                                                          pdf.read_bytes())}
+    assert boxes == {(0, 0, 842, 595)}                                # A4 landscape
+    pdftotext = shutil.which("pdftotext")
+    if pdftotext is None:
+        pytest.skip("pdftotext (poppler-utils) is needed to read the printed page")
+    text = re.sub(r"\s+", "", subprocess.run([pdftotext, "-raw", str(pdf), "-"], capture_output=True, text=True,
+                                             check=True).stdout)
+    for r in ranked:
+        if r["assessed"]:
+            assert r["code"] in text and re.sub(r"\s+", "", r["headline"]) in text, r["object"]
+        else:
+            assert "fixthescanfirst" in text
+    assert text.count("Doubts") >= 1

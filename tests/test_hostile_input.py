@@ -147,7 +147,8 @@ def test_edited_manifest_cannot_embed_files_outside_the_stage_folder(tmp_path):
         assert base64.b64encode(Path("/etc/hostname").read_bytes()).decode() not in page
     assert page.count("figure refused: path outside the stage folder") == 6
     assert page.count("figure refused: malformed figure entry") == 1
-    assert page.count('src="data:image/png;base64,') == 1                       # props.png still shown
+    # props.png still shown: in its section and as page 1's key figure beside the verdict
+    assert page.count('src="data:image/png;base64,') == 2
     assert 'data-figures-refused="7"' in page and 'data-figures-missing="7"' in page
     assert "7 figures refused" in page
     assert_inert(page, {"params", "prototype", "isolator", "dynamics", "crosscheck"})

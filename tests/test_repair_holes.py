@@ -174,7 +174,8 @@ def _chain(v, nb, start, k):
     while len(path) <= k:
         cur = path[-1]
         cand = sorted(c for c in nb[cur] if c not in path)
-        step = lambda c: (v[c] - v[cur]) / np.linalg.norm(v[c] - v[cur])
+        def step(c):
+            return (v[c] - v[cur]) / np.linalg.norm(v[c] - v[cur])
         nxt = cand[0] if direction is None else max(cand, key=lambda c: float(np.dot(step(c), direction)))
         direction = step(nxt)
         path.append(int(nxt))

@@ -467,3 +467,51 @@ def test_crosscheck_section_has_no_developer_notes():
     agree = next(t for t in man["text"] if t.startswith("The models agree"))
     assert "friction decay per cycle" in agree and "overturn" in agree
     assert "They differ on: peak plate acceleration (0 of 1 within), peak rotation (0 of 1 within)" in agree
+
+
+def test_page_one_holds_the_headline_the_bullets_and_the_key_figure(chromium, tmp_path):
+    """Printed (Chromium, A4): page 1 holds the title, the code, the headline, the bullets and the key
+    figure; the long reasoning, the lines and the basis are in the appendix at the end (issue [21])."""
+    import subprocess
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from statue2model.report.browser import print_pdf
+
+    fig, ax = plt.subplots(figsize=(15, 5), dpi=100)
+    ax.plot([0, 1, 2, 3], [0, 0.2, 0.9, 1.0])
+    fig.savefig(tmp_path / "fragility.png")
+    plt.close(fig)
+    head = ("Isolate it: on the designed device (about 9,011 EUR) it stays in full contact under the design "
+            "earthquake, with 22 % travel to spare; without it, 6 of 7 design records lift it.")
+    bullets = ["Design earthquake: peak ground acceleration 0.287 g at the object (EC8-1, ground C).",
+               "It lifts from 0.277 g of ground acceleration; 6 of 7 design records lift it on its own base.",
+               "On the device: travel margin 22 %."]
+    long = "the reasoning with every check and formula, " * 40
+    doc = {"title": "statue2model report: statue", "subtitle": "statue.ply",
+           "verdict": {"recommendation": long, "lines": [long] * 8, "status": "ok", "code": "ISOLATE",
+                       "headline": head, "bullets": bullets, "criteria": [long], "assumptions": [long],
+                       "figure": {"path": "fragility.png", "caption": "Fragility per limit state"}},
+           "warnings": [("params", "Rocking parameters", "a warning " * 30)] * 8,
+           "sections": [{"id": "params", "title": "Rocking parameters", "status": "done",
+                         "text": ["numbers " * 200], "figures": []}]}
+    page = render_report(doc, tmp_path / "report.html", base_dir=tmp_path)
+    html = page.read_text(encoding="utf-8")
+    assert html.index('id="verdict"') < html.index('id="all-warnings"') < html.index('id="verdict-reasoning"')
+    pdf = print_pdf(page, tmp_path / "report.pdf", browser=chromium)
+    pdftotext = shutil.which("pdftotext")
+    if pdftotext is None:
+        pytest.skip("pdftotext (poppler-utils) is needed to read the printed page")
+    one = subprocess.run([pdftotext, "-f", "1", "-l", "1", "-raw", str(pdf), "-"], capture_output=True, text=True,
+                         check=True).stdout
+    squeezed = re.sub(r"\s+", " ", one)
+    assert "ISOLATE" in one and head in squeezed, one
+    for b in bullets:
+        assert b in squeezed, b
+    assert "Fragility per limit state" in one                          # the key figure's caption
+    assert "Appendix: the reasoning" not in one and "the reasoning with every check" not in one
+    every = subprocess.run([pdftotext, "-raw", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    assert "Appendix: the reasoning" in every

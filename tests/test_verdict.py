@@ -1,6 +1,7 @@
 """The assessment that opens every run: hazard, fixed base, isolator, one recommendation,
 from the stages' numbers; and the box that shows it first in the report (headless Chromium)."""
 import json
+import re
 
 import pytest
 
@@ -202,6 +203,33 @@ def _consistent(v):
         assert r["ratio"] == pytest.approx(float(f"{r['ratio']:.2f}"), abs=0.005)
 
 
+def _plain(v):
+    """The headline rules (issue [21]): at most 40 words, no formula, no '=', no config key; the code is
+    a known one; 3 to 6 bullets whose counts are the limit-state rows'."""
+    from statue2model.assessment.recommendation import CODES, Code, words
+
+    code, head, bl = Code(v["code"]), v["headline"], v["bullets"]
+    assert code in CODES and v["status"] in ("ok", "warn", "fail")
+    assert words(head) <= 40, head
+    assert not re.search(r"[=\[\]]|\bvs\b|\bratio\b|R_hat|\bmu\b|\balpha\b|\b[a-z]+_[a-z_]+\b", head), head
+    assert 2 <= len(bl) <= 6, bl
+    rows = {(r["base"], r["name"]): r for r in (v.get("limit_states") or {}).get("rows") or ()}
+    fc, ot = rows.get(("fixed", "full_contact")), rows.get(("fixed", "overturning"))
+    n = (v.get("limit_states") or {}).get("n_records")
+    for text in [head, *bl]:                 # a count the words print is the row's
+        for k, what in re.findall(r"(\d+) of \d+ design records (lift|overturn)s? ", text):
+            row = fc if what == "lift" else ot
+            assert int(k) == row["n_exceeding"], text
+        assert f"of {n} design records" in text or "design records" not in text or "all" in text, text
+    # one design PGA per object in every sentence (on a floor: the floor's, the ground's is "ground PGA")
+    pga = f"{v['hazard']['pga'] / G:.3f}"
+    said = " ".join([v["recommendation"], *v["lines"], *bl])
+    assert set(re.findall(r"design PGA (\d+\.\d+) g", said)) <= {pga}, said
+    assert f"peak ground acceleration {pga} g at the object" in " ".join(bl)
+    if fc is not None:                       # the uplift the bullets print is full contact's capacity
+        assert "It lifts from %.3f g" % (fc["capacity"] / G) in " ".join(bl)
+
+
 @pytest.mark.parametrize("case, start, state", [
     (dict(fixed_fc=2.0), "no isolator needed at the design level: over the 7 design records", "ok"),
     (dict(), "isolate with the designed device (about 250 EUR): over the 7 design records", "ok"),
@@ -216,6 +244,7 @@ def test_recommendation_follows_the_limit_states(tmp_path, case, start, state):
     assert v["recommendation"].startswith(start), v["recommendation"]
     assert v["status"] == state
     _consistent(v)
+    _plain(v)
     assert v["lines"][1].startswith("Design level (mean over the 7 design records")
 
 
@@ -229,6 +258,12 @@ def test_records_that_lift_while_the_mean_holds_are_said_with_a_warning(tmp_path
                                           "records lift the statue on their own")
     assert "ratio 0.92" in v["recommendation"] and v["status"] == "warn"
     _consistent(v)
+    _plain(v)
+    assert v["code"] == "NO_ISOLATOR_BUT_RECORDS_LIFT" and "2 of 7 design records lift it" in v["headline"]
+    ls["rows"][0]["n_exceeding"] = 1
+    one = _with_ls(tmp_path, ls)
+    assert "1 of 7 design records lifts it on its own" in one["headline"]
+    _plain(one)
 
 
 def test_recommendation_is_the_same_for_any_sweep(tmp_path):
@@ -281,3 +316,19 @@ def test_the_verdict_box_states_its_criteria_assumptions_and_limitations(tmp_pat
     box = {k: v[k] for k in ("recommendation", "status", "lines", "criteria", "assumptions", "limitations")}
     page = render_report({"title": "t", "verdict": box, "sections": []}, tmp_path / "r.html").read_text()
     assert "Criteria" in page and "Limitations" in page and "rigid body rocking" in page
+
+
+def test_on_a_floor_the_design_pga_is_one_number(tmp_path):
+    """An object on an upper floor: the floor's peak acceleration is the design PGA of every sentence;
+    the ground's is called the ground PGA (issue [21]: 'design PGA' meant two numbers on two lines)."""
+    from dataclasses import replace
+
+    from statue2model.pipeline.config import BuildingConfig
+
+    cfg = replace(ProjectConfig(), building=replace(BuildingConfig(), floor=2, storeys=3, height=10.0))
+    stages = {"params": PARAMS, "isolator": {"status": "done", "data": {}},
+              "dynamics": {"status": "done", "data": {"first_overturn_pga_fixed": 0.7 * G, "limit_states": _ls()}}}
+    v = assess(stages, _design(tmp_path), cfg)
+    assert v["hazard"]["on_floor"] and v["hazard"]["pga"] > v["hazard"]["ground_pga"]
+    assert "ground PGA" in v["lines"][0] and "the design PGA at the object" in v["lines"][0]
+    _plain(v)

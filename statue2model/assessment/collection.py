@@ -41,7 +41,7 @@ Example
 ...      "ratio": 0.0, "exceeded": False, "n_exceeding": 0, "unit": "-"}]}
 >>> girl = {"scan": "girl.ply", "out": "/c/girl", "report": "/c/girl/report.html",
 ...         "status": {"params": "done"}, "warnings": [], "data": {"params": {"a_min": 2.717, "weakest_deg": 90.0}},
-...         "verdict": {"recommendation": "the statue lifts ...", "status": "warn", "fixed": {"lifts": True},
+...         "verdict": {"recommendation": "the statue lifts ...", "code": "RUN_ISOLATOR_STAGE", "fixed": {"lifts": True},
 ...                     "limit_states": ls, "hazard": {"pga": 2.8194}}}
 >>> rows = rank([object_row(girl, "/c"), object_row({"scan": "bad<1>.stl", "error": "scan not found"}, "/c")])
 >>> [(r["rank"], r["object"], r["state"]) for r in rows]
@@ -58,6 +58,7 @@ import os
 from pathlib import Path, PurePosixPath
 
 from ..quantities import G  # m/s^2
+from .recommendation import Code, info, status_of
 from .verdict import finite_number as _finite
 
 NOT_ASSESSED = "not assessed"
@@ -267,8 +268,10 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
 
     Keys: ``object`` (the scan's name without suffix), ``scan``; ``assessed`` (bool) and ``reason``
     (why not: the refused scan's error, or the params stage's status; "" when assessed);
-    ``recommendation`` (run.json's verdict["recommendation"], verbatim; "" for a refused scan) and
-    ``status`` (ok, warn, fail; "not assessed"); ``state`` (one of :data:`TIERS`) and ``basis``
+    ``recommendation`` (run.json's verdict["recommendation"], the reasoning, verbatim; "" for a refused
+    scan), ``code`` and ``headline`` (the verdict's recommendation code and headline; "" without) and
+    ``status`` (ok, warn, fail from the code, recommendation.status_of, with the 3D cross-check's doubt;
+    "not assessed"); ``state`` (one of :data:`TIERS`) and ``basis``
     ("design records" or "quasi-static"); ``governing_fixed`` / ``governing_isolated`` (the
     limit state with the largest demand / capacity at the design level on that base, its title),
     ``governing_*_ratio`` and ``governing_*_text`` ("demand vs capacity" in its unit);
@@ -288,7 +291,8 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
         raise TypeError(f"a scan result is a dict, not {type(result).__name__}")
     scan = str(result.get("scan") or "?")
     name = scan.rsplit(".", 1)[0] if "." in scan.lstrip(".") else scan     # as Path.stem, "/" kept as text
-    row = {"object": name, "scan": scan, "assessed": False, "reason": "", "recommendation": "",
+    row = {"object": name, "scan": scan, "assessed": False, "reason": "", "recommendation": "", "code": "",
+           "headline": "",
            "status": NOT_ASSESSED, "state": NOT_ASSESSED, "basis": "", "link": _link(result, folder),
            "governing_fixed": None, "governing_fixed_ratio": None, "governing_fixed_text": "",
            "governing_isolated": None, "governing_isolated_ratio": None, "governing_isolated_text": "",
@@ -305,12 +309,14 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     params = data.get("params") or {}
     st = (result.get("status") or {}).get("params")
     row["recommendation"] = str(verdict.get("recommendation") or "")
+    row["code"], row["headline"] = _code(verdict), str(verdict.get("headline") or "")
     if st not in ("done", "cached") or not params:
         row["reason"] = f"the params stage did not complete (status: {st or 'not run'})"
         return row
     row["assessed"] = True
-    status = verdict.get("status")
-    row["status"] = status if status in ("ok", "warn", "fail") else "warn"
+    # the colour from the code (a reworded sentence changes nothing); the 3D cross-check's doubt carried
+    doubt = bool((verdict.get("crosscheck") or {}).get("missed"))
+    row["status"] = status_of(row["code"], doubt) if row["code"] else "warn"
     row["state"] = fixed_state(verdict)
     ls = verdict.get("limit_states")
     row["basis"] = "design records" if ls and _rows_of(ls, "fixed") else "quasi-static"
@@ -338,6 +344,10 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     for k in ("m", "h", "b_L", "b_R"):
         row[k] = _finite(params.get(k))
     row.update(_device(verdict, data))
+    if row["code"] == Code.SLIDES.value and row["device_state"] != "not designed":
+        # the isolator does not apply to a body that slides before it rocks: no plates, no cost
+        row.update(device_state="not applicable", device="not applicable: it slides before it rocks",
+                   device_note=str((verdict.get("isolated") or {}).get("what_would_pass") or ""))
     sheets = (data.get("prototype") or {}).get("n_sheets")
     row["sheets"] = sheets if isinstance(sheets, int) and not isinstance(sheets, bool) else None
     row["doubts"] = _doubts(verdict, result.get("warnings"))
@@ -364,10 +374,26 @@ def rank(rows: list[dict]) -> list[dict]:
     return [{**r, "rank": i} for i, r in enumerate(sorted(rows, key=rank_key), start=1)]
 
 
+def _code(verdict: dict) -> str:
+    """The verdict's recommendation code (assessment/recommendation.py), "" when it has none or an
+    unknown one (an old or hand-made run.json)."""
+    try:
+        return Code(verdict.get("code")).value
+    except ValueError:
+        return ""
+
+
 def needs_protection(row: dict) -> bool:
-    """An assessed object whose recommendation is not one of the verdict's "no isolator needed"
-    lines (statue2model.assessment.verdict: those start with "no isolator needed")."""
-    return bool(row.get("assessed")) and not row.get("recommendation", "").startswith("no isolator needed")
+    """An assessed object whose recommendation code asks for protection (recommendation.CODES); an
+    assessed object without a code counts as needing it (the conservative reading)."""
+    if not row.get("assessed"):
+        return False
+    return info(row["code"]).needs_protection if row.get("code") else True
+
+
+def to_consider(row: dict) -> bool:
+    """An assessed object the code's check leaves unprotected while single design records lift it."""
+    return bool(row.get("assessed")) and bool(row.get("code")) and info(row["code"]).to_consider
 
 
 def summary(rows: list[dict]) -> dict:
@@ -378,8 +404,8 @@ def summary(rows: list[dict]) -> dict:
     protection with no device passing or conditional), ``prototype_sheets`` (all prototypes' sheets),
     ``isolator_plates`` (2 per passing device: only those have their plates written).
 
-    >>> summary([{"assessed": True, "recommendation": "isolate with the designed device: ...",
-    ...           "device_state": "passed", "sheets": 2}, {"assessed": False}])["isolator_plates"]
+    >>> summary([{"assessed": True, "code": "ISOLATE", "device_state": "passed", "sheets": 2},
+    ...          {"assessed": False}])["isolator_plates"]
     2
     """
     assessed = [r for r in rows if r.get("assessed")]
@@ -387,8 +413,7 @@ def summary(rows: list[dict]) -> dict:
     passed = sum(r.get("device_state") == "passed" for r in assessed)
     return {"objects": len(rows), "assessed": len(assessed), "not_assessed": len(rows) - len(assessed),
             "needing_protection": len(need),
-            "to_consider": sum(r.get("recommendation", "").startswith("no isolator needed by the codes' mean")
-                               for r in assessed),
+            "to_consider": sum(to_consider(r) for r in assessed),
             "devices_passed": passed,
             "devices_conditional": sum(r.get("device_state") == "conditional" for r in assessed),
             "no_device": sum(r.get("device_state") not in ("passed", "conditional") for r in need),
@@ -399,7 +424,8 @@ def summary(rows: list[dict]) -> dict:
 CSV_COLUMNS = (
     ("rank", "rank"), ("object", "object"), ("scan", "scan"), ("room", "room"), ("floor", "floor"),
     ("assessed", "assessed"),
-    ("reason", "not assessed because"), ("status", "status"), ("recommendation", "recommendation"),
+    ("reason", "not assessed because"), ("status", "status"), ("code", "recommendation code"),
+    ("headline", "recommendation"), ("recommendation", "reasoning"),
     ("state", "fixed base at the design level"), ("basis", "basis"),
     ("governing_fixed", "governing limit state, fixed"),
     ("governing_fixed_ratio", "demand/capacity, fixed [-]"),

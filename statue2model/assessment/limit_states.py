@@ -374,7 +374,8 @@ def _worse(a: IsolatedRecord, b: IsolatedRecord) -> IsolatedRecord:
     runs at the lower (``a``) and the upper (``b``) bound (the larger travel, felt acceleration,
     rotation and impacts; exceeded, lifted or overturned in either), as EN 15129 / ASCE 7-16
     17.2.8.4 bound analyses take each response from the bound that maximises it."""
-    first = lambda ta, tb: min((t for t in (ta, tb) if t is not None), default=None)
+    def first(ta, tb):
+        return min((t for t in (ta, tb) if t is not None), default=None)
     worst = a if (a.overturned, a.capacity_exceeded, a.theta_max_over_delta) >= (
         b.overturned, b.capacity_exceeded, b.theta_max_over_delta) else b
     return IsolatedRecord(a.label, a.pga, max(a.u_max, b.u_max), a.capacity_exceeded or b.capacity_exceeded,

@@ -47,6 +47,7 @@ import math
 from pathlib import Path
 
 from ..quantities import G  # m/s^2
+from .recommendation import Code, Facts, bullets, headline, status_of
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
 """Appended to what the variability sweep (one record) says once the design set's limit states decide."""
@@ -105,6 +106,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     params = _data(stages, "params")
     if params is None:
         out["recommendation"] = "no verdict: the params stage did not run"
+        out.update(code=Code.NO_VERDICT.value, headline=headline(Code.NO_VERDICT, Facts()), bullets=[],
+                   status=status_of(Code.NO_VERDICT))
         return out
     model = getattr(cfg, "model", None) if cfg is not None else None
     alpha = 1.0
@@ -212,16 +215,81 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
         out["fragility"] = fr
         lines.append(fr["line"])
     out["lines"] = lines
-    out["recommendation"] = (recommend_from_limit_states(fixed, isolated, ls) if ls
-                             else recommend(fixed, isolated, pga))
-    out["status"] = status(out["recommendation"])
+    code, out["recommendation"] = (decide_from_limit_states(fixed, isolated, ls) if ls
+                                   else decide(fixed, isolated, pga))
     cc = crosscheck_line((_data(stages, "crosscheck") or {}).get("classification"))
     if cc:
         out["crosscheck"] = cc
         lines.append(cc["line"])
-        if cc["missed"] and out["status"] == "ok":
-            out["status"] = "warn"         # the 2D answer is not confirmed by the 3D physics: doubt carried
+    # the 2D answer not confirmed by the 3D physics: the doubt is carried into the colour
+    out["status"] = status_of(code, doubt=bool(cc and cc["missed"]))
+    f = facts(hz, fixed, isolated, ls, fr, design)
+    out.update(code=code.value, headline=headline(code, f), bullets=bullets(code, f))
     out.update(basis(ls, hz, model))
+    return out
+
+
+REASONS = {"friction": "the balls' own rolling resistance would rock it", "pit": "the balls would not leave "
+           "the pits their weight presses into the grooves before it rocks", "acceleration": "even the softest "
+           "device passes it more acceleration than lifts it", "plate_size": "the device it needs is larger "
+           "than a panel", "reserve": "the device it needs to keep a reserve is larger than a panel",
+           "ball_load": "it is too heavy for the groove surfaces in range", "other": "no device in range passes "
+           "every check"}
+"""The short plain words of each reason no device works (isolator/design.py what_would_pass's ``reason``)."""
+
+
+def facts(hz: dict, fixed: dict, isolated: dict, ls: dict | None, fr: dict | None, design: dict | None) -> Facts:
+    """The numbers of the headline and bullets (recommendation.Facts), taken from the same rows the
+    reasoning prints: with the design records, full contact's capacity (the low end of the contact
+    band) is the uplift, the rows' counts are the records'."""
+    fc = _row(ls, "full_contact", "fixed") if ls else None
+    ot = _row(ls, "overturning", "fixed") if ls else None
+    uplift = finite_number((fc or {}).get("capacity")) if fc else finite_number(fixed.get("uplift"))
+
+    def count(r):
+        k = (r or {}).get("n_exceeding")
+        return int(k) if isinstance(k, (int, float)) and not isinstance(k, bool) else None
+
+    device, travel_margin, felt_ratio, gov, gov_k = "", None, None, "", None
+    if isolated and isolated.get("passed") and design is not None:
+        device = (f"{isolated.get('n_grooves')} {design.get('ball_material') or ''} balls of "
+                  f"{_mm(2 * (isolated.get('r') or 0))} mm on {isolated.get('surface')}, plates "
+                  f"{_mm(design.get('side'))} mm square").replace("  ", " ")
+        if isolated.get("cost"):
+            device += f", about {isolated['cost']:.0f} EUR"
+        cap = _row(ls, "capacity", "isolated") if ls else None
+        r = finite_number((cap or {}).get("ratio"))
+        if r is not None and r > 0:
+            travel_margin = 1.0 / r - 1.0
+        elif finite_number(isolated.get("travel_margin")) is not None:
+            travel_margin = isolated["travel_margin"] - 1.0
+        ifc = _row(ls, "full_contact", "isolated") if ls else None
+        felt_ratio = finite_number((ifc or {}).get("ratio"))
+        bad = [r_ for r_ in (ls or {}).get("rows") or () if r_.get("base") == "isolated" and r_.get("exceeded")]
+        if bad:
+            worst = max(bad, key=lambda r_: finite_number(r_.get("ratio")) or 0.0)
+            gov, gov_k = str(worst.get("title") or worst.get("name")), count(worst)
+    lsf = (fr or {}).get("limit_states") or {}
+    p_over = finite_number(((lsf.get("overturning") or {}).get("fixed") or {}).get("p_design"))
+    p_fail = finite_number(((lsf.get("overturning") or {}).get("isolated") or {}).get("p_design"))
+    if not lsf and fr:
+        p_over, p_fail = finite_number(fr.get("p_design_fixed")), finite_number(fr.get("p_design_isolated"))
+    return Facts(pga=finite_number(hz.get("pga")), hazard=_hazard_words(hz), uplift=uplift,
+                 n=(ls or {}).get("n_records") if ls else None, k_lift=count(fc), k_over=count(ot),
+                 lift_ratio=finite_number((fc or {}).get("ratio")), device=device, cost=isolated.get("cost")
+                 if isolated else None, travel_margin=travel_margin, iso_governing=gov, iso_k=gov_k,
+                 iso_felt_ratio=felt_ratio, p_over_fixed=p_over, p_fail_isolated=p_fail if isolated else None,
+                 reason=REASONS.get(isolated.get("reason_key") or "", "") if isolated and not isolated.get("passed")
+                 else "")
+
+
+def _hazard_words(hz: dict) -> str:
+    """'EC8, ground C' or 'NTC 2018, soil B, on floor 2 of 4': the design target in a few words."""
+    code = {"ec8": "EC8", "ntc": "NTC 2018"}.get(str(hz.get("code") or "").lower(), str(hz.get("code") or ""))
+    soil = hz.get("soil")
+    out = f"{code}, ground {soil}" if code and soil else code
+    if hz.get("on_floor") and hz.get("floor") is not None:
+        out += f", on floor {hz['floor']}"
     return out
 
 
@@ -313,43 +381,49 @@ history) are illustrations and never enter the rule."""
 
 def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
     """One plain line from the limit-state table ``ls`` by :data:`RULE`."""
+    return decide_from_limit_states(fixed, isolated, ls)[1]
+
+
+def decide_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> tuple[Code, str]:
+    """(the recommendation code, its reasoning in one line) from the limit-state table ``ls`` by
+    :data:`RULE`."""
     if fixed.get("slides"):
-        return ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the rocking analyses "
-                "and the isolator design do not apply")
+        return Code.SLIDES, ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the "
+                             "rocking analyses and the isolator design do not apply")
     n = ls.get("n_records")
     fc, ot = _row(ls, "full_contact", "fixed"), _row(ls, "overturning", "fixed")
     if fc is not None and not fc.get("exceeded") and not (ot or {}).get("exceeded"):
         k = int(fc.get("n_exceeding") or 0)
         if k:
-            return (f"no isolator needed by the codes' mean of effects, but {k} of {n} design records lift the statue "
+            return Code.NO_ISOLATOR_BUT_RECORDS_LIFT, (f"no isolator needed by the codes' mean of effects, but {k} of {n} design records lift the statue "
                     f"on their own: over the {n} records the mean peak ground acceleration toward its weaker side "
                     f"stays below its uplift ({_rv(fc)}), so the code's check holds; a record like those {k} would "
                     "rock it (see the fragility of full contact), a reason to consider isolating it")
-        return (f"no isolator needed at the design level: over the {n} design records the statue stays in full "
-                f"contact on a fixed base (peak ground acceleration {_rv(fc)})")
+        return Code.NO_ISOLATOR, (f"no isolator needed at the design level: over the {n} design records the statue "
+                                  f"stays in full contact on a fixed base (peak ground acceleration {_rv(fc)})")
     lifts = (f"the statue lifts on a fixed base at the design level ({_rv(fc)}; {fc.get('n_exceeding')} of {n} "
              f"records" + (f", overturning in {ot.get('n_exceeding')}" if ot and ot.get("exceeded") else "") + ")")
     if not isolated:
-        return f"{lifts} and no isolator was designed: run the isolator stage"
+        return Code.RUN_ISOLATOR_STAGE, f"{lifts} and no isolator was designed: run the isolator stage"
     if not isolated.get("passed"):
-        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
+        return Code.NO_DEVICE_IN_RANGE, f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
     if _row(ls, "full_contact", "isolated") is None:
-        return (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
+        return Code.RUN_ISOLATED_DYNAMICS, (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
                 "ran without it): run the dynamics stage with [dynamics] isolated = true")
     bad = [r for r in (_row(ls, k, "isolated") for k in ("full_contact", "rocking", "overturning", "capacity"))
            if r is not None and r.get("exceeded")]
     if bad:
-        return ("the designed isolator does not protect at the design level: " + "; ".join(
+        return Code.DEVICE_DOES_NOT_PROTECT, ("the designed isolator does not protect at the design level: " + "; ".join(
             f"{r['title']} exceeded ({_rv(r)}; {r.get('n_exceeding')} of {n} records)" for r in bad))
     ifc, cap = _row(ls, "full_contact", "isolated"), _row(ls, "capacity", "isolated")
     ok = (f"over the {n} design records the statue stays in full contact on it (felt acceleration {_rv(ifc)}) "
           f"and the plate's travel stays within its capacity (travel with margin {_rv(cap)})")
     bearing = _row(ls, "bearing", "isolated")
     if bearing is not None and bearing.get("exceeded"):
-        return (f"the designed isolator does not protect at the design level: {bearing['title']} exceeded "
-                f"({_rv(bearing)})")
+        return Code.DEVICE_DOES_NOT_PROTECT, (f"the designed isolator does not protect at the design level: "
+                                              f"{bearing['title']} exceeded ({_rv(bearing)})")
     cost = isolated.get("cost")
-    return "isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
+    return Code.ISOLATE, "isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
 
 
 def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
@@ -517,20 +591,6 @@ def finite_number(x) -> float | None:
     return x if math.isfinite(x) else None
 
 
-def status(recommendation: str) -> str:
-    """'ok' when nothing is to be done or the isolator protects, 'fail' when nothing in
-    range protects, else 'warn' (the colour of the report's box)."""
-    if recommendation.startswith("no isolator needed by the codes' mean of effects, but"):
-        return "warn"
-    if recommendation.startswith(("no isolator needed", "isolate with")):
-        return "ok"
-    if recommendation.startswith("isolate, but only"):
-        return "warn"
-    if recommendation.startswith(("no isolator in range works", "the designed isolator does not protect")):
-        return "fail"
-    return "warn"
-
-
 def design_failure(design: dict) -> str:
     """The failing required checks of a design, with value and limit."""
     bad = [c for c in design.get("checks", []) if c.get("required", True) and not c.get("passed")]
@@ -541,24 +601,31 @@ def design_failure(design: dict) -> str:
 
 
 def recommend(fixed: dict, isolated: dict, pga: float) -> str:
-    """One plain line: what to do."""
+    """One plain line: what to do (quasi-static: without the design records' limit states)."""
+    return decide(fixed, isolated, pga)[1]
+
+
+def decide(fixed: dict, isolated: dict, pga: float) -> tuple[Code, str]:
+    """(the recommendation code, its reasoning in one line) without the design records' limit states:
+    the quasi-static uplift check and the isolator design's own checks."""
     if fixed.get("slides"):
-        return ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the rocking analyses "
-                "and the isolator design do not apply")
-    ok_margin = lambda m: m is not None and m >= 1.0
+        return Code.SLIDES, ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the "
+                             "rocking analyses and the isolator design do not apply")
+    def ok_margin(m):
+        return m is not None and m >= 1.0
     if not fixed["lifts"] and not fixed.get("overturns", False):
-        return (f"no isolator needed at the design level: the statue stays in full contact (uplift margin "
+        return Code.NO_ISOLATOR, (f"no isolator needed at the design level: the statue stays in full contact (uplift margin "
                 f"{_n(fixed['uplift_margin'])})")
     if not isolated:
-        return (f"the statue lifts at the design level (uplift {_g(fixed['uplift'])} < design PGA {_g(pga)}) and no "
+        return Code.RUN_ISOLATOR_STAGE, (f"the statue lifts at the design level (uplift {_g(fixed['uplift'])} < design PGA {_g(pga)}) and no "
                 "isolator was designed: run the isolator stage")
     if not isolated.get("passed"):
-        return f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
+        return Code.NO_DEVICE_IN_RANGE, f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
     travel, felt = isolated.get("travel_margin"), isolated.get("felt_margin")
     fail_margin = isolated.get("failure_margin")
     swept_ok = "first_failure_pga" not in isolated or isolated["first_failure_pga"] is None or ok_margin(fail_margin)
     if ok_margin(travel) and ok_margin(felt) and swept_ok:
-        return (f"isolate with the designed device: travel margin {_n(travel)}, the statue stays in full contact "
+        return Code.ISOLATE, (f"isolate with the designed device: travel margin {_n(travel)}, the statue stays in full contact "
                 f"(felt-acceleration margin {_n(felt)})")
     why = []
     if not ok_margin(travel):
@@ -571,4 +638,4 @@ def recommend(fixed: dict, isolated: dict, pga: float) -> str:
         record = f" under {isolated['record']}" if isolated.get("record") else ""
         why.append(f"on the isolator it fails from {_g(isolated['first_failure_pga'])}{kind}{record} "
                    f"< design PGA {_g(pga)}")
-    return "the designed isolator does not protect at the design level: " + "; ".join(why)
+    return Code.DEVICE_DOES_NOT_PROTECT, "the designed isolator does not protect at the design level: " + "; ".join(why)

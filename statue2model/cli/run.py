@@ -93,8 +93,12 @@ def _cmd_run(args) -> int:
         res = run_project(target, out, cfg, stages=stages, force=args.force, executor=ex,
                           say=lambda m: print(m, flush=True), reuse=args.reuse)
     if res.verdict:
-        print("\nAssessment\n  Recommendation: " + res.verdict["recommendation"])
-        for line in res.verdict["lines"]:
+        v = res.verdict
+        print(f"\nAssessment [{v.get('code', '-')}]\n  {v.get('headline') or v['recommendation']}")
+        for b in v.get("bullets") or ():
+            print("  - " + b)
+        print("  Reasoning: " + v["recommendation"])
+        for line in v["lines"]:
             print("  " + line)
     print("\nSummary")
     w = max(len(n) for n in res.stages)

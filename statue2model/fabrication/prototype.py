@@ -225,7 +225,8 @@ class PrototypeComparison:
 def compare(proto_mass: MassProperties, proto_params, scan_mass: MassProperties, scan_params,
             height: float, proto_a_min: float | None = None, scan_a_min: float | None = None) -> PrototypeComparison:
     """Relative errors of the prototype (as built) against the scaled scan."""
-    rel = lambda a, b: a / b - 1.0
+    def rel(a, b):
+        return a / b - 1.0
     return PrototypeComparison(
         volume=rel(proto_mass.volume, scan_mass.volume),
         mass_ratio=proto_mass.mass / scan_mass.mass,

@@ -482,7 +482,8 @@ def _causes(comparison, spec, lam, bottoms, raw, secs, built, removed, tool, che
                 f"{'above' if top > height else 'below'} the scan's top"] = effect(
             scan_mass, cap, 1.0 if top > height else -1.0, axis)
     if uniform.mass != proto_mass.mass:
-        ig = lambda mp: float(axis @ mp.inertia @ axis) / mp.mass
+        def ig(mp):
+            return float(axis @ mp.inertia @ axis) / mp.mass
         effects["glue films and rods denser than the board"] = {
             "volume": 0.0, "h": float(proto_mass.com[2] / uniform.com[2] - 1.0),
             "I_G_per_mass": ig(proto_mass) / ig(uniform) - 1.0}

@@ -173,7 +173,8 @@ def delete_nonmanifold_edges(faces: np.ndarray, n_vertices: int, topo: EdgeTopol
     and the number deleted (the holes they leave are closed later)."""
     if not topo.n_nonmanifold:
         return faces, 0
-    key = lambda e: np.minimum(e[:, 0], e[:, 1]) * np.int64(n_vertices) + np.maximum(e[:, 0], e[:, 1])
+    def key(e):
+        return np.minimum(e[:, 0], e[:, 1]) * np.int64(n_vertices) + np.maximum(e[:, 0], e[:, 1])
     bad = key(topo.nonmanifold_edges)
     on_bad = np.zeros(len(faces), dtype=bool)
     for a, b in ((0, 1), (1, 2), (2, 0)):

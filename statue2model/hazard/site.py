@@ -61,7 +61,9 @@ class SiteHazard:
     def text(self) -> str:
         """The hazard in one line: the ground spectrum, and the floor with its building and formula."""
         sp = self.ground
-        line = (f"{sp.code} spectrum {self.spectrum!r}: a_g {sp.a_g / G:.3f} g, S {sp.S:.2f}, design PGA "
+        # "design PGA" names one number per object: the ground's on the ground, the floor's on a floor
+        pga_name = "ground PGA" if self.on_floor else "design PGA"
+        line = (f"{sp.code} spectrum {self.spectrum!r}: a_g {sp.a_g / G:.3f} g, S {sp.S:.2f}, {pga_name} "
                 f"{self.ground_pga / G:.3f} g" + (f", limit state {sp.limit_state}" if sp.limit_state else ""))
         if self.building is None:
             return line + "; the object stands on the ground"
@@ -73,7 +75,7 @@ class SiteHazard:
         from .floor import NAMES
 
         return (line + f"; {where}: {NAMES[self.target.method]}, peak floor acceleration "
-                f"{self.pga / G:.3f} g")
+                f"{self.pga / G:.3f} g, the design PGA at the object")
 
     def to_dict(self) -> dict:
         return {"spectrum": self.spectrum, "ground": self.ground.to_dict(), "floor": self.floor,

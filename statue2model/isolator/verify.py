@@ -66,7 +66,7 @@ from ..hazard.motions import GroundMotion
 from . import checks as C
 from .checks import DISPLACEMENT_MARGIN, RESERVE_LEVEL, SLC_MARGIN, Check, travel_need
 from .design import BALLS, COST_TOLERANCE, CRITERION, R_GRID, SHOWN_FAILING, SHOWN_PASSING, Candidate, \
-    _design_from, _no_gc, failure_text, nearest, resized, search, what_would_pass
+    _design_from, _no_gc, failure_text, resized, search, what_would_pass
 from .device import G, Isolator
 
 REPLACED = ("acceleration",)

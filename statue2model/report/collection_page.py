@@ -53,19 +53,18 @@ STATUS_ORDER = ("fail", "warn", "ok", NOT_ASSESSED)
 COLUMNS = (
     ("rank", "Rank", "num"), ("object", "Object", "text"), ("where", "Where (room, floor, design PGA)", "text"),
     ("status", "Status", "num"),
-    ("state", "Fixed base, design level", "num"),
-    ("governing_fixed", "Governing, fixed (demand/ capacity)", "num"),
-    ("governing_isolated", "Governing, isolated (demand/ capacity)", "num"),
-    ("p_uplift_fixed", "P(uplift) fixed", "num"),
-    ("p_overturning_fixed", "P(overturn) fixed", "num"),
-    ("p_failure_isolated", "P(failure) isolated", "num"),
-    ("uplift_g", "Uplift [g]", "num"), ("weakest_deg", "Weakest [deg]", "num"),
-    ("device", "Isolator", "text"), ("sheets", "Sheets", "num"),
-    ("doubts", "Doubts", "text"), ("recommendation", "Recommendation", "text"),
+    ("state", "Risk today: on its own base at the design level", "num"),
+    ("uplift_g", "Uplift [g]", "num"),
+    ("code", "Recommended action", "text"),
+    ("device", "Device and cost", "text"),
+    ("after", "Risk after: on the device", "num"),
+    ("doubts", "Doubts", "text"),
 )
-"""(key, header, sort type) of the table's columns, in order."""
-NUMBER_COLUMNS = {"rank", "p_uplift_fixed", "p_overturning_fixed", "p_failure_isolated", "uplift_g", "weakest_deg",
-                  "sheets"}
+"""(key, header, sort type) of the table's columns, in order: who, the risk today (fixed base: the state,
+the governing limit state, P at the design PGA), the action (code and headline, the device), the risk
+after it (on the device: the governing limit state and P(failure)), the doubts. Ten columns: the table
+prints on A4 landscape with every object's recommendation."""
+NUMBER_COLUMNS = {"rank", "uplift_g"}
 NUM_ATTR = ' class="num"'
 
 PAGE_CSS = """
@@ -87,7 +86,8 @@ main { max-width: none; }
                         text-align: left; color: inherit; }
 #collection th[aria-sort=ascending] button::after { content: " \\25B2"; }
 #collection th[aria-sort=descending] button::after { content: " \\25BC"; }
-#collection td.rec { min-width: 16rem; }
+#collection td.rec { min-width: 14rem; }
+#collection td.rec .code { font: .72rem ui-monospace, monospace; color: var(--muted); display: block; }
 #collection td.num { white-space: normal; }
 #collection td.dev { min-width: 9rem; }
 #collection td.obj { font-weight: 600; }
@@ -97,7 +97,9 @@ td.st-fail { color: var(--bad); background: var(--bad-bg); font-weight: 600; }
 td.st-na { color: var(--bad); font-weight: 600; }
 td.reason { color: var(--bad); }
 .muted { color: var(--muted); }
-@media print { .controls { display: none; } #collection th button::after { content: none !important; } }
+@media print { @page { size: A4 landscape; } .controls { display: none; }
+               #collection th button::after { content: none !important; } #collection { font-size: .68rem; }
+               #collection td.rec, #collection td.dev { min-width: 0; } }
 """
 
 SCRIPT = """
@@ -195,6 +197,23 @@ def _td(text: str, sort=None, cls: str = "", raw: bool = False, title: str = "")
     return f'<td{c}{t} data-v="{_esc(v)}">{text if raw else _esc(text)}</td>'
 
 
+def _risk(head: str, r: dict, base: str, probs) -> str:
+    """One risk cell (HTML): ``head``, the governing limit state of ``base`` with its demand/capacity,
+    the probabilities ``probs`` ((row key, label), ...) at the design PGA."""
+    parts = [f"<strong>{_esc(head)}</strong>"] if head else []
+    g, ratio = r.get(f"governing_{base}"), _num(r.get(f"governing_{base}_ratio"))
+    if g is not None:
+        text = f"{g}: {ratio:.2f}" if ratio is not None else str(g)
+        if r.get(f"governing_{base}_text"):
+            text += f" ({r[f'governing_{base}_text']})"
+        parts.append(_esc(text))
+    for key, label in probs:
+        p = _p(r.get(f"p_{key}"), r.get(f"p_{key}_lo"), r.get(f"p_{key}_hi"))
+        if p != "-":
+            parts.append(_esc(f"{label} {p}"))
+    return "<br>".join(parts) or "-"
+
+
 def _row_html(r: dict) -> str:
     status = r.get("status") if r.get("status") in STATUS_ORDER else NOT_ASSESSED
     assessed = bool(r.get("assessed"))
@@ -207,36 +226,35 @@ def _row_html(r: dict) -> str:
     cells = [_td(str(r.get("rank", "")), r.get("rank"), "num"), _td(obj, name, "obj", raw=True),
              _td(where, where), _td(status, STATUS_ORDER.index(status), st_cls)]
     if not assessed:
-        cells.append(_td("not assessed", 0))
+        cells.append(_td("not assessed: " + str(r.get("reason") or "unknown"), 0, "reason"))
         cells += [_td("-") for _ in range(len(COLUMNS) - 6)]
-        cells.append(_td("not assessed: " + str(r.get("reason") or "unknown"), None, "rec reason"))
+        cells.append(_td("fix the scan first", None, "rec"))
     else:
         state_text = state + ("" if r.get("basis") != "quasi-static" else " (quasi-static)")
-        cells.append(_td(state_text, TIERS.index(state), title=TIER_TEXT.get(state, state)))
-        for base in ("fixed", "isolated"):
-            g, ratio = r.get(f"governing_{base}"), _num(r.get(f"governing_{base}_ratio"))
-            text = "-" if g is None else f"{g}: {ratio:.2f}" if ratio is not None else str(g)
-            if g is not None and r.get(f"governing_{base}_text"):
-                text += f" ({r[f'governing_{base}_text']})"
-            cells.append(_td(text, ratio))
-        for key in ("uplift_fixed", "overturning_fixed", "failure_isolated"):
-            cells.append(_td(_p(r.get(f"p_{key}"), r.get(f"p_{key}_lo"), r.get(f"p_{key}_hi")),
-                             _num(r.get(f"p_{key}")), "num"))
-        u, w = _num(r.get("uplift_g")), _num(r.get("weakest_deg"))
+        cells.append(_td(_risk(state_text, r, "fixed", (("overturning_fixed", "P(overturn)"),
+                                                        ("uplift_fixed", "P(uplift)"))),
+                         TIERS.index(state), raw=True, title=TIER_TEXT.get(state, state)))
+        u = _num(r.get("uplift_g"))
         cells.append(_td("-" if u is None else f"{u:.3f}", u, "num"))
-        cells.append(_td("-" if w is None else f"{w:.0f}", w, "num"))
-        cells.append(_td(r.get("device") or "-", r.get("device_state") or "", "dev", title=r.get("device_note") or ""))
-        s = r.get("sheets")
-        cells.append(_td("-" if s is None else str(s), s, "num"))
+        code, head = str(r.get("code") or ""), str(r.get("headline") or r.get("recommendation") or "-")
+        cells.append(_td((f'<span class="code">{_esc(code)}</span> ' if code else "") + _esc(head), code, "rec",
+                         raw=True, title=str(r.get("recommendation") or "")))
+        s_ = r.get("sheets")
+        dev = str(r.get("device") or "-") + ("" if s_ is None else f"; prototype {s_} sheet{'s' if s_ != 1 else ''}")
+        cells.append(_td(dev, r.get("device_state") or "", "dev", title=r.get("device_note") or ""))
+        if r.get("governing_isolated") is None and _num(r.get("p_failure_isolated")) is None:
+            cells.append(_td("-"))
+        else:
+            cells.append(_td(_risk("", r, "isolated", (("failure_isolated", "P(failure)"),)),
+                             _num(r.get("governing_isolated_ratio")), raw=True))
         doubts = "; ".join(str(d) for d in r.get("doubts") or ()) or "-"
         cells.append(_td(doubts, "" if doubts == "-" else doubts))
-        cells.append(_td(r.get("recommendation") or "-", r.get("recommendation") or "", "rec"))
     return (f'<tr data-status="{_esc(status)}" data-object="{_esc(name)}" data-rank="{_esc(r.get("rank", ""))}">'
             + "".join(cells) + "</tr>")
 
 
 SUMMARY_LABELS = (("objects", "objects"), ("assessed", "assessed"), ("not_assessed", "not assessed: fix the scan"),
-                  ("needing_protection", "need protection (not \"no isolator needed\")"),
+                  ("needing_protection", "need protection (by their recommendation code)"),
                   ("to_consider", "no isolator needed by the mean, but single records lift them"),
                   ("devices_passed", "isolators that pass every check"),
                   ("devices_conditional", "isolators conditional on the ball load"),

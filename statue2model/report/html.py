@@ -14,6 +14,9 @@ The document::
         "verdict": {"recommendation": "isolate with ...",      # optional: the assessment box, first
                     "lines": ["Hazard: ...", "Fixed base: ..."],
                     "status": "ok",                         # ok | warn | fail (the box's colour)
+                    "code": "ISOLATE", "headline": "Isolate it: ...", "bullets": ["..."],  # optional:
+                    # with a headline the box holds it and the bullets; the recommendation (the
+                    # reasoning), the lines and the basis go to an appendix at the end
                     "criteria": ["..."], "assumptions": ["..."], "limitations": ["..."]},  # optional
         "definitions": {"title": "How to read the margins",    # optional: under the verdict
                         "terms": {"uplift margin": "uplift acceleration / design PGA ...", ...}},
@@ -69,7 +72,10 @@ Rules:
   verdict-<status>" id="verdict">``: the recommendation in bold, then one paragraph
   per line. Its optional ``criteria``, ``assumptions`` and ``limitations`` (lists of
   strings, :data:`VERDICT_SLOTS`) follow under the box in ``<div class="verdict-basis"
-  id="verdict-basis">``, one headed list each; without them nothing is added.
+  id="verdict-basis">``, one headed list each; without them nothing is added. With a
+  ``headline`` the box holds the code, the headline in bold and the ``bullets``; the
+  recommendation (its reasoning), the lines and the basis go to the last section,
+  ``<section id="verdict-reasoning" class="appendix">`` (page 1 reads as a verdict).
 * ``definitions`` (e.g. :data:`statue2model.report.page.MARGINS`) follow as ``<div
   class="definitions" id="definitions">``: a heading and a two-column table, the term
   in a row header and its meaning beside it.
@@ -230,6 +236,10 @@ figure.broken figcaption::before { content: "figure failed to load: "; color: va
 .verdict h2 { margin: 0 0 .4rem; border: 0; padding: 0; font-size: 1.15rem; }
 .verdict p { margin: .3rem 0; }
 .verdict .recommendation { font-weight: 700; font-size: 1.05rem; }
+.verdict .code { font: .8rem ui-monospace, monospace; color: var(--muted); margin-left: .5rem; }
+.verdict ul.bullets { margin: .3rem 0; padding-left: 1.25rem; }
+.verdict .key-figure figure { margin: .4rem 0 0; }
+.verdict .key-figure img { max-height: 9cm; width: auto; max-width: 100%; }
 .verdict-ok { border-color: var(--ok); background: var(--ok-bg); }
 .verdict-warn { border-color: var(--warn); background: var(--warn-bg); }
 .verdict-fail { border-color: var(--bad); background: var(--bad-bg); }
@@ -622,15 +632,33 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
         head.append(f'<p class="subtitle">{_esc(doc["subtitle"])}</p>')
 
     top: list[str] = []
+    appendix = ""
     verdict = doc.get("verdict")
     if verdict:
         status = verdict.get("status", "warn")
         status = status if status in ("ok", "warn", "fail") else "warn"
         lines = "".join(f"<p>{_esc(p)}</p>" for p in _paragraphs(verdict.get("lines")))
-        top.append(f'<div class="verdict verdict-{status}" id="verdict"><h2>Assessment</h2>'
-                   f'<p class="recommendation">Recommendation: {_esc(verdict.get("recommendation", ""))}</p>'
-                   f"{lines}</div>")
-        top.append(_verdict_basis(verdict))
+        rec = f'<p class="reasoning">Reasoning: {_esc(verdict.get("recommendation", ""))}</p>'
+        if verdict.get("headline"):
+            # page 1: the headline and its numbers; the reasoning and every line in the appendix
+            code = f' <span class="code">{_esc(verdict["code"])}</span>' if verdict.get("code") else ""
+            items = "".join(f"<li>{_esc(b)}</li>" for b in _paragraphs(verdict.get("bullets")))
+            fig = ""
+            if isinstance(verdict.get("figure"), Mapping) and verdict["figure"].get("path"):
+                fig, miss, refuse = _figure(verdict["figure"], base)
+                fig = f'<div class="key-figure">{fig}</div>'
+                missing += [miss] if miss is not None and miss not in missing else []
+                refused += [refuse] if refuse is not None and refuse not in refused else []
+            top.append(f'<div class="verdict verdict-{status}" id="verdict"><h2>Assessment{code}</h2>'
+                       f'<p class="recommendation headline">{_esc(verdict["headline"])}</p>'
+                       + (f'<ul class="bullets">{items}</ul>' if items else "") + fig + "</div>")
+            appendix = (f'<section id="verdict-reasoning" class="appendix"><h2>Appendix: the reasoning</h2>'
+                        f"{rec}{lines}{_verdict_basis(verdict)}</section>")
+        else:
+            top.append(f'<div class="verdict verdict-{status}" id="verdict"><h2>Assessment</h2>'
+                       f'<p class="recommendation">Recommendation: {_esc(verdict.get("recommendation", ""))}</p>'
+                       f"{lines}</div>")
+            top.append(_verdict_basis(verdict))
     top.append(_definitions(doc.get("definitions")))
     warnings = [(None, None, w) if isinstance(w, str) else tuple(w) for w in doc.get("warnings", ()) or ()]
     if warnings:
@@ -687,6 +715,7 @@ def render_html(doc: Mapping[str, Any], base_dir: str | os.PathLike | None = Non
             "<header>" + "".join(head) + "</header>",
             *[t for t in top if t],
             *body,
+            appendix,
             f"<footer>{footer}</footer>" if footer else "",
             "</main>",
             "</body>",

@@ -104,14 +104,34 @@ def build_doc(res) -> dict:
             sec["text"].insert(0, f"stage {status}")
         sections.append(sec)
     verdict = getattr(res, "verdict", None) or None
+    vdoc = None if not verdict else _verdict(verdict)
+    if vdoc is not None and vdoc.get("headline"):
+        key = key_figure(sections)
+        if key is not None:
+            vdoc["figure"] = key
     return {"title": f"statue2model report: {res.mesh.stem}",
-            "verdict": None if not verdict else _verdict(verdict),
+            "verdict": vdoc,
             "definitions": None if not verdict else {"title": MARGINS_TITLE, "terms": dict(MARGINS)},
             "subtitle": f"{res.mesh.name}, {time.strftime('%Y-%m-%d %H:%M')}, statue2model {__version__}, "
                         f"stages {res.seconds:.1f} s",
             "summary": summary, "warnings": warnings, "sections": sections,
             "footer": "The resolved configuration is config.toml beside this report (statue2model run MESH "
                       "--config config.toml repeats the run); run.json holds every stage's numbers."}
+
+
+KEY_FIGURES = (("dynamics", "fragility"), ("params", "props"))
+"""The figure shown with the verdict on page 1, the first found: (section, a word of its file name)."""
+
+
+def key_figure(sections: list[dict]) -> dict | None:
+    """The page-1 figure (:data:`KEY_FIGURES`): the fragility curves per limit state, else the
+    rocking parameters' figure; a copy of that section's figure entry, None when neither is there."""
+    by_id = {s["id"]: s for s in sections}
+    for sid, word in KEY_FIGURES:
+        for fig in (by_id.get(sid) or {}).get("figures") or ():
+            if word in Path(str(fig.get("path", ""))).name and not fig.get("refused"):
+                return dict(fig)
+    return None
 
 
 def _verdict(verdict: dict) -> dict:
@@ -123,6 +143,11 @@ def _verdict(verdict: dict) -> dict:
     """
     out = {"recommendation": verdict["recommendation"], "lines": verdict["lines"],
            "status": verdict.get("status", "warn")}
+    for key in ("code", "headline"):
+        if isinstance(verdict.get(key), str) and verdict[key]:
+            out[key] = verdict[key]
+    if isinstance(verdict.get("bullets"), list) and verdict["bullets"]:
+        out["bullets"] = [str(b) for b in verdict["bullets"]]
     for key, _ in VERDICT_SLOTS:
         items = verdict.get(key)
         if items:

@@ -1,0 +1,229 @@
+"""The recommendation code: what the verdict tells a conservator to do, as one identifier.
+
+The verdict (assessment/verdict.py) decides one :class:`Code` by its rule (verdict.RULE) and writes it
+to run.json beside a headline, a few bullets and the full reasoning. Everything that depends on the
+decision reads the code, never the wording: the report's colour (:attr:`CodeInfo.status`), the
+collection's counts and columns (:attr:`CodeInfo.needs_protection`, :attr:`CodeInfo.to_consider`),
+the headline. Rewording a sentence changes nothing else.
+
+=============================  ======  =====================================================================
+code                           status  what it tells a conservator
+=============================  ======  =====================================================================
+NO_ISOLATOR                    ok      leave it as it stands: it stays in full contact under the design
+                                       earthquake, in every design record
+NO_ISOLATOR_BUT_RECORDS_LIFT   warn    the code's check holds (the mean of the records), but single design
+                                       records lift it: consider isolating it
+ISOLATE                        ok      build the designed device: on it the statue stays in full contact
+                                       and the device keeps its travel, at the design level and beyond
+DEVICE_DOES_NOT_PROTECT        fail    do not build the designed device: on it a limit state is exceeded
+NO_DEVICE_IN_RANGE             fail    no rolling-ball isolator in the tool's range protects it: a
+                                       restraint or a specialist's device is needed
+RUN_ISOLATOR_STAGE             warn    it lifts; this run designed no isolator: run the isolator stage
+RUN_ISOLATED_DYNAMICS          warn    the device was designed but not analysed over the design records
+SLIDES                         warn    it may slide before it rocks: sliding is not assessed here
+NO_VERDICT                     warn    the scan's rocking parameters were not computed: no verdict
+=============================  ======  =====================================================================
+
+Example
+-------
+>>> info(Code.ISOLATE).status, info(Code.NO_ISOLATOR_BUT_RECORDS_LIFT).to_consider
+('ok', True)
+>>> Code("NO_DEVICE_IN_RANGE") is Code.NO_DEVICE_IN_RANGE
+True
+"""
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+
+from ..quantities import G
+
+
+class Code(str, enum.Enum):
+    """The recommendation's identifier (its value is what run.json and collection.csv hold)."""
+
+    NO_ISOLATOR = "NO_ISOLATOR"
+    NO_ISOLATOR_BUT_RECORDS_LIFT = "NO_ISOLATOR_BUT_RECORDS_LIFT"
+    ISOLATE = "ISOLATE"
+    DEVICE_DOES_NOT_PROTECT = "DEVICE_DOES_NOT_PROTECT"
+    NO_DEVICE_IN_RANGE = "NO_DEVICE_IN_RANGE"
+    RUN_ISOLATOR_STAGE = "RUN_ISOLATOR_STAGE"
+    RUN_ISOLATED_DYNAMICS = "RUN_ISOLATED_DYNAMICS"
+    SLIDES = "SLIDES"
+    NO_VERDICT = "NO_VERDICT"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass(frozen=True)
+class CodeInfo:
+    """What a code means: ``status`` (ok, warn, fail: the report's colour), ``needs_protection``
+    (the collection counts it among the objects to protect), ``to_consider`` (a warning to consider
+    protection while the code's check holds), ``action`` (the first words of the headline)."""
+
+    status: str
+    needs_protection: bool
+    to_consider: bool
+    action: str
+
+
+CODES: dict[Code, CodeInfo] = {
+    Code.NO_ISOLATOR: CodeInfo("ok", False, False, "No isolator needed"),
+    Code.NO_ISOLATOR_BUT_RECORDS_LIFT: CodeInfo("warn", False, True, "Consider isolating it"),
+    Code.ISOLATE: CodeInfo("ok", True, False, "Isolate it"),
+    Code.DEVICE_DOES_NOT_PROTECT: CodeInfo("fail", True, False, "Do not build the designed isolator"),
+    Code.NO_DEVICE_IN_RANGE: CodeInfo("fail", True, False, "No isolator of this kind protects it"),
+    Code.RUN_ISOLATOR_STAGE: CodeInfo("warn", True, False, "Design an isolator"),
+    Code.RUN_ISOLATED_DYNAMICS: CodeInfo("warn", True, False, "Analyse the designed isolator"),
+    Code.SLIDES: CodeInfo("warn", True, False, "Have its sliding assessed"),
+    Code.NO_VERDICT: CodeInfo("warn", False, False, "No verdict"),
+}
+STATUSES = ("ok", "warn", "fail")
+
+
+def info(code) -> CodeInfo:
+    """The :class:`CodeInfo` of ``code`` (a Code or its value); an unknown value is NO_VERDICT's."""
+    try:
+        return CODES[Code(code)]
+    except ValueError:
+        return CODES[Code.NO_VERDICT]
+
+
+def status_of(code, doubt: bool = False) -> str:
+    """The report's colour of ``code``; ``doubt`` (e.g. the 3D cross-check does not confirm the 2D
+    answer) turns an 'ok' into 'warn'."""
+    st = info(code).status
+    return "warn" if doubt and st == "ok" else st
+
+
+@dataclass(frozen=True)
+class Facts:
+    """The numbers a headline and its bullets are made of (SI; None when not known).
+
+    pga            design PGA at the object (m/s^2)        hazard   the design target in words
+    uplift         weakest uplift acceleration (m/s^2)      n        design records (None: quasi-static)
+    k_lift         records lifting it on a fixed base        k_over   records overturning it on a fixed base
+    lift_ratio     full contact's demand / capacity, fixed  device   one line on the device, or ""
+    cost           the device's price (EUR)                 travel_margin  capacity / travel need - 1
+    iso_governing  title of the exceeded state on the device (DEVICE_DOES_NOT_PROTECT)
+    iso_k          records exceeding it                     iso_felt_ratio  felt / uplift on the device
+    p_over_fixed / p_fail_isolated  P at the design PGA of the fragility curves
+    reason         why no device works (plain words), or ""
+    """
+
+    pga: float | None = None
+    hazard: str = ""
+    uplift: float | None = None
+    n: int | None = None
+    k_lift: int | None = None
+    k_over: int | None = None
+    lift_ratio: float | None = None
+    device: str = ""
+    cost: float | None = None
+    travel_margin: float | None = None
+    iso_governing: str = ""
+    iso_k: int | None = None
+    iso_felt_ratio: float | None = None
+    p_over_fixed: float | None = None
+    p_fail_isolated: float | None = None
+    reason: str = ""
+    extra: tuple = field(default_factory=tuple)
+
+
+def _g(x) -> str:
+    return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"     # as the reasoning prints it
+
+
+def _pct(x) -> str:
+    return f"{x * 100:.0f} %"
+
+
+def _records(k, n) -> str:
+    return f"{k} of {n} design records"
+
+
+def _s(k) -> str:
+    """The verb's -s after a count: '1 of 7 design records lifts it', '2 of 7 ... lift it'."""
+    return "s" if k == 1 else ""
+
+
+def headline(code, f: Facts) -> str:
+    """One plain sentence (at most 40 words, no formula, no config key): what to do and why, in the
+    terms of the governing limit state."""
+    code = Code(code)
+    act = CODES[code].action
+    lifts = (f"without it, {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it" if f.n and f.k_lift is not None
+             else "without it, the design earthquake lifts it")
+    over = f" and {f.k_over} overturn{_s(f.k_over)} it" if f.n and f.k_over else ""
+    if code is Code.NO_ISOLATOR:
+        where = f"in all {f.n} design records" if f.n else "under the design earthquake's peak ground acceleration"
+        return f"{act}: on its own base it stays in full contact under the design earthquake, {where}."
+    if code is Code.NO_ISOLATOR_BUT_RECORDS_LIFT:
+        return (f"{act}: the code's check holds on average, but {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it "
+                f"on {'its' if f.k_lift == 1 else 'their'} own" + (f" and {f.k_over} overturn{_s(f.k_over)} it"
+                                                                   if f.k_over else "") + ".")
+    if code is Code.ISOLATE:
+        cost = f" (about {f.cost:.0f} EUR)" if f.cost else ""
+        margin = (f", with {_pct(f.travel_margin)} travel to spare" if f.travel_margin is not None
+                  and f.travel_margin >= 0 else "")
+        return (f"{act}: on the designed device{cost} it stays in full contact under the design earthquake"
+                f"{margin}; {lifts}{over}.")
+    if code is Code.DEVICE_DOES_NOT_PROTECT:
+        what = f.iso_governing or "a limit state"
+        recs = f" in {_records(f.iso_k, f.n)}" if f.n and f.iso_k else ""
+        return f"{act}: on it, {what} is exceeded{recs}; {lifts}{over}."
+    if code is Code.NO_DEVICE_IN_RANGE:
+        why = f" ({f.reason})" if f.reason else ""
+        return f"{act}{why}; {lifts}{over}: a restraint or a specialist's device is needed."
+    if code is Code.RUN_ISOLATOR_STAGE:
+        return f"{act}: {lifts[len('without it, '):]}{over}, and this run designed no isolator."
+    if code is Code.RUN_ISOLATED_DYNAMICS:
+        return f"{act} over the design records: it was designed but not analysed; {lifts}{over}."
+    if code is Code.SLIDES:
+        return (f"{act}: it is squat enough to slide before it rocks, and this tool does not assess sliding; "
+                "anchor or restrain it after a specialist's check.")
+    return f"{act}: the scan's rocking parameters were not computed."
+
+
+def bullets(code, f: Facts) -> list[str]:
+    """The numbers under the headline (3 to 6 short lines), the same as the limit-state rows'."""
+    code = Code(code)
+    out = []
+    if f.pga is not None:
+        out.append(f"Design earthquake: peak ground acceleration {_g(f.pga)} at the object"
+                   + (f" ({f.hazard})" if f.hazard else "") + ".")
+    if f.uplift is not None:
+        line = f"It lifts from {_g(f.uplift)} of ground acceleration"
+        if f.n and f.k_lift is not None:
+            line += f"; {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it on its own base"
+            if f.k_over is not None:
+                line += ", none overturns it" if f.k_over == 0 else f", {f.k_over} overturn{_s(f.k_over)} it"
+        out.append(line + ".")
+    if f.device:
+        out.append(f"Device: {f.device}.")
+    if code is Code.ISOLATE and f.travel_margin is not None:
+        out.append(f"On the device: travel margin {_pct(f.travel_margin)}"
+                   + (f", the statue feels {f.iso_felt_ratio:.2f} of its uplift acceleration" if f.iso_felt_ratio
+                      is not None else "") + ".")
+    if code is Code.DEVICE_DOES_NOT_PROTECT and f.iso_governing:
+        out.append(f"On the device: {f.iso_governing} exceeded"
+                   + (f" in {_records(f.iso_k, f.n)}" if f.n and f.iso_k else "") + ".")
+    if f.p_over_fixed is not None:
+        line = f"Probability of overturning at the design level: {_p(f.p_over_fixed)} on its own base"
+        if f.p_fail_isolated is not None:
+            line += f", {_p(f.p_fail_isolated)} of failure on the device"
+        out.append(line + ".")
+    if f.reason and code is Code.NO_DEVICE_IN_RANGE:
+        out.append(f"Why no device: {f.reason}.")
+    return out[:6]
+
+
+def _p(p: float) -> str:
+    return "< 0.01" if p < 0.005 else "> 0.99" if p > 0.995 else f"{p:.2f}"
+
+
+def words(text: str) -> int:
+    """The number of words of ``text``."""
+    return len(text.split())
