@@ -71,7 +71,7 @@ def scan_headline(n_rec: int) -> None:
     with ProcessExecutor(2) as ex:
         timed(scan_inputs(4, 2, 2), ex)          # a task for each worker at least: both load the kernels
         res, fixed, _ = timed(inputs, ex)
-    c = res.curves["overturn"]
+    c = res.curves["overturning_fixed"]
     print(f"default scan (Housner, e sampled): {runs} runs ({res.stats['integrated_fixed']} integrated) on 2 processes: "
           f"{fixed:.1f} s, {runs / fixed:.0f} runs/s; median {c.median / 9.81:.3f} g, beta {c.beta:.3f}"
           + ("" if runs < 200_000 else f" (target 60 s: {'met' if fixed <= 60 else 'NOT met'})"))
@@ -108,7 +108,7 @@ def main() -> int:
     inputs = study_inputs(n_rec)
     res, fixed, wall = timed(inputs)
     n_int = res.stats["integrated_fixed"]
-    c = res.curves["overturn"]
+    c = res.curves["overturning_fixed"]
     print(f"headline: {n_rec} records x {FULL[1]} levels x {FULL[2]} samples = {runs} runs ({n_int} integrated), "
           f"in-process numba threads on {os.cpu_count()} CPUs")
     print(f"  runs {fixed:.1f} s, with the fit {wall:.1f} s: {runs / fixed:.0f} runs/s; "

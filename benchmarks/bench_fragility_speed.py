@@ -162,7 +162,7 @@ def worker(args) -> None:
         res, wall, cpu = run(None)
     out = {"tree": str(Path(statue2model.__file__).resolve().parent.parent), "fixed_s": res.stats["wall_fixed_s"],
            "wall_s": wall, "cpu_s": cpu, "runs": res.stats["runs_fixed"], "integrated": res.stats["integrated_fixed"]}
-    arrays = {"fails": res.fails["overturn"], "valid": res.valid["fixed"]}
+    arrays = {"fails": res.fails["overturning_fixed"], "valid": res.valid["fixed"]}
     if args.stats:
         model, records, levels, samples = inp
         try:                    # the tree's own fixed-base path, when it can return the statistics

@@ -30,19 +30,19 @@ def test_counts_and_wilson_rates_by_hand():
 
 def test_verdict_needs_enough_runs_and_says_undefined():
     # all 16 agree, none positive: accuracy lower bound 16 / (16 + 1.96^2) = 0.8064 >= 0.8, P and R undefined
-    a = cl.agreement([False] * 16, [False] * 16, "uplift")
+    a = cl.agreement([False] * 16, [False] * 16, "full_contact")
     assert a.accuracy.lo == pytest.approx(16 / (16 + 1.959964**2), abs=1e-5) and a.status == "met"
     assert a.precision.value is None and a.precision.why == "undefined: the 2D model says yes in no run"
     assert a.recall.value is None and "3D scene says yes in no run" in a.recall.why
     assert "judged on accuracy alone" in a.why
     # 15 runs in full agreement: 0.796 < 0.8 -> not shown (too few runs), never a pass by default
-    b = cl.agreement([True] * 15, [True] * 15, "uplift")
+    b = cl.agreement([True] * 15, [True] * 15, "full_contact")
     assert b.status == "missed" and "too few runs" in b.why
     # 2D never says yes where 3D does 8 times in 16: recall 0/8, [0, 0.324] < 0.5 -> disagreement shown
     c = cl.agreement([True] * 8 + [False] * 8, [False] * 16, "overturning")
     assert c.recall.hi == pytest.approx(0.3244, abs=1e-4) and "recall 0/8" in c.why and "disagreement shown" in c.why
     assert c.precision.value is None
-    assert cl.agreement([], [], "uplift").status == "not applicable"
+    assert cl.agreement([], [], "full_contact").status == "not applicable"
 
 
 def test_peak_comparison_and_levels():
@@ -89,15 +89,15 @@ def test_wrong_alpha_fails_uplift_against_a_stand_in(block, recs):
 
     kw = dict(levels=(0.16 * 9.81, 0.19 * 9.81), executor=SerialExecutor(), run_3d=_stand_in_3d, free_time=1.0)
     right = cl.classify_ensemble(block, user_model(block), recs, **kw)
-    assert right.states["uplift"].status == "met" and right.states["uplift"].tn == 16
+    assert right.states["full_contact"].status == "met" and right.states["full_contact"].tn == 16
     # alpha 0.6: starts to lift at 0.12 g (then rolls over its 14 mrad transition), so most runs at 0.16-0.19 g
     # lift in 2D, none in the stand-in (below g b / h nothing can lift)
     wrong = cl.classify_ensemble(block, RockingModel.imperfect(block.params, 0.6, 0.6), recs, **kw)
-    u = wrong.states["uplift"]
+    u = wrong.states["full_contact"]
     assert u.fp >= 12 and u.fp + u.tn == 16 and u.tp == u.fn == 0
     assert u.status == "missed" and "disagreement shown" in u.why
-    differ = [r for r in wrong.runs if "uplift" in r["why"]]
-    assert len(differ) == u.fp and all("2D lifts off, 3D does not" in r["why"]["uplift"] for r in differ)
+    differ = [r for r in wrong.runs if "full_contact" in r["why"]]
+    assert len(differ) == u.fp and all("2D lifts off, 3D does not" in r["why"]["full_contact"] for r in differ)
     assert all(r["peak"]["status"] == cl.NEITHER_LIFTS for r in right.runs)
 
 

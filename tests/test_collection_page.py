@@ -137,9 +137,9 @@ def test_row_values(ranked):
     assert tips["link"] == "tips/report.html" and ranked[0]["link"] is None
     # P(uplift) band by hand: Phi(ln(2.8194/3.0487)/0.0897) = Phi(-0.8717) = 0.1917,
     # Phi(ln(2.8194/2.7286)/0.0897) = Phi(0.3650) = 0.6424
-    assert lifter["p_uplift_fixed"] == 0.47
-    assert lifter["p_uplift_fixed_lo"] == pytest.approx(0.1917, abs=1e-3)
-    assert lifter["p_uplift_fixed_hi"] == pytest.approx(0.6424, abs=1e-3)
+    assert lifter["p_full_contact_fixed"] == 0.47
+    assert lifter["p_full_contact_fixed_lo"] == pytest.approx(0.1917, abs=1e-3)
+    assert lifter["p_full_contact_fixed_hi"] == pytest.approx(0.6424, abs=1e-3)
     assert lifter["p_overturning_fixed"] == 1e-5 and lifter["p_overturning_fixed_lo"] is None
 
 

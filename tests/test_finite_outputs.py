@@ -102,11 +102,11 @@ def test_one_level_study_is_not_fitted_with_reason(tmp_path):
     a_star = block.g * block.delta_L / (1.0 - math.exp(-block.p_L * tp))
     res = run_fragility(model, [motions.rect_pulse(1.0, tp)], [a_star], lognormal_factor(0.3, 40, seed=3),
                         FragilityStudy(n_boot=20, free_time=5.0))
-    c = res.curves["overturn"]
+    c = res.curves["overturning_fixed"]
     assert 0 < c.n_fail[0] < c.n_trials[0]                # a failure and a survival, at one level
     assert c.status == "one level" and not c.fitted and c.reason == "one level: spread not identified"
     d = _strict(json.dumps(_strict((res.write_json(tmp_path / "f.json")).read_text())))
-    cd = d["curves"]["overturn"]
+    cd = d["curves"]["overturning_fixed"]
     assert cd["median"] is None and cd["beta"] is None and cd["reason"] == "one level: spread not identified"
     assert cd["median_ci"] == [None, None] and cd["band_lo"] == [None] and cd["fitted"] == [None]
     res.write_csv(tmp_path / "f.csv")
@@ -115,7 +115,7 @@ def test_one_level_study_is_not_fitted_with_reason(tmp_path):
     line = next(ln for ln in res.summary_lines() if ln.startswith("overturning"))
     assert "not fitted (one level: spread not identified)" in line and not NONFINITE.search(line)
     # the uplift needs no levels: it is fitted on each run's exact uplift PGA, identified at one level too
-    assert res.curves["uplift"].status == "exact" and res.curves["uplift"].spread is None
+    assert res.curves["full_contact_fixed"].status == "exact" and res.curves["full_contact_fixed"].spread is None
 
 
 def _counts(fail_records, R=6, L=5, top=2, S=1):
@@ -128,10 +128,10 @@ def _counts(fail_records, R=6, L=5, top=2, S=1):
 
 def test_no_failure_curve_is_null_with_reason_and_no_band(tmp_path):
     lv = np.geomspace(1.0, 10.0, 5)
-    fails = {"overturn": _counts([])}
-    valid = {"fixed": np.ones_like(fails["overturn"])}
+    fails = {"overturning_fixed": _counts([])}
+    valid = {"fixed": np.ones_like(fails["overturning_fixed"])}
     curves, ratio = _fit_all(lv, fails, valid, FragilityStudy(n_boot=50), "records")
-    c = curves["overturn"]
+    c = curves["overturning_fixed"]
     assert c.status == "no failures" and c.reason == "no failure at any level"
     d = _strict(write_json(tmp_path / "c.json", c.to_dict()).read_text())
     assert d["median"] is None and d["reason"] == "no failure at any level"
@@ -148,26 +148,26 @@ def test_bootstrap_band_never_infinite_and_counts_replicates_without_failure(tmp
     recounted here from the same random draws. The isolated side fails on records 0-2: its ratio
     band's lower end falls on the replicates where the fixed median is above the levels."""
     lv = np.geomspace(1.0, 10.0, 5)
-    fails = {"overturn": _counts([0]), "overturn_isolated": _counts([0, 1, 2], top=3),
-             "capacity_exceeded": _counts([]), "failure_isolated": _counts([0, 1, 2], top=3)}
-    valid = {"fixed": np.ones_like(fails["overturn"]), "isolated": np.ones_like(fails["overturn"])}
+    fails = {"overturning_fixed": _counts([0]), "overturning_alone_isolated": _counts([0, 1, 2], top=3),
+             "capacity_isolated": _counts([]), "overturning_isolated": _counts([0, 1, 2], top=3)}
+    valid = {"fixed": np.ones_like(fails["overturning_fixed"]), "isolated": np.ones_like(fails["overturning_fixed"])}
     study = FragilityStudy(n_boot=200, seed=5)
     curves, ratio = _fit_all(lv, fails, valid, study, "records")
     rng = np.random.default_rng(5)
     picks = [rng.integers(0, 6, 6) for _ in range(200)]
     no_failure = sum(0 not in p for p in picks)
     assert 40 < no_failure < 95                              # ~ 200 x 0.335 = 67
-    c = curves["overturn"]
+    c = curves["overturning_fixed"]
     assert c.fitted and math.isfinite(c.median)
     assert math.isfinite(c.median_ci[0]) and math.isnan(c.median_ci[1])
     assert f"{no_failure} of 200 replicates had no failure" in c.median_ci_note
     assert c.boot_undefined["no failures"] == no_failure
     assert np.all(np.isfinite(c.band_lo)) and np.all((0 <= c.band_lo) & (c.band_lo <= c.band_hi) & (c.band_hi <= 1))
-    r = ratio["failure"]
+    r = ratio["overturning"]
     assert r["value"] is not None and math.isfinite(r["value"])
     assert all(x is None or math.isfinite(x) for x in r["ci"]) and r["ci"][0] is None and r["ci_note"]
     # the capacity curve has no failure: its ratio-free curve is null with its reason, bands too
-    assert curves["capacity_exceeded"].reason == "no failure at any level"
+    assert curves["capacity_isolated"].reason == "no failure at any level"
     res = SimpleNamespace(curves=curves, ratio=ratio)
     from statue2model.assessment.study import fragility_data
     from statue2model.assessment.verdict import fragility
@@ -188,11 +188,11 @@ def test_undefined_ratio_has_no_band():
     """Isolated side failing everywhere ("all failed", median below the levels): the ratio and its
     band are null with the note (before: a band 0.0-0.76 around an undefined ratio)."""
     lv = np.geomspace(1.0, 10.0, 5)
-    fails = {"overturn": _counts([0, 1, 2, 3]), "overturn_isolated": _counts(range(6), top=5),
-             "capacity_exceeded": _counts([]), "failure_isolated": _counts(range(6), top=5)}
-    valid = {"fixed": np.ones_like(fails["overturn"]), "isolated": np.ones_like(fails["overturn"])}
+    fails = {"overturning_fixed": _counts([0, 1, 2, 3]), "overturning_alone_isolated": _counts(range(6), top=5),
+             "capacity_isolated": _counts([]), "overturning_isolated": _counts(range(6), top=5)}
+    valid = {"fixed": np.ones_like(fails["overturning_fixed"]), "isolated": np.ones_like(fails["overturning_fixed"])}
     curves, ratio = _fit_all(lv, fails, valid, FragilityStudy(n_boot=100), "records")
-    r = ratio["failure"]
+    r = ratio["overturning"]
     assert r["value"] is None and r["ci"] == [None, None]
     assert "isolated failure at every level" in r["note"]
     from statue2model.assessment.study import fragility_data

@@ -50,7 +50,7 @@ def test_rectangular_pulse_recovers_closed_form(tp, beta):
     levels = a * np.exp(beta * np.linspace(-2.5, 2.5, 11))
     res = run_fragility(model, [motions.rect_pulse(1.0, tp)], levels, lognormal_factor(beta, 200, seed=3),
                         FragilityStudy(n_boot=40, free_time=5.0))
-    c = res.curves["overturn"]
+    c = res.curves["overturning_fixed"]
     assert c.status == "ok" and res.bootstrap_unit == "samples"
     assert abs(c.median / a - 1) < 0.01, (c.median, a)          # measured: 7e-5 (tp 0.25)
     assert abs(c.beta / beta - 1) < 0.05, (c.beta, beta)        # measured: 0.3 %
@@ -83,7 +83,7 @@ def test_pgv_and_pgv_levels():
     # PGV of a rectangular pulse is a tp: the median in PGV is a* tp
     res = run_fragility(model, [motions.rect_pulse(1.0, tp)], a_star(tp) * tp * np.exp(0.3 * np.linspace(-2, 2, 9)),
                         lognormal_factor(0.3, 100, seed=1), FragilityStudy(im="pgv", n_boot=0, free_time=5.0))
-    assert res.curves["overturn"].median == pytest.approx(a_star(tp) * tp, rel=0.01)
+    assert res.curves["overturning_fixed"].median == pytest.approx(a_star(tp) * tp, rel=0.01)
 
 
 def _statue_study(executor, isolator=None):
@@ -100,9 +100,9 @@ def test_identical_serial_processes_dask():
 
     iso = Isolator(R=0.31, r=0.0095, M=STATUE.m + 8.0, mu=0.0073, capacity=0.15)
     ref = _statue_study(None, iso)
-    assert set(ref.curves) == {"uplift", "overturn", "uplift_isolated", "overturn_isolated", "capacity_exceeded",
-                               "failure_isolated"}
-    assert ref.curves["overturn"].n_fail.sum() > 0 and ref.curves["capacity_exceeded"].n_fail.sum() > 0
+    assert set(ref.curves) == {"full_contact_fixed", "overturning_fixed", "full_contact_isolated",
+                               "overturning_alone_isolated", "capacity_isolated", "overturning_isolated"}
+    assert ref.curves["overturning_fixed"].n_fail.sum() > 0 and ref.curves["capacity_isolated"].n_fail.sum() > 0
     others = [SerialExecutor(), ProcessExecutor(2)]
     cluster = None
     try:
@@ -122,7 +122,7 @@ def test_identical_serial_processes_dask():
             res = _statue_study(ex, iso)
             for k in ref.fails:
                 assert np.array_equal(res.fails[k], ref.fails[k]), (ex, k)
-            assert res.curves["overturn"].median == ref.curves["overturn"].median
+            assert res.curves["overturning_fixed"].median == ref.curves["overturning_fixed"].median
     finally:
         for ex in others:
             ex.close()
@@ -133,7 +133,7 @@ def test_identical_serial_processes_dask():
 def test_outputs(tmp_path):
     res = _statue_study(None)
     d = res.to_dict()
-    assert d["curves"]["overturn"]["n_trials"].sum() == 3 * 5 * 3
+    assert d["curves"]["overturning_fixed"]["n_trials"].sum() == 3 * 5 * 3
     res.write_json(tmp_path / "f.json")
     res.write_csv(tmp_path / "f.csv")
     plot_fragility(res, tmp_path / "f.png")

@@ -57,8 +57,8 @@ def test_uplift_fixed_is_the_record_reaching_the_uplift_limit_on_either_side():
     levels = np.array([1.5, 2.5, 3.5, 4.5])                                 # m/s^2 peaks
     rect = run_fragility(model, [motions.rect_pulse(1.0, 0.3)], levels, nominal(1), FragilityStudy(n_boot=0))
     sine = run_fragility(model, [motions.sine_pulse(1.0, 2.0)], levels, nominal(1), FragilityStudy(n_boot=0))
-    assert rect.curves["uplift"].n_fail.tolist() == [0, 0, 0, 1]           # +x only: needs > 3.924
-    assert sine.curves["uplift"].n_fail.tolist() == [0, 1, 1, 1]           # -x peak: needs > 1.962
+    assert rect.curves["full_contact_fixed"].n_fail.tolist() == [0, 0, 0, 1]           # +x only: needs > 3.924
+    assert sine.curves["full_contact_fixed"].n_fail.tolist() == [0, 1, 1, 1]           # -x peak: needs > 1.962
     # the same decision as the integration: the kernel's uplift time is finite exactly where it lifts
     rec = motions.sine_pulse(1.0, 2.0)
     gains = levels[None, :] / rec.pga
@@ -88,7 +88,7 @@ def step_case():
 
 def test_coarse_grid_gives_a_step_and_no_probability(step_case):
     a_star, coarse, smp, plain, _ = step_case
-    c = plain.curves["overturn"]
+    c = plain.curves["overturning_fixed"]
     assert c.n_fail.tolist() == [0, 0, 40, 40] and c.status == "step"
     why = identified_reason(c)
     assert "jump between adjacent levels" in why
@@ -97,22 +97,22 @@ def test_coarse_grid_gives_a_step_and_no_probability(step_case):
     assert e["beta"] is None and e["identified"] is False and e["partial_levels"] == 0
     data = fragility_data(plain, 0.9 * a_star, False)
     assert data["fragility_p_design_fixed"] is None and "jump" in data["fragility_p_design_fixed_reason"]
-    d = plain.to_dict()["curves"]["overturn"]
+    d = plain.to_dict()["curves"]["overturning_fixed"]
     assert d["fitted"] is None and d["identified"] is False and "jump" in d["spread_reason"]
 
 
 def test_adaptive_levels_fill_the_step_and_identify_the_spread(step_case):
     a_star, coarse, smp, _, res = step_case
-    c = res.curves["overturn"]
+    c = res.curves["overturning_fixed"]
     added = np.setdiff1d(res.levels_run("fixed"), coarse)
     assert res.adaptive["added"]["fixed"] == added.size
-    asked = {k: [x for r in res.adaptive["rounds_run"] for x in r["asked"].get(k, [])] for k in ("overturn", "uplift")}
-    assert len(asked["overturn"]) >= 2
-    assert all(coarse[1] < x < coarse[2] for x in asked["overturn"])      # inside the step's gap
+    asked = {k: [x for r in res.adaptive["rounds_run"] for x in r["asked"].get(k, [])] for k in ("overturning_fixed", "full_contact_fixed")}
+    assert len(asked["overturning_fixed"]) >= 2
+    assert all(coarse[1] < x < coarse[2] for x in asked["overturning_fixed"])      # inside the step's gap
     # the uplift curve's own step: the linearised block lifts at g delta_L = 1.861 m/s^2 x 1 / eps,
     # between the coarse levels 0.6 a* and 0.85 a*: its levels went there
     assert round(BLOCK.g * BLOCK.delta_L, 3) == 1.861 and coarse[0] < 1.861 < coarse[1]
-    assert all(coarse[0] < x < coarse[1] for x in asked["uplift"])
+    assert all(coarse[0] < x < coarse[1] for x in asked["full_contact_fixed"])
     assert identified_reason(c) is None and c.partial >= 2
     eps = smp.im_factors()
     assert c.n_fail.tolist() == [int((x * eps >= a_star).sum()) for x in c.levels]     # by hand
@@ -122,18 +122,18 @@ def test_adaptive_levels_fill_the_step_and_identify_the_spread(step_case):
     assert res.stats["runs_fixed"] == 1 * len(res.levels_run("fixed")) * 40
     e = curve_entry(c, 0.9 * a_star)
     assert e["p_design"] is not None and 0 <= e["p_design"] < 0.05 and e["p_design_reason"] is None
-    assert res.adaptive["identified"]["overturn"] is True and "rule" in res.adaptive
+    assert res.adaptive["identified"]["overturning_fixed"] is True and "rule" in res.adaptive
 
 
 def test_no_partial_level_reports_none_with_its_reason():
     lv = np.array([1.0, 2.0, 4.0, 8.0])
-    c = FragilityCurve("overturn", lv, np.array([0, 0, 7, 7]), np.full(4, 7), 2.8, BETA_MIN, "step")
+    c = FragilityCurve("overturning_fixed", lv, np.array([0, 0, 7, 7]), np.full(4, 7), 2.8, BETA_MIN, "step")
     e = curve_entry(c, 2.0)
     assert e["p_design"] is None and e["beta"] is None
     assert "from none at 0.204 g to all at 0.408 g" in e["p_design_reason"]
-    one = FragilityCurve("overturn", lv, np.array([0, 3, 7, 7]), np.full(4, 7), 2.0, 0.2, "ok")
+    one = FragilityCurve("overturning_fixed", lv, np.array([0, 3, 7, 7]), np.full(4, 7), 2.0, 0.2, "ok")
     assert "1 level with a partial fraction" in curve_entry(one, 2.0)["p_design_reason"]
-    none = FragilityCurve("overturn", lv, np.zeros(4, dtype=int), np.full(4, 7), float("nan"), float("nan"),
+    none = FragilityCurve("overturning_fixed", lv, np.zeros(4, dtype=int), np.full(4, 7), float("nan"), float("nan"),
                           "no failures")
     e = curve_entry(none, 2.0)
     assert e["p_design"] is None and e["median"] is None and "no failure at any level (0.102-0.816 g)" in \
@@ -199,14 +199,14 @@ def test_isolated_uplift_median_above_the_fixed_one_for_a_well_isolated_block():
     recs = [motions.synthetic_record(5.0, 0.01, 1.0, seed=s) for s in range(3)]
     levels = np.array([2.0, 2.5, 2.8, 3.1, 4.0, 6.0, 9.0, 13.0, 18.0])
     res = run_fragility(model, recs, levels, nominal(1), FragilityStudy(n_boot=0), isolator=iso)
-    fixed, isolated = res.curves["uplift"], res.curves["uplift_isolated"]
+    fixed, isolated = res.curves["full_contact_fixed"], res.curves["full_contact_isolated"]
     assert fixed.n_fail.tolist() == [0, 0, 0, 3, 3, 3, 3, 3, 3]            # lifts above 2.943 m/s^2
     assert 2.8 < fixed.median < 3.1
     assert isolated.fitted and isolated.median > 1.5 * fixed.median
     ls = limit_state_data(res, 2.5)
     assert set(ls) == {"full_contact", "overturning", "capacity"}
-    assert ls["full_contact"]["fixed"]["curve"] == "uplift" and ls["full_contact"]["isolated"]["curve"] == \
-        "uplift_isolated" and ls["overturning"]["isolated"]["curve"] == "failure_isolated"
+    assert ls["full_contact"]["fixed"]["curve"] == "full_contact_fixed" and ls["full_contact"]["isolated"]["curve"] == \
+        "full_contact_isolated" and ls["overturning"]["isolated"]["curve"] == "overturning_isolated"
     assert set(ls["capacity"]) == {"isolated"}
 
 
@@ -232,7 +232,7 @@ def test_fixed_base_uplift_is_fitted_on_each_records_exact_uplift_pga():
     asym = RockingModel.housner(RockingParams.from_dict({"m": 10.0, "h": 0.25, "b_L": 0.10, "b_R": 0.05,
                                                           "I_G": 0.3}))
     res = run_fragility(asym, recs, lv, nominal(1), FragilityStudy(n_boot=50))
-    up = res.curves["uplift"]
+    up = res.curves["full_contact_fixed"]
     aL, aR = 9.81 * 0.10 / 0.25, 9.81 * 0.05 / 0.25
     x = []
     for rec in recs:
@@ -247,7 +247,7 @@ def test_fixed_base_uplift_is_fitted_on_each_records_exact_uplift_pga():
     # the counts per level are the same outcome: every level above the largest threshold lifts every run
     assert all(f == n for f, n, level in zip(up.n_fail, up.n_trials, lv) if level > max(x))
     sym = RockingModel.housner(RockingParams.rectangular_block(0.05, 0.25, 10.0))
-    cs = run_fragility(sym, recs, lv, nominal(1), FragilityStudy(n_boot=20)).curves["uplift"]
+    cs = run_fragility(sym, recs, lv, nominal(1), FragilityStudy(n_boot=20)).curves["full_contact_fixed"]
     assert cs.median == pytest.approx(9.81 * 0.05 / 0.25, rel=1e-9) and cs.beta == BETA_MIN
     assert cs.beta_ci_note.startswith("a deterministic threshold")
     assert float(cs.probability(0.99 * cs.median)) < 1e-6 and float(cs.probability(1.01 * cs.median)) > 1 - 1e-6

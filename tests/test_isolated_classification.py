@@ -99,10 +99,10 @@ def test_isolated_uplift_a_wrong_alpha_fails(block, recs):
     kw = dict(levels=(3.0, 5.0), free_time=1.0, base="isolated", run_2d=Coupled2D(isolator_2d(iso)))
     right = cl.classify_ensemble(iso, user_model(block), recs, executor=SerialExecutor(), run_3d=outcome_3d_isolated,
                                  **kw)
-    u = right.states["uplift"]
+    u = right.states["full_contact"]
     assert u.tp >= 3 and u.fp + u.fn <= 1, right.table()
     wrong = cl.classify_ensemble(iso, RockingModel.imperfect(block.params, 0.6, 0.6), recs, reuse_3d=right, **kw)
-    w = wrong.states["uplift"]
+    w = wrong.states["full_contact"]
     assert w.status == "missed" and w.fp >= 10 and "disagreement shown" in w.why
     assert "the plate's peak absolute acceleration 2D" in wrong.table()
 

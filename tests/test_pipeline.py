@@ -159,6 +159,30 @@ def small_run(tmp_path_factory):
 
 
 @pytest.mark.slow
+def test_one_limit_state_vocabulary_in_every_file(small_run):
+    """limit_states.json's rows, fragility.json's limit_states and curve keys, its ratios, the 3D
+    classification and the verdict's fragility use the registry's identifiers (issue [21])."""
+    from statue2model.assessment import states
+
+    out = small_run.out
+    ids = set(states.IDS)
+    ls = json.loads((out / "dynamics" / "limit_states.json").read_text())
+    assert {r["name"] for r in ls["rows"]} <= ids
+    fr = json.loads((out / "dynamics" / "fragility.json").read_text())
+    assert set(fr["limit_states"]) <= ids and fr["limit_states"]
+    for key in fr["curves"]:
+        sid, base = states.STATE_OF_CURVE[key]
+        assert sid in ids and key.startswith(sid + "_") and key.endswith(base)
+    assert set(fr["ratio_of_medians"]) <= ids | {"overturning_alone"}
+    cls = json.loads((out / "crosscheck" / "classification.json").read_text())
+    for base in ("fixed", "isolated"):
+        if cls.get(base):
+            assert set(cls[base]["states"]) <= ids
+    v = json.loads((out / "run.json").read_text())["verdict"]
+    assert set((v.get("fragility") or {}).get("limit_states") or {}) <= ids
+
+
+@pytest.mark.slow
 def test_run_writes_every_stage_report_and_resolved_config(small_run):
     res = small_run
     assert {k: v["status"] for k, v in res.stages.items()} == {
@@ -198,7 +222,7 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
     for base in ("fixed", "isolated"):
         info = cls[base]["info"]
         assert info["n_records"] >= 7 and info["n_runs"] == info["n_records"] * len(info["levels_g"])
-        assert {s: a["status"] for s, a in cls[base]["states"].items()}.keys() == {"uplift", "overturning", "capacity"}
+        assert {s: a["status"] for s, a in cls[base]["states"].items()}.keys() == {"full_contact", "overturning", "capacity"}
     assert cls["fixed"]["states"]["capacity"]["status"] == "not applicable"
     assert cls["isolated"]["states"]["capacity"]["status"] != "not applicable"
     assert load_config(out / "config.toml").to_dict() == small_config().to_dict()
@@ -209,7 +233,7 @@ def test_run_writes_every_stage_report_and_resolved_config(small_run):
                   "2D analyses", "3D cross-check", "2D model against 3D physics", "Design checks",
                   "2D model against 3D physics over the design records"):
         assert title in page
-    a = cls["fixed"]["states"]["uplift"]["accuracy"]           # the report prints the json's numbers
+    a = cls["fixed"]["states"]["full_contact"]["accuracy"]           # the report prints the json's numbers
     assert a["value"] is not None and f"{a['value']:.2f} [{a['lo']:.2f}-{a['hi']:.2f}]" in page
 
 
@@ -268,7 +292,7 @@ def test_executors_give_identical_numbers(tmp_path):
     fa, fb = (json.loads((tmp_path / x / "dynamics" / "fragility.json").read_text()) for x in "ab")
     assert fa["curves"] == fb["curves"] and fa["ratio_of_medians"] == fb["ratio_of_medians"]
     # 7 records x 7 parameter samples at every level the fixed base ran (coarse and adaptive)
-    assert fa["curves"]["overturn"]["n_trials"] == [7 * 7] * len(fa["curves"]["overturn"]["levels"])
+    assert fa["curves"]["overturning_fixed"]["n_trials"] == [7 * 7] * len(fa["curves"]["overturning_fixed"]["levels"])
 
 
 @pytest.mark.slow

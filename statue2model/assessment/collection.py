@@ -58,6 +58,7 @@ import os
 from pathlib import Path, PurePosixPath
 
 from ..quantities import G  # m/s^2
+from . import states
 from .recommendation import Code, info, status_of
 from .verdict import finite_number as _finite
 
@@ -82,11 +83,11 @@ RANKING_RULE = (
     "probability of uplift at the design PGA, then the largest demand/capacity ratio on the fixed base, "
     "largest first, then by name. An unknown probability or ratio counts as the largest.")
 
-FRAGILITY_KEYS = (("uplift_fixed", "full_contact", "fixed"), ("overturning_fixed", "overturning", "fixed"),
-                  ("uplift_isolated", "full_contact", "isolated"),
-                  ("failure_isolated", "overturning", "isolated"))
-"""(row key, the study's limit state, base): the probabilities a row carries. On the isolator,
-``overturning`` is the study's failure curve (overturning or the device's capacity exceeded)."""
+FRAGILITY_KEYS = tuple((states.curve(k, base), k, base) for base in states.BASES
+                       for k in (states.FULL_CONTACT, states.OVERTURNING))
+"""(row key: the fragility curve's, the limit state, base): the probabilities a row carries
+(``p_<curve>``). On the isolator, overturning counts the device's capacity exceeded
+(assessment/states.py)."""
 
 
 def _phi(x: float) -> float:
@@ -168,7 +169,7 @@ def fixed_state(verdict: dict) -> str:
         return "slides"
     ls = verdict.get("limit_states")
     if ls and _rows_of(ls, "fixed"):
-        ot, rk, fc = (_row(ls, n, "fixed") for n in ("overturning", "rocking", "full_contact"))
+        ot, rk, fc = (_row(ls, n, "fixed") for n in (states.OVERTURNING, states.ROCKING, states.FULL_CONTACT))
         if (ot or {}).get("exceeded") or (rk or {}).get("exceeded"):
             return "overturns"
         if (fc or {}).get("exceeded"):
@@ -365,7 +366,7 @@ def rank_key(row: dict) -> tuple:
     tier = TIERS.index(row["state"]) if row.get("state") in TIERS else 0
     if not row.get("assessed"):
         return (0, 0.0, 0.0, 0.0, str(row.get("object", "")))
-    return (tier, _desc(row.get("p_overturning_fixed")), _desc(row.get("p_uplift_fixed")),
+    return (tier, _desc(row.get("p_overturning_fixed")), _desc(row.get("p_full_contact_fixed")),
             _desc(row.get("governing_fixed_ratio")), str(row.get("object", "")))
 
 
@@ -434,16 +435,16 @@ CSV_COLUMNS = (
     ("governing_isolated_ratio", "demand/capacity, isolated [-]"),
     ("governing_isolated_text", "demand vs capacity, isolated"),
     ("design_pga", "design PGA [g]"),
-    ("p_uplift_fixed", "P(uplift) fixed at design PGA [-]"), ("p_uplift_fixed_lo", "P(uplift) fixed low [-]"),
-    ("p_uplift_fixed_hi", "P(uplift) fixed high [-]"),
+    ("p_full_contact_fixed", "P(uplift) fixed at design PGA [-]"), ("p_full_contact_fixed_lo", "P(uplift) fixed low [-]"),
+    ("p_full_contact_fixed_hi", "P(uplift) fixed high [-]"),
     ("p_overturning_fixed", "P(overturning) fixed at design PGA [-]"),
     ("p_overturning_fixed_lo", "P(overturning) fixed low [-]"),
     ("p_overturning_fixed_hi", "P(overturning) fixed high [-]"),
-    ("p_uplift_isolated", "P(uplift) isolated at design PGA [-]"),
-    ("p_uplift_isolated_lo", "P(uplift) isolated low [-]"), ("p_uplift_isolated_hi", "P(uplift) isolated high [-]"),
-    ("p_failure_isolated", "P(overturning or capacity) isolated at design PGA [-]"),
-    ("p_failure_isolated_lo", "P(overturning or capacity) isolated low [-]"),
-    ("p_failure_isolated_hi", "P(overturning or capacity) isolated high [-]"),
+    ("p_full_contact_isolated", "P(uplift) isolated at design PGA [-]"),
+    ("p_full_contact_isolated_lo", "P(uplift) isolated low [-]"), ("p_full_contact_isolated_hi", "P(uplift) isolated high [-]"),
+    ("p_overturning_isolated", "P(overturning or capacity) isolated at design PGA [-]"),
+    ("p_overturning_isolated_lo", "P(overturning or capacity) isolated low [-]"),
+    ("p_overturning_isolated_hi", "P(overturning or capacity) isolated high [-]"),
     ("uplift_g", "weakest uplift [g]"), ("weakest_deg", "weakest direction [deg]"),
     ("m", "mass [kg]"), ("h", "h [m]"), ("b_L", "b_L [m]"), ("b_R", "b_R [m]"),
     ("device_state", "isolator"), ("device", "isolator device"), ("R", "isolator R [m]"),

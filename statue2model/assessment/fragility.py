@@ -4,22 +4,22 @@ on a fixed base and on the isolator, fitted as lognormal curves.
 A study runs every record (a list of :class:`~statue2model.hazard.motions.GroundMotion`)
 scaled to every intensity level (PGA in m/s^2, or PGV in m/s) for every parameter
 sample (:mod:`statue2model.rocking.sampling`): records x levels x samples runs. Each
-run's outcome is a yes / no per *outcome*, each with its own curve; the limit states of
-:mod:`statue2model.assessment.limit_states` (LIMIT_STATE_CURVES), on each base:
+run's outcome is a yes / no per *outcome*, each with its own curve, named ``<limit state>_<base>``
+after the registry of :mod:`statue2model.assessment.states` (LIMIT_STATE_CURVES):
 
-* ``uplift`` - the body lifts on a fixed base (full contact lost): the scaled record reaches
+* ``full_contact_fixed`` - the body lifts on a fixed base (full contact lost): the scaled record reaches
   the sample's uplift limit on either side, alpha_L a_L toward +x or alpha_R a_R toward -x.
   Exactly the complement of the ``quiet`` test below (no integration needed);
-* ``overturn`` - the body overturns on a fixed base (rocking kernel, run_batch);
-* ``uplift_isolated`` - on the isolator the top plate's peak absolute acceleration (what the
+* ``overturning_fixed`` - the body overturns on a fixed base (rocking kernel, run_batch);
+* ``full_contact_isolated`` - on the isolator the top plate's peak absolute acceleration (what the
   statue feels) reaches the sample's weaker uplift limit min(alpha_L a_L, alpha_R a_R), or the
   plate passes the capacity (limit_states' full contact on the isolator: the sign of the peak
   is not kept, and the end stop's impact would jolt the statue);
-* ``overturn_isolated`` - it overturns on the isolator (coupled plate + statue,
+* ``overturning_alone_isolated`` - it overturns on the isolator (coupled plate + statue,
   :func:`~statue2model.isolator.coupled.simulate_coupled`, end_stop "stop": a run that
   first exceeds the capacity stops there and is counted below, not here);
-* ``capacity_exceeded`` - the top plate passes the isolator's capacity (issue [8]);
-* ``failure_isolated`` - either of the two (the conservative failure on the isolator; the
+* ``capacity_isolated`` - the top plate passes the isolator's capacity (issue [8]);
+* ``overturning_isolated`` - either of the two (the conservative failure on the isolator; the
   limit state "overturning" on the isolator, where reaching the capacity counts as overturned).
 
 A sample may carry the isolator's friction (``mu``, rocking.sampling: its low and high bound);
@@ -105,7 +105,7 @@ Example
 >>> recs = [motions.synthetic_record(8.0, 0.01, 1.0, seed=s) for s in range(3)]
 >>> res = run_fragility(model, recs, np.linspace(1.0, 12.0, 8), lognormal_factor(0.2, 10),
 ...                     FragilityStudy(n_boot=20))
->>> c = res.curves["overturn"]
+>>> c = res.curves["overturning_fixed"]
 >>> c.status, int(c.n_trials.sum()), bool(2.0 < c.median < 12.0)
 ('ok', 240, True)
 """
@@ -125,22 +125,17 @@ from ..rocking.engine import FREE_TIME
 from ..rocking.model import RockingModel
 from ..hazard.motions import GroundMotion
 from ..rocking.sampling import ParameterSamples
+from . import states
 
 IMS = ("pga", "pgv")
-FIXED = ("uplift", "overturn")
-ISOLATED = ("uplift_isolated", "overturn_isolated", "capacity_exceeded", "failure_isolated")
-LABELS = {"uplift": "uplift (full contact lost), fixed base", "overturn": "overturning, fixed base",
-          "uplift_isolated": "uplift on the isolator (felt acceleration or capacity)",
-          "overturn_isolated": "overturning on the isolator",
-          "capacity_exceeded": "isolator capacity exceeded",
-          "failure_isolated": "failure on the isolator (overturning or capacity)"}
-LIMIT_STATE_CURVES = {"full_contact": {"fixed": "uplift", "isolated": "uplift_isolated"},
-                      "overturning": {"fixed": "overturn", "isolated": "failure_isolated"},
-                      "capacity": {"isolated": "capacity_exceeded"}}
-"""The curve of each limit state of assessment.limit_states on each base (its definitions: on the
-isolator a run that reached the capacity counts as overturned, so overturning there is
-``failure_isolated``)."""
-ADAPT_ORDER = ("overturn", "failure_isolated", "uplift_isolated", "capacity_exceeded", "overturn_isolated")
+FIXED = states.CURVES_FIXED
+ISOLATED = states.CURVES_ISOLATED
+LABELS = states.CURVE_LABELS
+LIMIT_STATE_CURVES = {s.id: dict(s.curves) for s in states.REGISTRY if s.curves}
+_C = states.curve
+"""The curve of each limit state on each base (assessment/states.py: on the isolator a run that reached
+the capacity counts as overturned, so overturning there is ``overturning_isolated``)."""
+ADAPT_ORDER = states.ADAPT_ORDER
 """The order in which a base's curves ask for adaptive levels (the budget goes to the first). The
 fixed-base uplift asks for none: it is fitted on each run's exact uplift PGA (:func:`exact_uplift`)."""
 BETA_MIN, BETA_MAX = 1e-3, 5.0
@@ -708,9 +703,10 @@ class FragilityResult:
     """A study's outcome. ``fails[name]``: (records, samples, levels) bool, ``valid``:
     (records, samples, levels) bool (runs counted: applicable and finished; one array
     per side, "fixed" and "isolated"); ``curves[name]``: FragilityCurve; ``ratio``:
-    {"overturn": ..., "failure": ...} each {"value", "ci"}: median isolated / median fixed
-    (overturning on the isolator, resp. any isolated failure, against fixed-base overturning;
-    "uplift": uplift on the isolator against uplift on a fixed base). ``ran``: side -> (L,)
+    {"overturning": ..., "overturning_alone": ..., "full_contact": ...} each {"value", "ci"}: median
+    isolated / median fixed of that limit state (overturning on the isolator counts the capacity
+    exceeded, "overturning_alone" does not; "full_contact": uplift on the isolator against uplift on a
+    fixed base). ``ran``: side -> (L,)
     bool, the levels each base ran (with adaptive levels a base need not run every level of
     ``levels``, the union; its arrays are False there); ``adaptive``: the rule and its rounds
     (None: the levels as given)."""
@@ -1123,13 +1119,13 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
             stats["runs_fixed"] += R * x.size * S_n
             stats["integrated_fixed"] += n_int
             stats["wall_fixed_s"] += time.perf_counter() - t
-            return {"uplift": lifts & v, "overturn": f}, v
+            return {_C(states.FULL_CONTACT, "fixed"): lifts & v, _C(states.OVERTURNING, "fixed"): f}, v
         ot, cap, ok, up = _isolated(isolator, model, records, gains, samples, study, executor)
         stats["runs_isolated"] += R * x.size * S_n
         stats["failed_isolated"] += int((~ok).sum())
         stats["wall_isolated_s"] += time.perf_counter() - t
-        return {"uplift_isolated": up, "overturn_isolated": ot, "capacity_exceeded": cap,
-                "failure_isolated": ot | cap}, ok
+        return {_C(states.FULL_CONTACT, "isolated"): up, states.OVERTURNING_ALONE_ISOLATED: ot,
+                _C(states.CAPACITY, "isolated"): cap, _C(states.OVERTURNING, "isolated"): ot | cap}, ok
 
     unit = study.bootstrap
     if unit == "auto":
@@ -1174,9 +1170,9 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
             log["rounds_run"].append(entry)
         log["added"] = dict(added)
     curves, ratio = _fit_all(lv, fails, valid, study, unit, ran)
-    if "uplift" in curves:
-        curves["uplift"], ratio = exact_uplift(curves["uplift"], uplift_thresholds(model, records, samples, ims),
-                                               valid["fixed"], study, unit, ratio, curves.get("uplift_isolated"))
+    if "full_contact_fixed" in curves:
+        curves["full_contact_fixed"], ratio = exact_uplift(curves["full_contact_fixed"], uplift_thresholds(model, records, samples, ims),
+                                               valid["fixed"], study, unit, ratio, curves.get("full_contact_isolated"))
     if log is not None:
         log["identified"] = {k: bool(c.fitted and c.spread is None) for k, c in curves.items()}
         log["why_not"] = {k: (c.reason or c.spread) for k, c in curves.items()
@@ -1228,7 +1224,7 @@ def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None):
     ln x*; equal thresholds (a symmetric base under records that push both ways to their PGA) are a
     deterministic threshold: beta 0 there (BETA_MIN in the fit: P steps from 0 to 1 at x*). Its band:
     the bootstrap over the records (or samples) of the same estimates. The counts per level stay
-    (the plot's points; they are the same outcome). The ratio "uplift" is re-taken on this median,
+    (the plot's points; they are the same outcome). The ratio "full_contact" is re-taken on this median,
     without a band (the isolated median's band is in its own row). Returns (curve, ratio)."""
     ok = valid.any(axis=2)                       # runs counted at some level (applicable)
     x = np.where(ok, x, np.nan)
@@ -1263,9 +1259,9 @@ def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None):
                            beta_profile=(float(beta), float(beta)),
                            beta_profile_note="exact thresholds: beta is their log standard deviation, no profile")
     ratio = dict(ratio)
-    if iso_cv is not None and "uplift" in ratio:
+    if iso_cv is not None and "full_contact" in ratio:
         value = iso_cv.median / med if iso_cv.fitted and math.isfinite(iso_cv.median) else None
-        ratio["uplift"] = {**ratio["uplift"], "value": value, "ci": [None, None],
+        ratio["full_contact"] = {**ratio["full_contact"], "value": value, "ci": [None, None],
                            "ci_note": "no band: the fixed-base uplift median is exact per record; the isolated "
                                       "median's band is in its own row"}
     return exact, ratio
@@ -1362,8 +1358,8 @@ def _fit_all(lv, fails, valid, study, unit, ran=None, only=None):
     z = {k: (f & valid[_side(k)]).sum(axis=axis)[:, mask[k]] for k, f in fails.items()}
     n = {k: valid[_side(k)].sum(axis=axis)[:, mask[k]] for k in fails}
     fits = {k: fit_lognormal(lvk[k], z[k].sum(0), n[k].sum(0)) for k in fails}
-    pairs = [("overturn", "overturn_isolated", "overturn"), ("failure", "failure_isolated", "overturn"),
-             ("uplift", "uplift_isolated", "uplift")]
+    # (ratio key, isolated curve, fixed curve): the ratios of medians are named by the limit state
+    pairs = states.RATIOS
     rng = np.random.default_rng(study.seed)
     n_units = next(iter(valid.values())).shape[axis ^ 1]
     n_boot = study.n_boot if n_units >= 2 else 0     # one unit: every replicate the same, no band

@@ -73,13 +73,13 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from . import states
 
-LIMIT_STATES = ("full_contact", "rocking", "overturning", "capacity", "bearing")
-"""The rows of a base, in the order the damage grows (``first_exceeded`` follows it)."""
-TITLES = {"full_contact": "full contact (no uplift)", "rocking": "rocking without overturning",
-          "overturning": "overturning", "capacity": "isolator travel capacity",
-          "bearing": "ball load on the grooves"}
-BASES = ("fixed", "isolated")
+LIMIT_STATES = states.IDS
+"""The rows of a base, in the order the damage grows (``first_exceeded`` follows it): the registry's
+(assessment/states.py)."""
+TITLES = {s.id: s.title for s in states.REGISTRY}
+BASES = states.BASES
 RULE = ("NTC 2018 par. 7.3.5, EN 1998-1 4.3.3.4.3: with at least 7 records the mean of the effects, "
         "with fewer the most unfavourable one (the codes ask for at least 3)")
 BEARING_OPTIONS = (

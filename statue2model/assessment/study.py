@@ -30,9 +30,10 @@ statue2model.report.fragility_section's; :meth:`StudyRun.data` gives the verdict
                                   assessment.fragility.identified_reason)
     fragility_ratio               median isolated / fixed, with its bootstrap interval fragility_ratio_ci
     fragility_status_fixed/isolated     the fit's status (assessment.fragility: ok, step, no failures, ...)
-    fragility_limit_states        {limit state: {base: entry}} for full_contact (curves uplift,
-                                  uplift_isolated), overturning (overturn, failure_isolated) and
-                                  capacity (capacity_exceeded, isolated only): :func:`limit_state_data`
+    fragility_limit_states        {limit state: {base: entry}} for full_contact (curves
+                                  full_contact_fixed, full_contact_isolated), overturning
+                                  (overturning_fixed, overturning_isolated) and capacity
+                                  (capacity_isolated): :func:`limit_state_data` (assessment/states.py)
     fragility_limit_state_ratios  {limit state: {value, ci, note, ci_note}}: median isolated / fixed
     fragility_adaptive            the adaptive levels: rounds run, levels added per base, identified curves
     fragility_runs, fragility_runs_isolated   runs on each base (records x levels run x samples)
@@ -50,6 +51,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from . import states
+from .states import BASES
 
 AUTO_LEVELS = (0.2, 3.0, 10)
 """'auto' PGA levels: (lowest, highest multiple of the design PGA, number), geometric."""
@@ -218,7 +221,8 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
     """The stage's fragility_* numbers of a FragilityResult ``res`` (module docstring): each value
     that can be undefined is None with ``KEY_reason`` beside it (None when it is defined)."""
     data = {"fragility_design_pga": float(pga)}
-    for side, name in (("fixed", "overturn"), ("isolated", "failure_isolated")):
+    for side in BASES:
+        name = states.curve(states.OVERTURNING, side)
         cv = res.curves.get(name)
         if cv is None:
             why = "no isolator designed" if side == "isolated" else "not run"
@@ -245,7 +249,7 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
                      f"fragility_p_design_{side}": p,
                      f"fragility_p_design_{side}_reason": None if p is not None else (why or outside),
                      f"fragility_status_{side}": None if cv is None else cv.status})
-    r = res.ratio.get("failure") if isolated else None
+    r = res.ratio.get(states.OVERTURNING) if isolated else None
     if r is None:
         data.update(fragility_ratio=None, fragility_ratio_reason="no isolator designed", fragility_ratio_ci=None,
                     fragility_ratio_ci_reason="no isolator designed")
@@ -365,10 +369,10 @@ def limit_state_data(res, pga: float) -> dict:
 
 def limit_state_ratios(res) -> dict:
     """{limit state: {value, ci, note, ci_note}}: median isolated / median fixed of the limit states
-    with both curves (full_contact: the ratio "uplift", overturning: "failure")."""
+    with both curves (fragility.json's ``ratio_of_medians``, named by the limit state)."""
     out = {}
-    for ls, key in (("full_contact", "uplift"), ("overturning", "failure")):
-        r = res.ratio.get(key)
+    for ls in states.WITH_CURVES:
+        r = res.ratio.get(ls)
         if r is None:
             continue
         value = _num(r.get("value"))

@@ -47,6 +47,7 @@ import math
 from pathlib import Path
 
 from ..quantities import G  # m/s^2
+from . import states
 from .recommendation import Code, Facts, bullets, headline, status_of
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
@@ -410,7 +411,8 @@ def decide_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> tuple[Cod
     if _row(ls, "full_contact", "isolated") is None:
         return Code.RUN_ISOLATED_DYNAMICS, (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
                 "ran without it): run the dynamics stage with [dynamics] isolated = true")
-    bad = [r for r in (_row(ls, k, "isolated") for k in ("full_contact", "rocking", "overturning", "capacity"))
+    # every state on the device but the ball load, which is said on its own below
+    bad = [r for r in (_row(ls, s.id, "isolated") for s in states.on_base("isolated") if s.id != states.BEARING)
            if r is not None and r.get("exceeded")]
     if bad:
         return Code.DEVICE_DOES_NOT_PROTECT, ("the designed isolator does not protect at the design level: " + "; ".join(
@@ -474,12 +476,11 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
             "ratio": r, "ratio_ci": dyn.get("fragility_ratio_ci"), "line": line + "."}
 
 
-FRAGILITY_TITLES = {"full_contact": "full contact lost (uplift)", "overturning": "overturning",
-                    "capacity": "isolator capacity exceeded"}
+FRAGILITY_TITLES = {s.id: s.fragility_title for s in states.REGISTRY if s.curves}
 
 
 _BASE = {"fixed": "fixed base", "isolated": "on the isolator"}
-_STATE = {"uplift": "uplift", "overturning": "overturning", "capacity": "capacity exceeded"}
+_STATE = {s.id: s.noun for s in states.REGISTRY}
 
 
 def crosscheck_line(cls: dict | None) -> dict | None:
@@ -488,7 +489,7 @@ def crosscheck_line(cls: dict | None) -> dict | None:
     line of the verdict: where the 2D model's yes/no agrees with the 3D physics and, with its size,
     where agreement is not shown. None without a classification.
 
-    >>> c = crosscheck_line({"fixed": {"uplift": {"status": "met", "accuracy": 1.0, "accuracy_lo": 0.95, "n": 70},
+    >>> c = crosscheck_line({"fixed": {"full_contact": {"status": "met", "accuracy": 1.0, "accuracy_lo": 0.95, "n": 70},
     ...                      "overturning": {"status": "missed", "accuracy": 0.7, "accuracy_lo": 0.58, "n": 70,
     ...                                      "why": "recall 2/9"}}})
     >>> c["missed"], c["line"].split(": ")[1]
@@ -497,8 +498,8 @@ def crosscheck_line(cls: dict | None) -> dict | None:
     if not cls:
         return None
     met, missed, parts_met, parts_missed = [], [], [], []
-    for base, states in cls.items():
-        for st, a in (states or {}).items():
+    for base, by_state in cls.items():
+        for st, a in (by_state or {}).items():
             if a.get("status") not in ("met", "missed"):
                 continue
             name = f"{_BASE.get(base, base)} {_STATE.get(st, st)}"
@@ -547,7 +548,7 @@ def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
         f", {dyn.get('fragility_runs_isolated')} on the isolator" if isolated and dyn.get("fragility_runs_isolated") else "")
     parts = []
     ratios = dyn.get("fragility_limit_state_ratios") or {}
-    for name in ("full_contact", "overturning", "capacity"):
+    for name in states.WITH_CURVES:
         sides = fl.get(name) or {}
         bits = []
         if sides.get("fixed"):

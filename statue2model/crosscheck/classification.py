@@ -73,7 +73,7 @@ Example
 >>> a = agreement(truth, pred, "overturning")
 >>> round(a.accuracy.value, 4), round(a.accuracy.lo, 4), a.status
 (0.6667, 0.3, 'missed')
->>> agreement([False] * 20, [False] * 20, "uplift").precision.why
+>>> agreement([False] * 20, [False] * 20, "full_contact").precision.why
 'undefined: the 2D model says yes in no run'
 """
 from __future__ import annotations
@@ -86,6 +86,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..quantities import G
+from ..assessment import states
 from ..rocking.engine import simulate as simulate_2d
 from ..rocking.model import RockingModel
 from .contact import ContactSettings
@@ -95,10 +96,10 @@ from .statue_cases import lift_angle
 from .statue_scene import LIFT_HEIGHT, StatueScene, simulate_statue
 from .world import SimSettings
 
-STATES = ("uplift", "overturning", "capacity")
-"""The yes/no limit states, in the order the damage grows (MODEL.md section 8)."""
-KEYS = {"uplift": "uplift", "overturning": "overturned", "capacity": "capacity"}
-"""The outcome key of each limit state."""
+STATES = states.CLASSIFIED
+"""The yes/no limit states, in the order the damage grows (MODEL.md section 8; assessment/states.py)."""
+KEYS = dict(zip(STATES, ("uplift", "overturned", "capacity")))
+"""The outcome key of each limit state (full contact lost: the run's ``uplift``)."""
 ACCURACY_MIN = 0.8
 """Threshold of the accuracy's 95 % lower bound (at most one run in five classified differently)."""
 PR_MIN = 0.5
@@ -273,7 +274,7 @@ def disagreement_why(state: str, o2: dict, o3: dict, motion, model: RockingModel
     uplift accelerations, both peaks theta / delta (and the 3D lift height)."""
     key = KEYS[state]
     yes, no = ("2D", "3D") if o2[key] else ("3D", "2D")
-    verb = {"uplift": "lifts off", "overturning": "overturns", "capacity": "reaches the capacity"}[state]
+    verb = states.get(state).exceeded_words
     hi, lo = motion.extremes()
     aL, aR = model.lift_accelerations
     if "plate_acc" in o2 and "plate_acc" in o3:     # on the isolator the statue feels the plate, not the ground
@@ -284,9 +285,9 @@ def disagreement_why(state: str, o2: dict, o3: dict, motion, model: RockingModel
                 f"{aL / G:.3f} g), toward -x {-lo / G:.3f} g (right pivot, alpha_R a_R = {aR / G:.3f} g)")
     txt = (f"{yes} {verb}, {no} does not at PGA {motion.pga / G:.3f} g: {felt}; peak |theta|/delta 2D "
            f"{_pk(o2['peak'])} ({o2.get('side', '?')}), 3D {_pk(o3['peak'])} ({o3.get('side', '?')})")
-    if state == "capacity" and "u_max" in o2 and "u_max" in o3:
+    if state == states.CAPACITY and "u_max" in o2 and "u_max" in o3:
         txt += f"; peak plate travel 2D {o2['u_max'] * 1000:.1f} mm, 3D {o3['u_max'] * 1000:.1f} mm"
-    if state == "uplift" and "max_lift" in o3:
+    if state == states.FULL_CONTACT and "max_lift" in o3:
         txt += f"; 3D highest base point {o3['max_lift'] * 1000:.3f} mm (lift-off: {LIFT_HEIGHT * 1000:g} mm)"
     return txt
 
@@ -482,7 +483,7 @@ def classify_ensemble(scene: StatueScene, model: RockingModel, records, levels=N
                         f"; the 3D run leaves the 2D model's rocking assumption ({'; '.join(reasons)})"
                         if reasons else "")
         runs.append(row)
-    states, frag = {}, {}
+    agreements, frag = {}, {}
     excluded = [r["run"] for r in runs if not r["applicable"]]
     for s in STATES:
         key = KEYS[s]
@@ -490,7 +491,7 @@ def classify_ensemble(scene: StatueScene, model: RockingModel, records, levels=N
         if not have:
             why = ("not applicable: a fixed base has no isolator capacity" if s == "capacity" and base == "fixed"
                    else f"not applicable: no run gives a {s} outcome in both models")
-            states[s] = not_applicable(s, why)
+            agreements[s] = not_applicable(s, why)
             continue
         a = agreement([bool(three[k][key]) for k in have], [bool(two[k][key]) for k in have], s, accuracy_min,
                       pr_min, run_ids=have)
@@ -503,7 +504,7 @@ def classify_ensemble(scene: StatueScene, model: RockingModel, records, levels=N
             a = _add_why(a, f"counted: {len(flagged)} runs in which the 3D body slides or twists beyond the "
                             f"validity screen (runs {flagged}; {len(bad)} of them classified differently"
                             + (f": {bad}" if bad else "") + ")")
-        states[s] = a
+        agreements[s] = a
         lv = sorted({ids[k][1] for k in have})
         n_l = [sum(1 for k in have if ids[k][1] == j) for j in lv]
         y2 = [sum(1 for k in have if ids[k][1] == j and two[k][key]) for j in lv]
@@ -521,7 +522,7 @@ def classify_ensemble(scene: StatueScene, model: RockingModel, records, levels=N
                            "why": None if ratios else NEITHER_LIFTS + " (or one overturns) in every run"},
             "executor": where, "wall_time_s": time.perf_counter() - t0, "wall_time_2d_s": t2d,
             "wall_time_3d_s": t3d, "sim_time_3d_s": sim}
-    return Classification(base, states, tuple(runs), frag, info)
+    return Classification(base, agreements, tuple(runs), frag, info)
 
 
 def _add_why(a: Agreement, extra: str) -> Agreement:

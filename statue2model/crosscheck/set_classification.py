@@ -20,16 +20,17 @@ A time budget (``budget_s``) is planned before anything runs: one timed 3D run p
 record at the middle level) gives the cost, and the levels shrink to QUICK_FACTORS or the
 classification is skipped (saying so) when the estimate does not fit.
 
-Each limit state (uplift, overturning, capacity) is scored as accuracy, precision and recall with
+Each limit state (full contact, overturning, capacity) is scored as accuracy, precision and recall with
 95 % intervals and the 2D and 3D fragility medians are set side by side; the rule can fail
 (classification.agreement).
 
 Example
 -------
 >>> from statue2model.crosscheck.set_classification import anchors, levels_around
->>> curves = {"uplift": {"median": 2.8, "status": "exact"}, "overturn": {"median": None, "status": "all failed"}}
->>> [(round(a, 2), w) for a, w in anchors(curves, ("uplift", "overturn"), [1.0, 3.0, 8.0])]
-[(2.8, 'uplift: its median'), (1.0, 'overturn: every studied level fails, the lowest')]
+>>> curves = {"full_contact_fixed": {"median": 2.8, "status": "exact"},
+...           "overturning_fixed": {"median": None, "status": "all failed"}}
+>>> [(round(a, 2), w) for a, w in anchors(curves, ("full_contact_fixed", "overturning_fixed"), [1.0, 3.0, 8.0])]
+[(2.8, 'full_contact_fixed: its median'), (1.0, 'overturning_fixed: every studied level fails, the lowest')]
 >>> [round(x, 2) for x in levels_around([2.0, None, float("nan")], (0.5, 1.0))]
 [1.0, 2.0]
 >>> levels_around([None], (0.5, 1.0)) is None

@@ -35,6 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..assessment import states
 from ..io.files import atomic_write, read_json, write_json
 from .config import STAGE_NAMES, ProjectConfig, site
 
@@ -416,8 +417,12 @@ def _set_classification(ctx: Context, d: Path, scene, iso, settings, contact):
     if not isinstance(fj, dict) or fj.get("im", "pga") != "pga" or not isinstance(fj.get("curves"), dict):
         return None, f"the dynamics stage's {frag.name} holds no PGA fragility curves to put the levels around"
     curves, levels = fj["curves"], fj.get("levels") or []
-    fixed = anchors(curves, ("uplift", "overturn"), levels)
-    isolated = anchors(curves, ("uplift_isolated", "overturn_isolated", "capacity_exceeded"), levels)
+    # the levels around the classified limit states' curves (assessment/states.py; on the isolator
+    # overturning alone, not the capacity's, which capacity_isolated anchors)
+    fixed = anchors(curves, [states.curve(k, "fixed") for k in states.CLASSIFIED if states.curve(k, "fixed")],
+                    levels)
+    isolated = anchors(curves, [states.OVERTURNING_ALONE_ISOLATED if k == states.OVERTURNING
+                                else states.curve(k, "isolated") for k in states.CLASSIFIED], levels)
     notes = []
     if iso is not None and not isinstance(iso, PendulumIsolator):
         notes.append("the isolated classification runs on the exact isolator scene only ([crosscheck] groove = "

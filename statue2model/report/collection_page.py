@@ -232,7 +232,7 @@ def _row_html(r: dict) -> str:
     else:
         state_text = state + ("" if r.get("basis") != "quasi-static" else " (quasi-static)")
         cells.append(_td(_risk(state_text, r, "fixed", (("overturning_fixed", "P(overturn)"),
-                                                        ("uplift_fixed", "P(uplift)"))),
+                                                        ("full_contact_fixed", "P(uplift)"))),
                          TIERS.index(state), raw=True, title=TIER_TEXT.get(state, state)))
         u = _num(r.get("uplift_g"))
         cells.append(_td("-" if u is None else f"{u:.3f}", u, "num"))
@@ -242,10 +242,10 @@ def _row_html(r: dict) -> str:
         s_ = r.get("sheets")
         dev = str(r.get("device") or "-") + ("" if s_ is None else f"; prototype {s_} sheet{'s' if s_ != 1 else ''}")
         cells.append(_td(dev, r.get("device_state") or "", "dev", title=r.get("device_note") or ""))
-        if r.get("governing_isolated") is None and _num(r.get("p_failure_isolated")) is None:
+        if r.get("governing_isolated") is None and _num(r.get("p_overturning_isolated")) is None:
             cells.append(_td("-"))
         else:
-            cells.append(_td(_risk("", r, "isolated", (("failure_isolated", "P(failure)"),)),
+            cells.append(_td(_risk("", r, "isolated", (("overturning_isolated", "P(failure)"),)),
                              _num(r.get("governing_isolated_ratio")), raw=True))
         doubts = "; ".join(str(d) for d in r.get("doubts") or ()) or "-"
         cells.append(_td(doubts, "" if doubts == "-" else doubts))

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import re
 
+from ..assessment import states
 from ..crosscheck.output import summary as cc_summary
 from .stage_sections import fig as _fig
 from .stage_sections import fmt as _fmt
@@ -180,7 +181,7 @@ def crosscheck_section(comp, paths: dict, *, isolator_wanted: bool, design, isol
             "data": {"n_cases": s["n_cases"], "n_met": s["n_met"]}}
 
 
-_STATE_WORDS = {"uplift": "uplift", "overturning": "overturning", "capacity": "isolator capacity exceeded"}
+_STATE_WORDS = {s.id: s.noun for s in states.REGISTRY}
 
 
 def _rate_text(r: dict) -> str:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 
+from ..assessment import states
 import numpy as np
 
 from ..assessment.fragility import LIMIT_STATE_CURVES
@@ -32,8 +33,7 @@ from .dynamics_plots import _save
 from .plots import _pyplot
 
 COLOURS = {"fixed": "#d62728", "isolated": "#1f77b4"}
-TITLES = {"full_contact": "full contact (no uplift)", "overturning": "overturning",
-          "capacity": "isolator travel capacity"}
+TITLES = {s.id: s.title for s in states.REGISTRY}
 BASE_WORDS = {"fixed": "fixed base", "isolated": "isolated"}
 
 

@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import math
 
+from ..assessment import states
 from ..assessment.fragility import LABELS
 from ..quantities import G  # m/s^2
 
-TITLES = {"full_contact": "full contact (no uplift)", "overturning": "overturning",
-          "capacity": "isolator travel capacity"}
+TITLES = {s.id: s.title for s in states.REGISTRY}
 BASES = {"fixed": "fixed base", "isolated": "isolated"}
 
 
