@@ -482,3 +482,24 @@ def test_the_default_design_space():
     assert set(RESIN_BALLS) <= set(BALLS)
     srch = search(VENERE, spectrum=HAZARD, mu=MU, thickness=0.03, **SMALL)
     assert len(srch.candidates) == _admissible((0.02,), (0.4, 0.8), ("ring4",), ("beech",), BALLS_MATERIALS) == 4
+
+
+def test_the_design_reads_back_as_the_verdicts_typed_record():
+    """design.json -> assessment.records.DesignRecord (issue [21]): the fields the verdict and the
+    collection read, typed, equal to the Design's; the record round-trips; a field of the wrong type is
+    refused by name."""
+    from statue2model.assessment.records import DesignRecord
+    from statue2model.errors import InputError
+
+    d = design(VENERE, spectrum=ec8(0.05 * G0, "A"), mu=0.0131, R_grid=(0.30,), balls=(0.0183,), n_grooves=3,
+               thickness=0.03)
+    dd = json.loads(json.dumps(d.to_dict()))                  # as the file holds it
+    rec = DesignRecord.from_dict(dd)
+    assert rec.passed == d.passed and rec.capacity == pytest.approx(d.capacity)
+    assert rec.travel_need == pytest.approx(d.travel_need) and rec.T == pytest.approx(d.T)
+    assert rec.n_grooves == 3 and rec.layout == "ring3" and rec.cost == pytest.approx(round(d.cost, 2))
+    assert rec.travel_margin == pytest.approx(d.capacity / d.travel_need)
+    assert len(rec.checks) == len(d.checks) and all(c.passed for c in rec.checks if c.required) == d.passed
+    assert DesignRecord.from_dict(json.loads(json.dumps(rec.to_dict()))) == rec
+    with pytest.raises(InputError, match="design.json: capacity must be a number"):
+        DesignRecord.from_dict({**dd, "capacity": "wide"})

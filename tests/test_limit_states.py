@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from statue2model.assessment.limit_states import LIMIT_STATES, contact_limits, evaluate
+from statue2model.assessment.limit_states import LIMIT_STATES, LimitStates, contact_limits, evaluate
 from statue2model.compute.executors import SerialExecutor
 from statue2model.errors import InputError
 from statue2model.geometry.rocking_params import RockingParams
@@ -282,3 +282,27 @@ def test_design_record_set_on_the_default_scan():
     assert iso_fc.demand < 0.5 * fc.demand                              # the isolator works
     strict(ls.to_dict())
     print("\n" + ls.table())
+
+
+def test_the_table_reads_back_typed_and_refuses_a_stray_name():
+    """limit_states.json read back (issue [21]: typed records across the rooms): LimitStates.from_dict of
+    to_dict gives the same file, with the isolator's rows, a non-finite per-record number and the band; a
+    row spelled outside the registry or with a bad count is refused by name."""
+    iso = Isolator(R=2.0, r=0.0183, M=21.664, mu=0.0073, capacity=0.05)
+    recs = [motions.synthetic_record(8.0, 0.01, 3.0, seed=s) for s in range(3)]
+    ls = evaluate(thesis(), recs, iso=iso, uplift_band=(2.0, 2.5))
+    d = strict(ls.to_dict())
+    back = LimitStates.from_dict(d)
+    assert strict(back.to_dict()) == d
+    assert back.row("full_contact", "fixed") == ls.row("full_contact", "fixed")
+    assert back.governing == ls.governing and back.first_exceeded == ls.first_exceeded
+    # the verdict's copy without the per-record tables keeps its rows and bases
+    slim = LimitStates.from_dict({k: v for k, v in d.items() if k not in ("fixed_records", "isolated_records")})
+    assert slim.rows == back.rows and set(slim.governing) == {"fixed", "isolated"}
+    bad = {**d, "rows": [{**d["rows"][0], "name": "uplift"}]}
+    with pytest.raises(InputError, match="unknown limit state 'uplift'"):
+        LimitStates.from_dict(bad)
+    with pytest.raises(InputError, match="n_exceeding must be a count"):
+        LimitStates.from_dict({**d, "rows": [{**d["rows"][0], "n_exceeding": -1}]})
+    with pytest.raises(InputError, match="demand must be a number"):
+        LimitStates.from_dict({**d, "rows": [{**d["rows"][0], "demand": "high"}]})

@@ -15,10 +15,11 @@ as it stands today, on a fixed base, never by what a device would do:
 
     1. objects not assessed (a refused scan, or a params stage that did not complete): their risk
        is unknown, and fixing the scan is the first thing to do;
-    2. then by the fixed-base state reached at the design level (:data:`TIERS`): slides before it
-       rocks (the rocking assessment does not apply: unknown in rocking terms, so first), overturns
-       (any design record overturns it, or its rocking reaches its limit), lifts (the mean of the
-       design records exceeds its uplift), lifts in some records only (the mean holds), full contact.
+    2. then by the fixed-base state reached at the design level (:data:`TIERS`): overturns (any
+       design record overturns it, or its rocking reaches its limit), lifts (the mean of the design
+       records exceeds its uplift), may slide before it rocks (sliding is not assessed: its risk is
+       unknown and said so; after the objects known to overturn or lift, never above them without a
+       measure), lifts in some records only (the mean holds), full contact.
        Without the dynamics stage's limit states, the quasi-static checks of the verdict decide
        (overturning in the variability sweep, uplift acceleration against the design PGA);
     3. within a state, by P(overturning at the design PGA, fixed base), largest first, then by
@@ -63,10 +64,11 @@ from .recommendation import Code, info, status_of
 from .verdict import finite_number as _finite
 
 NOT_ASSESSED = "not assessed"
-TIERS = (NOT_ASSESSED, "slides", "overturns", "lifts", "lifts in some records", "full contact")
+TIERS = (NOT_ASSESSED, "overturns", "lifts", "slides", "lifts in some records", "full contact")
 """The fixed-base state at the design level, most urgent first (the ranking's first key)."""
 TIER_TEXT = {NOT_ASSESSED: "not assessed: risk unknown, fix the scan first",
-             "slides": "slides before it rocks (rocking results do not apply)",
+             "slides": "may slide before it rocks: sliding is not assessed, its risk is unknown (ranked after the "
+                       "objects known to overturn or lift; rocking results do not apply)",
              "overturns": "overturns (a design record overturns it)",
              "lifts": "lifts and rocks (mean of the design records)",
              "lifts in some records": "lifts in some design records (the mean holds)",
@@ -76,9 +78,9 @@ RANKING_RULE = (
     "Most urgent first, by the risk of each object as it stands today on a fixed base: "
     "(1) objects not assessed (a refused scan or a failed params stage): their risk is unknown and fixing "
     "the scan comes first; (2) then by the state the object reaches at the design level on a fixed base: "
-    "slides before it rocks (the rocking assessment does not apply), overturns (any design record overturns "
-    "it), lifts (the mean over the design records exceeds its uplift), lifts in some records only, stays in "
-    "full contact; without the design-record analyses the verdict's quasi-static checks decide; "
+    "overturns (any design record overturns it), lifts (the mean over the design records exceeds its uplift), "
+    "may slide before it rocks (sliding is not assessed: its risk is unknown, shown as such, after the objects "
+    "known to overturn or lift), lifts in some records only, stays in full contact; without the design-record analyses the verdict's quasi-static checks decide; "
     "(3) within a state, by the probability of overturning at the design PGA (fixed base), then the "
     "probability of uplift at the design PGA, then the largest demand/capacity ratio on the fixed base, "
     "largest first, then by name. An unknown probability or ratio counts as the largest.")

@@ -101,6 +101,30 @@ def _num(x) -> float | None:
     return x if math.isfinite(x) else None
 
 
+def _f(d: dict, key: str, where: str, optional: bool = True) -> float | None:
+    """d[key] as a float: None (or a missing key) stays None where ``optional``, a non-number is an
+    InputError naming ``where`` and the key (a record read back from a file is input)."""
+    x = d.get(key)
+    if x is None:
+        if optional:
+            return None
+        raise InputError(f"{where}: {key} is missing")
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        raise InputError(f"{where}: {key} must be a number, got {x!r:.40}")
+    return _num(x)
+
+
+def _nan(x: float | None) -> float:
+    """A stored None of a float field back as nan (it was non-finite: JSON has none)."""
+    return math.nan if x is None else x
+
+
+def _mapping(d, where: str) -> dict:
+    if not isinstance(d, dict):
+        raise InputError(f"{where}: expected a table, got {type(d).__name__}")
+    return d
+
+
 # --- per record ---------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class FixedRecord:
@@ -126,6 +150,17 @@ class FixedRecord:
     def to_dict(self) -> dict:
         """Every field, in order; a non-finite number as None."""
         return _clean(asdict(self))
+
+    @classmethod
+    def from_dict(cls, d: dict) -> FixedRecord:
+        """The record of :meth:`to_dict` (a None number back as nan; ``FixedRecord.from_dict(r.to_dict())
+        .to_dict() == r.to_dict()``)."""
+        d = _mapping(d, "fixed-base record")
+        w = f"fixed-base record {d.get('label')!r:.40}"
+        return cls(str(d.get("label", "")), _nan(_f(d, "pga_pos", w)), _nan(_f(d, "pga_neg", w)),
+                   bool(d.get("uplift")), _f(d, "t_uplift", w), _nan(_f(d, "theta_max_over_delta", w)),
+                   int(d.get("n_impacts") or 0), bool(d.get("overturned")), str(d.get("outcome", "")),
+                   bool(d.get("applicable", True)))
 
 
 @dataclass(frozen=True)
@@ -153,6 +188,16 @@ class IsolatedRecord:
     def to_dict(self) -> dict:
         """Every field, in order; a non-finite number as None."""
         return _clean(asdict(self))
+
+    @classmethod
+    def from_dict(cls, d: dict) -> IsolatedRecord:
+        """The record of :meth:`to_dict` (a None number back as nan)."""
+        d = _mapping(d, "isolated record")
+        w = f"isolated record {d.get('label')!r:.40}"
+        return cls(str(d.get("label", "")), _nan(_f(d, "pga", w)), _nan(_f(d, "u_max", w)),
+                   bool(d.get("capacity_exceeded")), _f(d, "t_capacity", w), _nan(_f(d, "acc_felt", w)),
+                   bool(d.get("uplift")), _f(d, "t_uplift", w), _nan(_f(d, "theta_max_over_delta", w)),
+                   int(d.get("n_impacts") or 0), bool(d.get("overturned")), str(d.get("outcome", "")))
 
 
 def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
@@ -206,6 +251,26 @@ class LimitState:
     @property
     def title(self) -> str:
         return TITLES[self.name]
+
+    @classmethod
+    def from_dict(cls, d: dict) -> LimitState:
+        """The row of :meth:`to_dict`; a name outside the registry (assessment/states.py) or a base
+        other than fixed / isolated is an InputError naming it (its title is the registry's)."""
+        d = _mapping(d, "limit-state row")
+        name, base = d.get("name"), d.get("base")
+        if name not in states.BY_ID:
+            raise InputError(f"limit-state row: unknown limit state {name!r:.40} (one of {', '.join(states.IDS)})")
+        if base not in BASES:
+            raise InputError(f"limit-state row {name}: unknown base {base!r:.40} (fixed or isolated)")
+        w = f"limit-state row {name} ({base})"
+        k = d.get("n_exceeding") or 0
+        if isinstance(k, bool) or not isinstance(k, (int, float)) or k < 0:
+            raise InputError(f"{w}: n_exceeding must be a count, got {k!r:.40}")
+        return cls(name, base, _f(d, "demand", w), _f(d, "capacity", w), _f(d, "ratio", w), str(d.get("unit") or ""),
+                   str(d.get("definition") or ""), bool(d.get("exceeded")), int(k),
+                   tuple(_num(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else None
+                         for v in d.get("per_record") or ()),
+                   dict(d.get("details") or {}), str(d.get("reason") or ""))
 
     def to_dict(self) -> dict:
         return {"name": self.name, "title": self.title, "base": self.base, "demand": _num(self.demand),
@@ -276,7 +341,8 @@ class LimitStates:
         return out
 
     def _bases(self) -> tuple:
-        return BASES if self.isolated is not None else BASES[:1]
+        iso = self.isolated is not None or any(r.base == "isolated" for r in self.rows)
+        return BASES if iso else BASES[:1]
 
     def to_dict(self) -> dict:
         gov = self.governing
@@ -291,6 +357,28 @@ class LimitStates:
                 "fixed_records": [r.to_dict() for r in self.fixed],
                 "isolated_records": None if self.isolated is None else [r.to_dict() for r in self.isolated],
                 "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> LimitStates:
+        """The table of :meth:`to_dict` (limit_states.json, or run.json's verdict["limit_states"]):
+        ``LimitStates.from_dict(ls.to_dict()).to_dict() == ls.to_dict()``; a malformed table is an
+        InputError naming what is wrong. The per-record tables are optional (the verdict's copy may
+        leave them out)."""
+        d = _mapping(d, "limit states")
+        n = d.get("n_records")
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise InputError(f"limit states: n_records must be a count >= 1, got {n!r:.40}")
+        rows = tuple(LimitState.from_dict(r) for r in d.get("rows") or ())
+        lim = _mapping(d.get("uplift_limits") or {}, "limit states: uplift_limits")
+        band = d.get("uplift_band")
+        iso = d.get("isolated_records")
+        return cls(rows, tuple(FixedRecord.from_dict(r) for r in d.get("fixed_records") or ()),
+                   None if iso is None else tuple(IsolatedRecord.from_dict(r) for r in iso), n,
+                   str(d.get("statistic") or "mean"),
+                   (_nan(_f(lim, "left_pivot_toward_plus_x", "uplift_limits")),
+                    _nan(_f(lim, "right_pivot_toward_minus_x", "uplift_limits"))),
+                   None if band is None else tuple(_f({"v": v}, "v", "uplift_band") for v in band),
+                   tuple(str(w) for w in d.get("warnings") or ()))
 
     def table(self) -> str:
         """The rows as a plain text table (one line each, '-' for an undefined number)."""

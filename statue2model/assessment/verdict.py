@@ -49,6 +49,8 @@ from pathlib import Path
 from ..quantities import G  # m/s^2
 from . import states
 from .recommendation import Code, Facts, bullets, headline, status_of
+from .limit_states import LimitState, LimitStates
+from .records import DesignRecord
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
 """Appended to what the variability sweep (one record) says once the design set's limit states decide."""
@@ -132,7 +134,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
              ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
     line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
             f"margin {_n(fixed['uplift_margin'])})")
-    ls = (dyn or {}).get("limit_states")
+    ls_dict = (dyn or {}).get("limit_states")
+    ls = LimitStates.from_dict(ls_dict) if ls_dict else None     # typed: a malformed table is refused by name
     sweep_note = ILLUSTRATION if ls else ""     # with the design set's limit states, a sweep only illustrates
     if "overturn_margin" in fixed:
         if fixed["first_overturn_pga"] is None:
@@ -149,26 +152,17 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
         if path.is_file():
             import json
 
-            design = json.loads(path.read_text())
+            design = DesignRecord.from_dict(json.loads(path.read_text()))
     isolated = {}
     if design is not None:
-        cap = design.get("capacity", design.get("d_max"))
-        demand = design.get("travel_need", design.get("d_design"))
-        wwp = (design.get("what_would_pass") or {}).get("text")
-        v = design.get("verification") or {}
-        sets = v.get("sets") or []
-        felt = (max(float(s_["felt"]) for s_ in sets) if sets else
-                (design.get("a_design") or 0.0) + design.get("mu", 0.0) * G)    # time histories, else Se(T) + mu g
-        isolated = {"passed": bool(design.get("passed")), "conditional": False, "what_would_pass": wwp,
-                    "reason_key": (design.get("what_would_pass") or {}).get("reason"),
-                    "th_margins": design.get("th_margins"), "capacity": cap, "travel_demand": demand,
-                    "travel_margin": _ratio(cap, demand), "felt": felt, "felt_margin": _ratio(uplift, felt),
-                    "T": design.get("T"), "R": design.get("R"),
-                    "r": design.get("r"), "n_grooves": design.get("n_grooves"), "layout": design.get("layout"),
-                    "surface": design.get("surface_name") or design.get("surface"), "cost": design.get("cost"),
-                    "slc_rule": (v.get("slc") or {}).get("rule"),
-                    "reserve_pga": (v.get("reserve") or {}).get("pga"), "sets": len(v.get("sets") or []),
-                    "tail": (v.get("reserve") or {}).get("tail")}
+        cap, demand, felt = design.capacity, design.travel_need, design.felt_or_spectral
+        isolated = {"passed": design.passed, "conditional": False, "what_would_pass": design.wwp_text,
+                    "reason_key": design.wwp_reason, "th_margins": design.th_margins or None, "capacity": cap,
+                    "travel_demand": demand, "travel_margin": _ratio(cap, demand), "felt": felt,
+                    "felt_margin": _ratio(uplift, felt), "T": design.T, "R": design.R, "r": design.r,
+                    "n_grooves": design.n_grooves, "layout": design.layout, "surface": design.surface,
+                    "cost": design.cost, "slc_rule": design.slc_rule, "reserve_pga": design.reserve_pga,
+                    "sets": design.n_sets, "tail": design.tail}
         if dyn is not None:
             fail = dyn.get("first_failure_pga_isolated", dyn.get("first_overturn_pga_isolated"))
             isolated["first_failure_pga"] = fail
@@ -180,10 +174,10 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                 isolated["record"] = cfg.dynamics.motion
         if isolated["passed"]:
             th = isolated.get("th_margins") or {}
-            line = (f"Isolator: {isolated['n_grooves']} {design.get('ball_material') or ''} balls of "
+            line = (f"Isolator: {isolated['n_grooves']} {design.ball_material or ''} balls of "
                     f"{_mm(2 * (isolated['r'] or 0), '.0f')} mm on {isolated['surface']}, plates "
-                    f"{_mm(design.get('side'), '.0f')} mm square, T {_n(isolated['T'])} s, travel capacity "
-                    f"{_mm(cap)} mm, about {design.get('cost', 0):.0f} EUR; verified by time histories on "
+                    f"{_mm(design.side, '.0f')} mm square, T {_n(isolated['T'])} s, travel capacity "
+                    f"{_mm(cap)} mm, about {design.cost or 0:.0f} EUR; verified by time histories on "
                     f"{isolated['sets']} record sets: margins travel {_n(finite_number(th.get('travel')))}, felt "
                     f"acceleration {_n(finite_number(th.get('acceleration')))}, ball load "
                     f"{_n(finite_number(th.get('bearing')))} at the design level, travel "
@@ -205,11 +199,11 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                          f"(margin {_n(isolated['failure_margin'])} on the design PGA)") + sweep_note
             lines.append(line + ".")
         else:
-            isolated["reason"] = wwp or design.get("failure") or design_failure(design)
+            isolated["reason"] = design.wwp_text or design.failure or design.failing_checks()
             lines.append(f"Isolator: {isolated['reason']}")
     out["isolated"] = isolated
     if ls:
-        out["limit_states"] = ls
+        out["limit_states"] = ls_dict
         lines.insert(1, limit_state_line(ls))
     fr = fragility(dyn, pga, design is not None)
     if fr:
@@ -239,45 +233,45 @@ REASONS = {"friction": "the balls' own rolling resistance would rock it", "pit":
 """The short plain words of each reason no device works (isolator/design.py what_would_pass's ``reason``)."""
 
 
-def facts(hz: dict, fixed: dict, isolated: dict, ls: dict | None, fr: dict | None, design: dict | None) -> Facts:
+def facts(hz: dict, fixed: dict, isolated: dict, ls: LimitStates | None, fr: dict | None,
+          design: DesignRecord | None) -> Facts:
     """The numbers of the headline and bullets (recommendation.Facts), taken from the same rows the
     reasoning prints: with the design records, full contact's capacity (the low end of the contact
     band) is the uplift, the rows' counts are the records'."""
     fc = _row(ls, "full_contact", "fixed") if ls else None
     ot = _row(ls, "overturning", "fixed") if ls else None
-    uplift = finite_number((fc or {}).get("capacity")) if fc else finite_number(fixed.get("uplift"))
+    uplift = fc.capacity if fc else finite_number(fixed.get("uplift"))
 
     def count(r):
-        k = (r or {}).get("n_exceeding")
-        return int(k) if isinstance(k, (int, float)) and not isinstance(k, bool) else None
+        return None if r is None else r.n_exceeding
 
     device, travel_margin, felt_ratio, gov, gov_k = "", None, None, "", None
     if isolated and isolated.get("passed") and design is not None:
-        device = (f"{isolated.get('n_grooves')} {design.get('ball_material') or ''} balls of "
+        device = (f"{isolated.get('n_grooves')} {design.ball_material or ''} balls of "
                   f"{_mm(2 * (isolated.get('r') or 0))} mm on {isolated.get('surface')}, plates "
-                  f"{_mm(design.get('side'))} mm square").replace("  ", " ")
+                  f"{_mm(design.side)} mm square").replace("  ", " ")
         if isolated.get("cost"):
             device += f", about {isolated['cost']:.0f} EUR"
         cap = _row(ls, "capacity", "isolated") if ls else None
-        r = finite_number((cap or {}).get("ratio"))
+        r = None if cap is None else cap.ratio
         if r is not None and r > 0:
             travel_margin = 1.0 / r - 1.0
         elif finite_number(isolated.get("travel_margin")) is not None:
             travel_margin = isolated["travel_margin"] - 1.0
         ifc = _row(ls, "full_contact", "isolated") if ls else None
-        felt_ratio = finite_number((ifc or {}).get("ratio"))
-        bad = [r_ for r_ in (ls or {}).get("rows") or () if r_.get("base") == "isolated" and r_.get("exceeded")]
+        felt_ratio = None if ifc is None else ifc.ratio
+        bad = [r_ for r_ in (ls.base_rows("isolated") if ls else ()) if r_.exceeded]
         if bad:
-            worst = max(bad, key=lambda r_: finite_number(r_.get("ratio")) or 0.0)
-            gov, gov_k = str(worst.get("title") or worst.get("name")), count(worst)
+            worst = max(bad, key=lambda r_: r_.ratio or 0.0)
+            gov, gov_k = worst.title, count(worst)
     lsf = (fr or {}).get("limit_states") or {}
     p_over = finite_number(((lsf.get("overturning") or {}).get("fixed") or {}).get("p_design"))
     p_fail = finite_number(((lsf.get("overturning") or {}).get("isolated") or {}).get("p_design"))
     if not lsf and fr:
         p_over, p_fail = finite_number(fr.get("p_design_fixed")), finite_number(fr.get("p_design_isolated"))
     return Facts(pga=finite_number(hz.get("pga")), hazard=_hazard_words(hz), uplift=uplift,
-                 n=(ls or {}).get("n_records") if ls else None, k_lift=count(fc), k_over=count(ot),
-                 lift_ratio=finite_number((fc or {}).get("ratio")), device=device, cost=isolated.get("cost")
+                 n=ls.n_records if ls else None, k_lift=count(fc), k_over=count(ot),
+                 lift_ratio=None if fc is None else fc.ratio, device=device, cost=isolated.get("cost")
                  if isolated else None, travel_margin=travel_margin, iso_governing=gov, iso_k=gov_k,
                  iso_felt_ratio=felt_ratio, p_over_fixed=p_over, p_fail_isolated=p_fail if isolated else None,
                  reason=REASONS.get(isolated.get("reason_key") or "", "") if isolated and not isolated.get("passed")
@@ -294,14 +288,14 @@ def _hazard_words(hz: dict) -> str:
     return out
 
 
-def basis(ls: dict | None, hz: dict, model) -> dict:
+def basis(ls: LimitStates | None, hz: dict, model) -> dict:
     """The verdict box's criteria, assumptions and limitations (lists of sentences): what the
     recommendation was decided on and what it does not cover."""
-    n = (ls or {}).get("n_records")
+    n = ls.n_records if ls else None
     kind = getattr(model, "kind", "housner") if model is not None else "housner"
     if ls:
         criteria = [" ".join(RULE.split()),
-                    f"Each limit state's demand is the {ls.get('statistic', 'mean')} over the {n} design records "
+                    f"Each limit state's demand is the {ls.statistic} over the {n} design records "
                     "(NTC 2018 7.3.5, EN 1998-1 4.3.3.4.3); a limit state is exceeded at demand / capacity >= 1, "
                     "overturning when any record overturns."]
     else:
@@ -327,41 +321,40 @@ def basis(ls: dict | None, hz: dict, model) -> dict:
     return {"criteria": criteria, "assumptions": assumptions, "limitations": limitations}
 
 
-def _row(ls: dict, name: str, base: str) -> dict | None:
-    for r in ls.get("rows") or ():
-        if r.get("name") == name and r.get("base") == base:
-            return r
-    return None
+def _row(ls: LimitStates | None, name: str, base: str) -> LimitState | None:
+    """The row of ``name`` on ``base``, None when the table has none."""
+    if ls is None:
+        return None
+    return next((r for r in ls.rows if r.name == name and r.base == base), None)
 
 
-def _rv(r: dict | None) -> str:
+def _rv(r: LimitState | None) -> str:
     """'demand vs capacity (ratio r, k of n records)' of a limit-state row, in its unit."""
     if r is None:
         return "-"
-    u = r.get("unit")
+    u = r.unit
 
     def q(x):
         x = finite_number(x)
         return "-" if x is None else (_g(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
                                       f"{x:.0f} N" if u == "N" else f"{x:.3g}")
-    ratio = finite_number(r.get("ratio"))
-    return f"{q(r.get('demand'))} vs {q(r.get('capacity'))}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
+    ratio = finite_number(r.ratio)
+    return f"{q(r.demand)} vs {q(r.capacity)}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
 
 
-def limit_state_line(ls: dict) -> str:
+def limit_state_line(ls: LimitStates) -> str:
     """The verdict's line on the limit states at the design level (the design record set)."""
-    n, stat = ls.get("n_records"), ls.get("statistic", "mean")
+    n, stat = ls.n_records, ls.statistic
     parts = []
     for base, label in (("fixed", "Fixed base"), ("isolated", "On the isolator")):
-        rows = [r for r in ls.get("rows") or () if r.get("base") == base]
+        rows = ls.base_rows(base)
         if not rows:
             continue
         bits = []
         for r in rows:
-            k = r.get("n_exceeding")
-            bits.append(f"{r['title']} {'EXCEEDED' if r.get('exceeded') else 'holds'} ({_rv(r)}; {k} of {n} records)")
+            bits.append(f"{r.title} {'EXCEEDED' if r.exceeded else 'holds'} ({_rv(r)}; {r.n_exceeding} of {n} records)")
         parts.append(f"{label}: " + "; ".join(bits))
-    band = ls.get("uplift_band")
+    band = ls.uplift_band
     doubt = ""
     if band and None not in band:
         doubt = (f" The base contact is uncertain: the weakest uplift acceleration lies between {_g(band[0])} and "
@@ -380,21 +373,21 @@ does not protect. Results of one record (the variability sweep, the synthetic or
 history) are illustrations and never enter the rule."""
 
 
-def recommend_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> str:
+def recommend_from_limit_states(fixed: dict, isolated: dict, ls: LimitStates) -> str:
     """One plain line from the limit-state table ``ls`` by :data:`RULE`."""
     return decide_from_limit_states(fixed, isolated, ls)[1]
 
 
-def decide_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> tuple[Code, str]:
+def decide_from_limit_states(fixed: dict, isolated: dict, ls: LimitStates) -> tuple[Code, str]:
     """(the recommendation code, its reasoning in one line) from the limit-state table ``ls`` by
     :data:`RULE`."""
     if fixed.get("slides"):
         return Code.SLIDES, ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the "
                              "rocking analyses and the isolator design do not apply")
-    n = ls.get("n_records")
-    fc, ot = _row(ls, "full_contact", "fixed"), _row(ls, "overturning", "fixed")
-    if fc is not None and not fc.get("exceeded") and not (ot or {}).get("exceeded"):
-        k = int(fc.get("n_exceeding") or 0)
+    n = ls.n_records
+    fc, ot = _row(ls, states.FULL_CONTACT, "fixed"), _row(ls, states.OVERTURNING, "fixed")
+    if fc is not None and not fc.exceeded and not (ot is not None and ot.exceeded):
+        k = fc.n_exceeding
         if k:
             return Code.NO_ISOLATOR_BUT_RECORDS_LIFT, (f"no isolator needed by the codes' mean of effects, but {k} of {n} design records lift the statue "
                     f"on their own: over the {n} records the mean peak ground acceleration toward its weaker side "
@@ -402,28 +395,29 @@ def decide_from_limit_states(fixed: dict, isolated: dict, ls: dict) -> tuple[Cod
                     "rock it (see the fragility of full contact), a reason to consider isolating it")
         return Code.NO_ISOLATOR, (f"no isolator needed at the design level: over the {n} design records the statue "
                                   f"stays in full contact on a fixed base (peak ground acceleration {_rv(fc)})")
-    lifts = (f"the statue lifts on a fixed base at the design level ({_rv(fc)}; {fc.get('n_exceeding')} of {n} "
-             f"records" + (f", overturning in {ot.get('n_exceeding')}" if ot and ot.get("exceeded") else "") + ")")
+    lifts = (f"the statue lifts on a fixed base at the design level ({_rv(fc)}; "
+             f"{'-' if fc is None else fc.n_exceeding} of {n} records"
+             + (f", overturning in {ot.n_exceeding}" if ot is not None and ot.exceeded else "") + ")")
     if not isolated:
         return Code.RUN_ISOLATOR_STAGE, f"{lifts} and no isolator was designed: run the isolator stage"
     if not isolated.get("passed"):
         return Code.NO_DEVICE_IN_RANGE, f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
-    if _row(ls, "full_contact", "isolated") is None:
+    if _row(ls, states.FULL_CONTACT, "isolated") is None:
         return Code.RUN_ISOLATED_DYNAMICS, (f"{lifts}; the isolator was designed but not analysed over the design records (the dynamics stage "
                 "ran without it): run the dynamics stage with [dynamics] isolated = true")
     # every state on the device but the ball load, which is said on its own below
     bad = [r for r in (_row(ls, s.id, "isolated") for s in states.on_base("isolated") if s.id != states.BEARING)
-           if r is not None and r.get("exceeded")]
+           if r is not None and r.exceeded]
     if bad:
         return Code.DEVICE_DOES_NOT_PROTECT, ("the designed isolator does not protect at the design level: " + "; ".join(
-            f"{r['title']} exceeded ({_rv(r)}; {r.get('n_exceeding')} of {n} records)" for r in bad))
-    ifc, cap = _row(ls, "full_contact", "isolated"), _row(ls, "capacity", "isolated")
+            f"{r.title} exceeded ({_rv(r)}; {r.n_exceeding} of {n} records)" for r in bad))
+    ifc, cap = _row(ls, states.FULL_CONTACT, "isolated"), _row(ls, states.CAPACITY, "isolated")
     ok = (f"over the {n} design records the statue stays in full contact on it (felt acceleration {_rv(ifc)}) "
           f"and the plate's travel stays within its capacity (travel with margin {_rv(cap)})")
-    bearing = _row(ls, "bearing", "isolated")
-    if bearing is not None and bearing.get("exceeded"):
+    bearing = _row(ls, states.BEARING, "isolated")
+    if bearing is not None and bearing.exceeded:
         return Code.DEVICE_DOES_NOT_PROTECT, (f"the designed isolator does not protect at the design level: "
-                                              f"{bearing['title']} exceeded ({_rv(bearing)})")
+                                              f"{bearing.title} exceeded ({_rv(bearing)})")
     cost = isolated.get("cost")
     return Code.ISOLATE, "isolate with the designed device" + (f" (about {cost:.0f} EUR)" if cost else "") + f": {ok}"
 
@@ -590,15 +584,6 @@ def finite_number(x) -> float | None:
     except (TypeError, ValueError):
         return None
     return x if math.isfinite(x) else None
-
-
-def design_failure(design: dict) -> str:
-    """The failing required checks of a design, with value and limit."""
-    bad = [c for c in design.get("checks", []) if c.get("required", True) and not c.get("passed")]
-    if not bad:
-        return "see design.json"
-    return "; ".join(f"{c['name']}: {_n(finite_number(c.get('value')), '.4g')} vs {_n(finite_number(c.get('limit')), '.4g')}"
-                     + (f" {c['unit']}" if c.get("unit") else "") for c in bad[:3])
 
 
 def recommend(fixed: dict, isolated: dict, pga: float) -> str:

@@ -52,7 +52,7 @@ STATUS_ORDER = ("fail", "warn", "ok", NOT_ASSESSED)
 
 COLUMNS = (
     ("rank", "Rank", "num"), ("object", "Object", "text"), ("where", "Where (room, floor, design PGA)", "text"),
-    ("status", "Status", "num"),
+    ("status", "Status (with the recommended action)", "num"),
     ("state", "Risk today: on its own base at the design level", "num"),
     ("uplift_g", "Uplift [g]", "num"),
     ("code", "Recommended action", "text"),
