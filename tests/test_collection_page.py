@@ -54,11 +54,12 @@ def _fl(p_up, p_ot):
             "overturning": {"fixed": {"p_design": p_ot, "median": None, "median_ci": None, "beta": None}}}
 
 
-def _result(name, *, a_min, ls, fl, isolated, sheets, status="warn", warnings=()):
+def _result(name, *, a_min, ls, fl, isolated, sheets, status="warn", warnings=(), params=None):
     return {"scan": f"{name}.ply", "out": f"/museum/out/{name}", "report": f"/museum/out/{name}/report.html",
             "status": {"params": "done", "prototype": "done", "isolator": "done", "dynamics": "done"},
             "warnings": list(warnings),
-            "data": {"params": {"a_min": a_min, "weakest_deg": 45.0, "m": 100.0, "h": 0.5, "b_L": 0.2, "b_R": 0.2},
+            "data": {"params": {"a_min": a_min, "weakest_deg": 45.0, "m": 100.0, "h": 0.5, "b_L": 0.2, "b_R": 0.2,
+                                **(params or {})},
                      "prototype": {"n_sheets": sheets} if sheets is not None else {},
                      "dynamics": {"fragility_design_pga": PGA}},
             "verdict": {"recommendation": REC[name], "code": CODE[name], "headline": f"headline of {name}",
@@ -82,7 +83,8 @@ def results():
         {"scan": "broken.stl", "error": "scan not found: /museum/scans/broken.stl"},
         _result("tips", a_min=0.15 * G, ls=_ls(2.2, True, 7, 6), fl=_fl(0.99, 0.30), isolated=PASSED, sheets=3,
                 status="ok", warnings=[{"stage": "params", "text": "uncertain base contact: the weakest ..."},
-                                       {"stage": "params", "text": "units unsure: assumed mm (0.5 m across); cm ..."}]),
+                                       {"stage": "params", "text": "units unsure: assumed mm (0.5 m across); cm ..."}],
+                params={"contact_uncertain": True, "units_sure": False, "units": "mm"}),
         _result("lifter2", a_min=0.25 * G, ls=_ls(1.10, True, 4, 0), fl=_fl(0.60, 1e-5), isolated={}, sheets=None),
         _result("some", a_min=0.35 * G, ls=_ls(0.9, False, 2, 0), fl=_fl(0.003, 1e-20), isolated=COND, sheets=2),
         {"scan": "noparams.obj", "out": "/museum/out/noparams", "report": "/museum/out/noparams/report.html",
@@ -133,7 +135,8 @@ def test_row_values(ranked):
     assert lifter["device_state"] == "conditional" and "1042 N per ball" in lifter["device"]
     assert tips["device"] == "R 1.80 m, r 40.0 mm, 4 grooves, T 3.76 s: passes"
     assert ranked[3]["device_state"] == "not designed"
-    assert tips["doubts"] == ["base contact uncertain", "units guessed: assumed mm (0.5 m across)"]
+    # from the stages' facts, not the warnings' words (a reworded warning changes nothing)
+    assert tips["doubts"] == ["base contact uncertain", "units guessed: assumed mm"]
     assert tips["link"] == "tips/report.html" and ranked[0]["link"] is None
     # P(uplift) band by hand: Phi(ln(2.8194/3.0487)/0.0897) = Phi(-0.8717) = 0.1917,
     # Phi(ln(2.8194/2.7286)/0.0897) = Phi(0.3650) = 0.6424

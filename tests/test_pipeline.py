@@ -388,6 +388,15 @@ def test_folder_of_scans_same_numbers_locally_and_on_dask(collection, tmp_path):
         assert np.array_equal(a["codes"], b["codes"]) and a["theta_max_over_delta"] == b["theta_max_over_delta"]
     csv = (tmp_path / "local" / "collection.csv").read_text().splitlines()
     assert len(csv) == 4 and csv[0].startswith("rank,object,scan,room,floor,")
+    # the verdict in words on every bundled scan (issue [21]): a code, a plain headline whose numbers are
+    # the limit-state rows', one design PGA; the collection's row carries the same code
+    from test_verdict import _plain
+
+    for sub in ("dancing_girl", "maria_barjatinskaja", "nefertiti_bust"):
+        v = json.loads((tmp_path / "local" / sub / "run.json").read_text())["verdict"]
+        _plain(v)
+        row = next(r for r in local["rows"] if r["object"] == sub)
+        assert row["code"] == v["code"] and row["headline"] == v["headline"] and row["status"] == v["status"]
     # a re-run takes every stage of every scan from the cache
     again = run_collection(collection, tmp_path / "local", cfg, executor=None, say=quiet)
     assert all({r["status"][s] for s in ("params", "isolator", "dynamics")} == {"cached"} for r in again["scans"])

@@ -224,26 +224,27 @@ def _device(verdict: dict, data: dict) -> dict:
             "device_note": str(iso.get("what_would_pass") or "")}
 
 
-def _doubts(verdict: dict, warnings) -> list[str]:
+def _doubts(verdict: dict, data: dict) -> list[str]:
+    """The row's doubts, from the stages' facts (never from the warnings' words): an uncertain base
+    contact with its uplift band, guessed units, the 3D cross-check's unconfirmed limit states, the
+    isolator's advisory checks not met."""
     out = []
+    params, iso = data.get("params") or {}, data.get("isolator") or {}
     band = ((verdict.get("limit_states") or {}).get("uplift_band") or [None, None])
     lo, hi = (_finite(x) for x in (list(band) + [None, None])[:2])
-    texts = [(str((w or {}).get("stage", "")), str((w or {}).get("text", ""))) if isinstance(w, dict)
-             else ("", str(w)) for w in warnings or ()]
+    if lo is None or hi is None:
+        lo, hi = (_finite(x) for x in (list(params.get("contact_band") or []) + [None, None])[:2])
     if lo is not None and hi is not None:
         out.append(f"base contact uncertain: uplift {lo / G:.3f}-{hi / G:.3f} g")
-    elif any(t.startswith("uncertain base contact") for _, t in texts):
+    elif params.get("contact_uncertain") is True:
         out.append("base contact uncertain")
-    for _, t in texts:
-        if t.startswith("units unsure"):
-            out.append("units guessed: " + t.split(":", 1)[1].split(";", 1)[0].strip())
-            break
+    if params.get("units_sure") is False:
+        out.append(f"units guessed: assumed {params.get('units') or '?'}")
     missed = (verdict.get("crosscheck") or {}).get("missed") or []
     if missed:
         out.append("3D cross-check does not confirm: " + ", ".join(str(m) for m in missed))
-    for _, t in texts:
-        if t.startswith("advisory check not met:"):
-            out.append("advisory: " + t.split(":", 1)[1].split("(", 1)[0].strip())
+    for name in iso.get("advisory_not_met") or ():
+        out.append(f"advisory: {name}")
     seen = []
     for d in out:
         if d not in seen:
@@ -353,7 +354,7 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
                    device_note=str((verdict.get("isolated") or {}).get("what_would_pass") or ""))
     sheets = (data.get("prototype") or {}).get("n_sheets")
     row["sheets"] = sheets if isinstance(sheets, int) and not isinstance(sheets, bool) else None
-    row["doubts"] = _doubts(verdict, result.get("warnings"))
+    row["doubts"] = _doubts(verdict, data)
     return row
 
 

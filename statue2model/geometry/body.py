@@ -72,6 +72,7 @@ class Body:
     log: tuple[str, ...]
     warnings: tuple[str, ...]
     base: BaseContact | None = None
+    units_sure: bool = True
 
     @property
     def height(self) -> float:
@@ -191,6 +192,7 @@ def body_from_mesh(
         source=source, kind=kind, vertices=v2, faces=f, mass=mp, footprint=fp,
         units=("scaled to height" if height is not None else choice.units), up=cand.up, scale=s,
         rotation=R, translation=shift, log=tuple(steps), warnings=tuple(warnings), base=base,
+        units_sure=True if height is not None else bool(choice.sure),
     )
 
 

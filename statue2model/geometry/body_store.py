@@ -9,8 +9,9 @@ not exactly what :func:`write_body` writes is refused (None), never an error.
 File layout (an uncompressed ``.npz``; every array numeric, C order as written):
 
     meta          uint8     JSON (UTF-8): FORMAT, the caller's key, the strings (source,
-                            kind, units, up, log, warnings, the base's why) and every
-                            scalar with its Python type ([type, value]: float, int, float64)
+                            kind, units, up, log, warnings, the base's why), units_sure (bool)
+                            and every scalar with its Python type ([type, value]: float, int,
+                            float64)
     vertices      (n, 3)    float, m          faces         (f, 3) int, indices < n
     com           (3,)      m                 inertia       (3, 3) kg m^2
     rotation      (3, 3)    -                 translation   (3,) m
@@ -53,7 +54,7 @@ from .massprops import MassProperties
 
 __all__ = ["FORMAT", "body_arrays", "body_from_arrays", "read_body", "write_body"]
 
-FORMAT = "statue2model.body/1"
+FORMAT = "statue2model.body/2"
 """The ``format`` of the file's meta record; a file with another one is refused."""
 
 
@@ -90,6 +91,7 @@ def body_arrays(body: Body, key: str = "") -> dict[str, np.ndarray]:
     meta = {
         "format": FORMAT, "key": key, "source": body.source, "kind": body.kind, "units": body.units,
         "up": body.up, "log": list(body.log), "warnings": list(body.warnings), "scale": _scalar(body.scale),
+        "units_sure": bool(body.units_sure),
         "mass": {k: _scalar(getattr(body.mass, k)) for k in ("volume", "mass", "density")},
         "footprint": {k: _scalar(getattr(fp, k)) for k in ("area", "hull_area", "tol")},
         "base": None if base is None else {
@@ -159,7 +161,9 @@ def body_from_arrays(arrays, key: str = "") -> Body:
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise _Refused(f"meta: {exc}") from None
     meta = _record(meta, ("format", "key", "source", "kind", "units", "up", "log", "warnings", "scale", "mass",
-                          "footprint", "base"))
+                          "footprint", "base", "units_sure"))
+    if not isinstance(meta["units_sure"], bool):
+        raise _Refused("meta: units_sure")
     if meta["format"] != FORMAT or meta["key"] != key or not isinstance(key, str):
         raise _Refused("another format or key")
     v = _array(arrays, "vertices", "f", (None, 3))
@@ -207,7 +211,7 @@ def body_from_arrays(arrays, key: str = "") -> Body:
     return Body(source=_text(meta["source"]), kind=_text(meta["kind"]), vertices=v, faces=f, mass=mass,
                 footprint=fp, units=_text(meta["units"]), up=_text(meta["up"]), scale=_unscalar(meta["scale"]),
                 rotation=_array(arrays, "rotation", "f", (3, 3)), translation=_array(arrays, "translation", "f", (3,)),
-                log=_texts(meta["log"]), warnings=_texts(meta["warnings"]), base=base)
+                log=_texts(meta["log"]), warnings=_texts(meta["warnings"]), base=base, units_sure=meta["units_sure"])
 
 
 def write_body(path: str | os.PathLike, body: Body, key: str = "") -> Path | None:

@@ -109,7 +109,13 @@ def params_stage(ctx: Context, d: Path) -> dict:
     return {**params_section(body, p, rose),
             "data": {"m": mp.mass, "h": p.h, "b_L": p.b_L, "b_R": p.b_R, "I_G": p.I_G, "a_L": p.a_L, "a_R": p.a_R,
                      "direction_deg": p.direction_deg, "weakest_deg": rose.weakest_deg, "a_min": rose.a_min,
-                     "height": body.height, "volume": mp.volume}}
+                     "height": body.height, "volume": mp.volume,
+                     # what the collection's doubts read, as facts (never the warnings' words)
+                     "units": body.units, "units_sure": bool(body.units_sure),
+                     "contact_uncertain": bool(body.base is not None and body.base.uncertain),
+                     "contact_band": (None if body.base is None or not body.base.uncertain else
+                                      [min(float(c.a_min) for c in body.base.cases),
+                                       max(float(c.a_min) for c in body.base.cases)])}}
 
 
 # --- prototype ------------------------------------------------------------------------------------
@@ -199,7 +205,8 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
                      "failure": res.failure, "th_margins": res.th_margins, "what_would_pass": res.what_would_pass,
                      "mu_low": v["mu_low"], "mu_high": v["mu_high"], "a_lim": v["a_lim"],
                      "ball_capacity": dd["ball_capacity"], "th_records": v["records"]["count"],
-                     "sets": len(v.get("sets") or []), "slc": v.get("slc"), "reserve": v.get("reserve")}}
+                     "sets": len(v.get("sets") or []), "slc": v.get("slc"), "reserve": v.get("reserve"),
+                     "advisory_not_met": [c.name for c in res.checks if not c.required and not c.passed]}}
 
 
 def _extra_sets(ctx: Context, n_sets: int) -> list:
