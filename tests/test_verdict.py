@@ -6,7 +6,8 @@ import re
 import pytest
 
 from statue2model.pipeline.config import ProjectConfig
-from statue2model.assessment.verdict import assess, hazard, recommend
+from statue2model.assessment.verdict import hazard, recommend
+from statue2model.pipeline.assess import assess
 from statue2model.report.browser import body_attributes, dump_dom
 from statue2model.report.html import render_report
 

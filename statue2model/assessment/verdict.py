@@ -34,17 +34,21 @@ summary and the top of report.html.
 
 Example
 -------
->>> v = assess({"params": {"status": "done", "data": {"a_min": 2.71, "a_L": 4.16, "a_R": 2.71, "h": 0.73,
-...            "b_L": 0.31, "b_R": 0.20}}}, {}, None)
->>> v["fixed"]["lifts"], round(v["hazard"]["pga"] / 9.81, 4)
-(True, 0.2874)
+>>> v = verdict(VerdictInputs(hazard(None), {"a_min": 2.71, "a_L": 4.16, "a_R": 2.71, "h": 0.73,
+...                                          "b_L": 0.31, "b_R": 0.20}))
+>>> v["fixed"]["lifts"], round(v["hazard"]["pga"] / 9.81, 4), v["code"]
+(True, 0.2874, 'RUN_ISOLATOR_STAGE')
 >>> v["recommendation"]
 'the statue lifts at the design level (uplift 0.276 g < design PGA 0.287 g) and no isolator was designed: run the isolator stage'
+
+The pipeline's adapter, ``statue2model.pipeline.assess.assess(stages, dirs, cfg)``, reads the stages'
+manifests and files into :class:`VerdictInputs` (typed: design.json as a DesignRecord, the limit
+states as LimitStates) and calls :func:`verdict`.
 """
 from __future__ import annotations
 
 import math
-from pathlib import Path
+from dataclasses import dataclass
 
 from ..quantities import G  # m/s^2
 from . import states
@@ -54,13 +58,6 @@ from .records import DesignRecord
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
 """Appended to what the variability sweep (one record) says once the design set's limit states decide."""
-
-
-def _data(stages: dict, name: str) -> dict | None:
-    man = stages.get(name) or {}
-    if man.get("status") not in ("done", "cached"):
-        return None
-    return man.get("data") or {}
 
 
 def _g(x: float | None) -> str:
@@ -100,28 +97,52 @@ def hazard(cfg) -> dict:
             "target": hz.target.to_dict(), "text": hz.text}
 
 
-def assess(stages: dict, dirs: dict, cfg) -> dict:
-    """The verdict (see the module docstring) from the stages' manifests ``stages``
-    (name -> manifest with status and data), their folders ``dirs`` and the config."""
-    hz = hazard(cfg)
+@dataclass(frozen=True)
+class VerdictInputs:
+    """What the verdict decides on, typed. The pipeline's adapter (pipeline/assess.py ``assess``) builds
+    it from the stages' manifests and files; a caller may build it by hand.
+
+    hazard          :func:`hazard` of the configuration (the design target; ``pga`` in m/s^2)
+    params          the params stage's data (a_min, b_L, b_R, h, ...; SI), None: it did not run
+    alpha           the imperfect model's min(alpha_L, alpha_R) (1: Housner's)
+    model_kind      "housner" or "imperfect"          mu_static   the static friction (None: not given)
+    dynamics        the dynamics stage's data (first_*_pga, fragility_*), None: it did not run
+    limit_states    the design record set's table (:class:`LimitStates`), None without it
+    design          the isolator design (:class:`DesignRecord`), None without it
+    classification  the 3D cross-check's classification over the design records, None without it
+    record          the label of the dynamics stage's single record (the sweep's), None
+    """
+
+    hazard: dict
+    params: dict | None
+    alpha: float = 1.0
+    model_kind: str = "housner"
+    mu_static: float | None = None
+    dynamics: dict | None = None
+    limit_states: LimitStates | None = None
+    design: DesignRecord | None = None
+    classification: dict | None = None
+    record: str | None = None
+
+
+def verdict(inp: VerdictInputs) -> dict:
+    """The verdict (see the module docstring) of the typed inputs ``inp``."""
+    hz = inp.hazard
     pga = hz["pga"]
     out = {"hazard": hz, "fixed": {}, "isolated": {}, "lines": [], "recommendation": ""}
-    params = _data(stages, "params")
+    params = inp.params
     if params is None:
         out["recommendation"] = "no verdict: the params stage did not run"
         out.update(code=Code.NO_VERDICT.value, headline=headline(Code.NO_VERDICT, Facts()), bullets=[],
                    status=status_of(Code.NO_VERDICT))
         return out
-    model = getattr(cfg, "model", None) if cfg is not None else None
-    alpha = 1.0
-    if model is not None and getattr(model, "kind", "housner") == "imperfect":
-        alpha = min(model.alpha_L, model.alpha_R)
+    alpha = inp.alpha
     uplift = alpha * params.get("a_min", params.get("a_R"))
     fixed = {"uplift": uplift, "alpha": alpha, "lifts": uplift <= pga, "uplift_margin": _ratio(uplift, pga)}
     b_over_h = min(params.get("b_L", math.inf), params.get("b_R", math.inf)) / params.get("h", math.nan)
-    mu_s = getattr(model, "mu_static", None) if model is not None else None
+    mu_s = inp.mu_static
     fixed["slides"] = bool(mu_s is not None and math.isfinite(b_over_h) and b_over_h > mu_s)
-    dyn = _data(stages, "dynamics")
+    dyn = inp.dynamics
     if dyn is not None:
         ot = dyn.get("first_overturn_pga_fixed")
         fixed["first_overturn_pga"] = ot
@@ -134,8 +155,7 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
              ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
     line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
             f"margin {_n(fixed['uplift_margin'])})")
-    ls_dict = (dyn or {}).get("limit_states")
-    ls = LimitStates.from_dict(ls_dict) if ls_dict else None     # typed: a malformed table is refused by name
+    ls = inp.limit_states
     sweep_note = ILLUSTRATION if ls else ""     # with the design set's limit states, a sweep only illustrates
     if "overturn_margin" in fixed:
         if fixed["first_overturn_pga"] is None:
@@ -145,14 +165,7 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
                      f"(margin {_n(fixed['overturn_margin'])} on the design PGA)" + sweep_note)
     lines.append(line + ".")
 
-    iso = _data(stages, "isolator")
-    design = None
-    if iso is not None and "isolator" in dirs:
-        path = Path(dirs["isolator"]) / "design.json"
-        if path.is_file():
-            import json
-
-            design = DesignRecord.from_dict(json.loads(path.read_text()))
+    design = inp.design
     isolated = {}
     if design is not None:
         cap, demand, felt = design.capacity, design.travel_need, design.felt_or_spectral
@@ -170,8 +183,8 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             cap_pga = dyn.get("first_capacity_pga_isolated")
             isolated["failure_kind"] = ("isolator capacity exceeded" if fail is not None and cap_pga == fail
                                         else "overturned" if fail is not None else None)
-            if cfg is not None and getattr(cfg, "dynamics", None) is not None:
-                isolated["record"] = cfg.dynamics.motion
+            if inp.record is not None:
+                isolated["record"] = inp.record
         if isolated["passed"]:
             th = isolated.get("th_margins") or {}
             line = (f"Isolator: {isolated['n_grooves']} {design.ball_material or ''} balls of "
@@ -203,7 +216,7 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
             lines.append(f"Isolator: {isolated['reason']}")
     out["isolated"] = isolated
     if ls:
-        out["limit_states"] = ls_dict
+        out["limit_states"] = ls.to_dict()
         lines.insert(1, limit_state_line(ls))
     fr = fragility(dyn, pga, design is not None)
     if fr:
@@ -212,7 +225,7 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     out["lines"] = lines
     code, out["recommendation"] = (decide_from_limit_states(fixed, isolated, ls) if ls
                                    else decide(fixed, isolated, pga))
-    cc = crosscheck_line((_data(stages, "crosscheck") or {}).get("classification"))
+    cc = crosscheck_line(inp.classification)
     if cc:
         out["crosscheck"] = cc
         lines.append(cc["line"])
@@ -220,7 +233,7 @@ def assess(stages: dict, dirs: dict, cfg) -> dict:
     out["status"] = status_of(code, doubt=bool(cc and cc["missed"]))
     f = facts(hz, fixed, isolated, ls, fr, design)
     out.update(code=code.value, headline=headline(code, f), bullets=bullets(code, f))
-    out.update(basis(ls, hz, model))
+    out.update(basis(ls, hz, inp.model_kind))
     return out
 
 
@@ -288,11 +301,10 @@ def _hazard_words(hz: dict) -> str:
     return out
 
 
-def basis(ls: LimitStates | None, hz: dict, model) -> dict:
+def basis(ls: LimitStates | None, hz: dict, kind: str = "housner") -> dict:
     """The verdict box's criteria, assumptions and limitations (lists of sentences): what the
     recommendation was decided on and what it does not cover."""
     n = ls.n_records if ls else None
-    kind = getattr(model, "kind", "housner") if model is not None else "housner"
     if ls:
         criteria = [" ".join(RULE.split()),
                     f"Each limit state's demand is the {ls.statistic} over the {n} design records "

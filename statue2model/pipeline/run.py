@@ -50,7 +50,7 @@ from .rooms import PLACEMENT_COLUMNS, check_scans, config_for, object_placement,
 from ..assessment.collection import RANKING_RULE, csv_rows, object_row, rank
 from ..assessment.collection import summary as collection_summary
 from ..report.collection_page import write_collection_page
-from ..assessment.verdict import assess
+from .assess import assess
 from ..geometry.scan import SCAN_SUFFIXES
 
 
