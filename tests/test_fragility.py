@@ -233,3 +233,42 @@ def test_pgv_of_a_drifting_record_is_read_after_a_high_pass():
     drifting = pgv(motions.record(a + 0.05, 0.01))            # raw integral: +1 m/s by the end
     assert clean == pytest.approx(2.0 / (2 * np.pi), rel=0.05)
     assert drifting == pytest.approx(clean, rel=0.05)
+
+
+def test_a_curve_reads_back_from_its_json():
+    """fragility.json's curves read back typed (issue [21]): FragilityCurve.from_dict of to_dict gives the
+    same JSON for a fitted curve, a step and one without failures; an unknown key is refused by name."""
+    import json
+
+    from statue2model.assessment.fragility import FragilityCurve
+    from statue2model.errors import InputError
+
+    block = RockingParams.rectangular_block(0.0384, 0.2, 1.286)
+    model = RockingModel.housner(block, e_L=0.9, e_R=0.9)
+    recs = [motions.synthetic_record(6.0, 0.01, 1.0, seed=s) for s in range(3)]
+    res = run_fragility(model, recs, np.linspace(1.0, 12.0, 6), lognormal_factor(0.2, 4), FragilityStudy(n_boot=20))
+    lv = np.array([1.0, 2.0, 3.0, 4.0])
+    curves = [*res.curves.values(),
+              FragilityCurve("overturning_fixed", lv, np.array([0, 0, 7, 7]), np.full(4, 7), 2.5, 1e-3, "step"),
+              FragilityCurve("overturning_fixed", lv, np.zeros(4, dtype=int), np.full(4, 7), math.nan, math.nan,
+                             "no failures")]
+    for c in curves:
+        d = json.loads(json.dumps(_json(c.to_dict())))
+        back = FragilityCurve.from_dict(d)
+        assert json.loads(json.dumps(_json(back.to_dict()))) == d, c.outcome
+    with pytest.raises(InputError, match="unknown outcome 'overturn'"):
+        FragilityCurve.from_dict({**d, "outcome": "overturn"})
+    with pytest.raises(InputError, match="one length"):
+        FragilityCurve.from_dict({**d, "n_fail": [0]})
+
+
+def _json(x):
+    if isinstance(x, dict):
+        return {k: _json(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple, np.ndarray)):
+        return [_json(v) for v in x]
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    return x

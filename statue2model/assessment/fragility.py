@@ -677,6 +677,46 @@ class FragilityCurve:
         there is no fit: see ``reason``), else why not."""
         return identified_reason(self)
 
+    @classmethod
+    def from_dict(cls, d: dict) -> FragilityCurve:
+        """The curve of :meth:`to_dict` (fragility.json's ``curves[key]``): a None number back as nan;
+        ``FragilityCurve.from_dict(c.to_dict()).to_dict() == c.to_dict()``. A key outside the registry
+        (assessment/states.py), counts that do not match the levels or a non-number is an InputError
+        naming it."""
+        if not isinstance(d, dict):
+            raise InputError(f"fragility curve: expected a table, got {type(d).__name__}")
+        key = d.get("outcome")
+        if key not in LABELS:
+            raise InputError(f"fragility curve: unknown outcome {key!r:.40} (one of {', '.join(LABELS)})")
+
+        def num(x, what):
+            if x is None:
+                return math.nan
+            if isinstance(x, bool) or not isinstance(x, (int, float)):
+                raise InputError(f"fragility curve {key}: {what} must be a number, got {x!r:.40}")
+            return float(x)
+
+        def arr(name, kind=float):
+            v = d.get(name)
+            if v is None:
+                return None
+            if not isinstance(v, list):
+                raise InputError(f"fragility curve {key}: {name} must be a list")
+            out = np.array([num(x, name) for x in v], dtype=float)
+            return out.astype(int) if kind is int else out
+
+        levels, n_fail, n_trials = arr("levels"), arr("n_fail", int), arr("n_trials", int)
+        if levels is None or n_fail is None or n_trials is None or not (levels.shape == n_fail.shape == n_trials.shape):
+            raise InputError(f"fragility curve {key}: levels, n_fail and n_trials must be lists of one length")
+        prof, prof_note = d.get("beta_profile"), d.get("beta_profile_note")
+        profile = (None if prof is None or (all(x is None for x in prof) and prof_note is None)
+                   else tuple(num(x, "beta_profile") for x in prof))
+        return cls(key, levels, n_fail, n_trials, num(d.get("median"), "median"), num(d.get("beta"), "beta"),
+                   str(d.get("status") or ""), tuple(num(x, "median_ci") for x in d.get("median_ci") or (None, None)),
+                   tuple(num(x, "beta_ci") for x in d.get("beta_ci") or (None, None)), arr("band_lo"), arr("band_hi"),
+                   d.get("median_ci_note"), d.get("beta_ci_note"), dict(d.get("bootstrap_undefined") or {}),
+                   profile, prof_note)
+
     def to_dict(self) -> dict:
         """JSON-ready; an undefined number is None with its reason beside it (``reason`` for the
         fit, its fitted P and bands; ``median_ci_note``, ``beta_ci_note`` for a band end;
