@@ -22,7 +22,14 @@ from statue2model.isolator.plates import (
     to_trimesh,
     volume_deficit_bound,
 )
-from statue2model.report.isolator_plots import write_plates_with_section
+from statue2model.isolator.plates import write_plates
+from statue2model.report.isolator_plots import plot_plates_figures
+
+
+def write_plates_with_section(g, out, segments=256, design=None):
+    """The plates' files, then their figures, as the isolator stage writes them."""
+    return write_plates(g, out, segments=segments) | plot_plates_figures(g, out, design=design)
+
 
 REALISTIC = {"side": 0.40, "thickness": 0.03, "R": 0.30, "depth": 0.012,
              "groove_centres": ((-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)), "ball_radius": 0.0183}

@@ -124,7 +124,8 @@ def _crosscheck(args, od, scene, motion, iso, settings, statue_settings, motion_
     from ..crosscheck.compare import compare
     from ..crosscheck.contact import ContactSettings
     from ..crosscheck.output import summary, table
-    from ..report.crosscheck_plots import write_crosscheck
+    from ..crosscheck.output import write_report
+    from ..report.crosscheck_plots import plot_histories
 
     contact = ContactSettings()
     from ..rocking.model import RockingModel
@@ -145,7 +146,7 @@ def _crosscheck(args, od, scene, motion, iso, settings, statue_settings, motion_
              "motion_across": None if motion_y is None else motion_y.to_dict(), "only_motion": bool(args.only_motion),
              "notes": notes}
     with group as g:
-        paths = write_crosscheck(comp, g.tmp, extra)
+        paths = plot_histories(comp.histories, g.tmp) | write_report(comp, g.tmp, extra)
     print(table(comp.cases))
     s = summary(comp.cases)
     print(f"\n{s['n_met']} of {s['n_cases']} applicable checks meet their target ({s['n_not_applicable']} not "

@@ -219,8 +219,8 @@ PLATE_FILES = tuple(f"{w}_plate.{ext}" for w in ("bottom", "top") for ext in ("s
 
 def _cmd_plates(args) -> int:
     from ..io.files import open_output
-    from ..isolator.plates import PlateGeometry
-    from ..report.isolator_plots import write_plates_with_section
+    from ..isolator.plates import PlateGeometry, write_plates
+    from ..report.isolator_plots import plot_plates_figures
 
     dd = read_design(args.design, "DESIGN.json", analyse=False)
     geom = PlateGeometry.from_design(dd, str(args.design))
@@ -228,7 +228,7 @@ def _cmd_plates(args) -> int:
         raise InputError(f"--segments must be in 16..4096, got {args.segments}")
     with open_output(args.out, "plates", command="isolator plates", can_reuse=False) as od, \
             od.group(PLATE_FILES) as g:
-        paths = write_plates_with_section(geom, g.tmp, segments=args.segments, design=dd)
+        paths = write_plates(geom, g.tmp, segments=args.segments) | plot_plates_figures(geom, g.tmp, design=dd)
     print("wrote " + ", ".join(str(od.path / p.name) for p in paths.values()))
     return 0
 

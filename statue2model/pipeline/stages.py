@@ -159,10 +159,10 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     from ..assessment.limit_states import contact_limits
     from ..hazard.levels import collapse_site
     from ..hazard.motions import parse_spec
-    from ..isolator.plates import PlateGeometry
+    from ..isolator.plates import PlateGeometry, write_plates
     from ..isolator.prices import write_bom
     from ..isolator.verify import verify
-    from ..report.isolator_plots import write_plates_with_section
+    from ..report.isolator_plots import plot_plates_figures
     from ..report.stage_sections import isolator_section
 
     c, m = ctx.config.isolator, ctx.config.model
@@ -195,7 +195,9 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
     if res.passed:
         write_bom(d / "bom.csv", res.bom)
-        write_plates_with_section(PlateGeometry.from_design(dd), d / "plates", segments=c.segments, design=dd)
+        geom = PlateGeometry.from_design(dd)
+        write_plates(geom, d / "plates", segments=c.segments)
+        plot_plates_figures(geom, d / "plates", design=dd)
     v = res.verification
     return {**isolator_section(res),
             "data": {"passed": res.passed, "R": res.R, "r": res.r, "T": res.T, "M": res.M, "mu": res.mu,
@@ -371,7 +373,8 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
     from ..crosscheck.statue_scene import StatueScene
     from ..crosscheck.world import SimSettings
     from ..hazard.motions import parse_spec
-    from ..report.crosscheck_plots import write_crosscheck
+    from ..crosscheck.output import write_report
+    from ..report.crosscheck_plots import plot_histories
     from ..report.crosscheck_section import crosscheck_section
 
     c = ctx.config.crosscheck
@@ -390,7 +393,7 @@ def crosscheck_stage(ctx: Context, d: Path) -> dict:
                    contact=contact, pulse_freq=c.pulse_freq,
                    quick=c.quick, e_L=ctx.config.model.e_L, e_R=ctx.config.model.e_R,
                    progress=lambda msg: ctx.say(f"3D: {msg} ..."))
-    paths = write_crosscheck(comp, d, {"scene": {"name": scene.name, "params": scene.params.to_dict()},
+    paths = plot_histories(comp.histories, d) | write_report(comp, d, {"scene": {"name": scene.name, "params": scene.params.to_dict()},
                                        "settings": settings.to_dict(), "statue_settings": statue_settings.to_dict(),
                                        "contact": contact.to_dict(),
                                        "motion": motion.to_dict()})

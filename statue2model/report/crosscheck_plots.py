@@ -1,8 +1,8 @@
 """Figures of the 3D cross-check: one overlay plot per time history, 2D (line) and 3D (dashed).
 
-:func:`write_crosscheck` writes a cross-check's folder: the overlay PNGs (file names from
-statue2model.crosscheck.output.plot_files) and crosscheck.json
-(statue2model.crosscheck.output.write_report); files are written atomically.
+:func:`plot_histories` draws a cross-check's overlay PNGs (file names from
+statue2model.crosscheck.output.plot_files), atomically; the data file, crosscheck.json, is
+statue2model.crosscheck.output.write_report's (the report draws, it writes no data).
 
 Example
 -------
@@ -12,15 +12,15 @@ Example
 >>> c = Comparison(cases=(Case.relative("q", "s", 1.0, 1.001, 0.01),),
 ...                histories={"q": {"t2": np.arange(3.0), "y2": np.zeros(3), "t3": np.arange(3.0),
 ...                                 "y3": np.zeros(3), "label": "theta (rad)"}})
->>> paths = write_crosscheck(c, d)
+>>> paths = plot_histories(c.histories, d)
 >>> sorted(p.name for p in paths.values())
-['crosscheck.json', 'q.png']
+['q.png']
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..crosscheck.output import plot_files, write_report
+from ..crosscheck.output import plot_files
 from ..io.files import atomic_write, prepare_dir
 from .plots import _pyplot
 
@@ -55,9 +55,3 @@ def plot_histories(histories: dict, out_dir) -> dict[str, Path]:
     return {name: plot_overlay(name, histories[name], out / file) for name, file in plot_files(histories).items()}
 
 
-def write_crosscheck(comparison, out_dir, extra: dict | None = None) -> dict[str, Path]:
-    """A cross-check's folder: the overlay plots of ``comparison.histories``, then crosscheck.json
-    (with ``extra`` merged in). Returns {history name: PNG path, ..., 'json': JSON path}."""
-    paths = plot_histories(comparison.histories, out_dir)
-    paths.update(write_report(comparison, out_dir, extra))
-    return paths

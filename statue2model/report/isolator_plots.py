@@ -22,20 +22,20 @@ import numpy as np
 
 from ..fabrication.dxf import MM
 from ..io.files import atomic_write
-from ..isolator.plates import PlateGeometry, section_shapes, write_plates
+from ..isolator.plates import PlateGeometry, section_shapes
 from .plots import _pyplot
 
 SECTION_FILES = ("plates_section.png", "plates_section.svg")
 """The section's files, written beside the plates' (after them)."""
 
 
-def write_plates_with_section(geom: PlateGeometry, out_dir, segments: int = 256, design: dict | None = None
-                              ) -> dict[str, Path]:
-    """The plates' files (:func:`statue2model.isolator.plates.write_plates`, its keys) and then
-    their section (keys ``section_png``, ``section_svg``: plates_section.png / .svg) in ``out_dir``; with
-    the ``design`` (design.json's dict) also the carpenter's dimensioned drawing (``drawing_svg``,
-    ``drawing_png``: drawing.svg / .png, :func:`plot_plates_drawing`)."""
-    paths = write_plates(geom, out_dir, segments=segments)
+def plot_plates_figures(geom: PlateGeometry, out_dir, design: dict | None = None) -> dict[str, Path]:
+    """The plates' figures in ``out_dir`` (the plates' CNC files are
+    :func:`statue2model.isolator.plates.write_plates`'s, written first by the caller): their section
+    (keys ``section_png``, ``section_svg``: plates_section.png / .svg) and, with the ``design``
+    (design.json's dict), the carpenter's dimensioned drawing (``drawing_svg``, ``drawing_png``:
+    drawing.svg / .png, :func:`plot_plates_drawing`)."""
+    paths = {}
     out = Path(out_dir)
     paths["section_png"], paths["section_svg"] = plot_plates_section(geom, *(out / n for n in SECTION_FILES))
     if design is not None:
