@@ -262,7 +262,7 @@ def test_one_batch_per_record_equals_one_per_restitution_pair():
                           skip_quiet=False)
             assert np.array_equal(st[r, s_], S, equal_nan=True), (r, s_)
     res = F.run_fragility(model, recs, levels, samples, study)
-    assert np.array_equal(res.fails["overturn"], fails) and res.stats["integrated_fixed"] == n_int
+    assert np.array_equal(res.fails["overturning_fixed"], fails) and res.stats["integrated_fixed"] == n_int
     assert fails.any() and not fails.all()
 
 

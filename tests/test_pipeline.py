@@ -246,7 +246,8 @@ def test_report_figures_load_in_headless_chromium(small_run):
             pytest.fail("no headless browser: .ci/install installs chromium-headless-shell")
         pytest.skip("no headless browser (apt-get install chromium-headless-shell)")
     check = check_figures(small_run.report)
-    n_figs = sum(len(m.get("figures", [])) for m in small_run.stages.values())
+    # every stage's figure, plus the key figure beside the verdict on page 1 (the fragility curves)
+    n_figs = sum(len(m.get("figures", [])) for m in small_run.stages.values()) + 1
     assert check.ok, check
     assert check.total == check.loaded == n_figs >= 8
 
@@ -257,7 +258,8 @@ def test_stages_not_asked_for_are_taken_from_their_folders(small_run, tmp_path):
     res = run_project(default_scan(), out, small_config(), stages=["params"], say=quiet)
     assert {k: v["status"] for k, v in res.stages.items()} == {k: "cached" for k in res.stages}
     page = res.report.read_text()
-    assert page.count("<img") == sum(len(m.get("figures", [])) for m in small_run.stages.values())
+    # every stage's figure and page 1's key figure
+    assert page.count("<img") == sum(len(m.get("figures", [])) for m in small_run.stages.values()) + 1
 
 
 @pytest.mark.slow
