@@ -147,7 +147,7 @@ def test_profile_band_and_many_fit_agree_with_brute_force():
     assert abs(lo - 0.2832) < 1e-3 and abs(hi - 0.3999) < 1e-3 and note is None
     from scipy.stats import norm
 
-    from statue2model.assessment.fragility import _nll
+    from statue2model.assessment.fragility_fit import _nll
 
     rng = np.random.default_rng(7)
     lv = np.geomspace(1.0, 8.0, 8)

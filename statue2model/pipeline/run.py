@@ -186,6 +186,7 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
     t_run = time.perf_counter()
     keys, dirs, manifests, results = {}, {}, {}, {}
     bodies: dict = {}                          # the run's Body, built once and shared by its stages
+    record_sets: dict = {}                     # the run's design record set, matched once for its stages
     n = len(order)
     for name in STAGES:
         required, optional, sections = DEPENDS[name]
@@ -212,7 +213,8 @@ def _run_stages(mesh: Path, out: Path, od, cfg: ProjectConfig, order: list[str],
             continue
         i = order.index(name) + 1
         ctx = Context(mesh=mesh, config=cfg, executor=executor, dirs=dict(dirs), manifests=dict(manifests),
-                      say=lambda msg: say(f"        {msg}"), bodies=bodies, mesh_sha256=mesh_hash)
+                      say=lambda msg: say(f"        {msg}"), bodies=bodies, mesh_sha256=mesh_hash,
+                      record_sets=record_sets)
         say(f"[{i}/{n}] {name:<10} ...")
         t0 = time.perf_counter()
         man = run_stage(out / name, key, lambda d, f=STAGES[name], c=ctx: f(c, d), force=force)

@@ -53,6 +53,7 @@ class Context:
     say: Callable[[str], None] = lambda msg: None   # a progress line inside a long stage
     bodies: dict = field(default_factory=dict)     # the run's Body, shared by its stages (body_cache.py)
     mesh_sha256: str | None = None                 # the scan's hash, computed once by the run
+    record_sets: dict = field(default_factory=dict)  # the run's record sets by their matching arguments
 
     def load_body(self, store: Path | None = None):
         """The Body of the scan with the [scan] settings, built once per run (pipeline/body_cache.py):
@@ -303,8 +304,13 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
 def _match(ctx: Context, seed: int = 1):
     """A record set of the project's design target (the site's ground or floor spectrum), over the band of the
     building's period and, when the isolator stage is enabled, of every period its search can pick (the site's
-    code: EC8 2 T_is, NTC 1.2 T_is of the longest, hazard/matching.py design_band), seeds seed.. ."""
-    return _match_task(_match_args(ctx, seed))
+    code: EC8 2 T_is, NTC 1.2 T_is of the longest, hazard/matching.py design_band), seeds seed.. . Matched
+    once per run: the stages of one run share it (``ctx.record_sets``, by the matching's arguments)."""
+    args = _match_args(ctx, seed)
+    key = repr(args)
+    if key not in ctx.record_sets:
+        ctx.record_sets[key] = _match_task(args)
+    return ctx.record_sets[key]
 
 
 def _design_set(ctx: Context, d: Path | None = None):
