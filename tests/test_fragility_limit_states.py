@@ -35,14 +35,8 @@ from statue2model.geometry.rocking_params import RockingParams
 from statue2model.hazard import motions
 from statue2model.rocking import RockingModel
 from statue2model.rocking import kernel as K
-from statue2model.rocking.sampling import (
-    ALPHA_RANGE,
-    E_RANGE,
-    THESIS_THETA_R,
-    lognormal_factor,
-    nominal,
-    study_design,
-)
+from statue2model.assessment.study import ALPHA_RANGE, E_RANGE, study_design
+from statue2model.rocking.sampling import THESIS_THETA_R, lognormal_factor, nominal
 
 G = 9.81
 ASYM = RockingParams.from_dict({"m": 10.0, "h": 0.25, "b_L": 0.10, "b_R": 0.05, "I_G": 0.3, "g": G})

@@ -41,7 +41,7 @@ from statue2model.isolator.design import (
 from statue2model.isolator.device import groove_capacity, lever_arm
 from statue2model.isolator.layout import LAYOUTS, layouts_with
 from statue2model.isolator.prices import total
-from statue2model.rocking.sampling import friction_bounds
+from statue2model.isolator.friction import friction_bounds
 
 G = 9.81
 MU = 0.0073                                             # Table 25, the four-groove device

@@ -13,7 +13,7 @@ which levels are added round by round around each curve's median until its sprea
 (``fragility_rounds`` rounds at most, ADAPTIVE_MAX_ADDED levels a base at most: the rule of
 statue2model.assessment.fragility.AdaptiveLevels, written in fragility.json's ``adaptive``; only the
 new levels run, the runs at the old ones are kept) for every parameter sample
-(statue2model.rocking.sampling.study_design, ``fragility_samples`` samples of one Latin hypercube:
+(:func:`study_design`, ``fragility_samples`` samples of one Latin hypercube:
 theta_R over the thesis' range, the restitution e_L, e_R x 0.95-1.05, alpha_L, alpha_R x 0.9-1.1, and
 the isolator's friction at its low and high bound, ``[isolator] mu_low`` / ``mu_high`` or mu times
 Table 25's spread, 0.0039 / 0.0073 and 0.0108 / 0.0073; Housner's model has no theta_R or alpha: e and mu only, said in the text) and run on a
@@ -51,6 +51,18 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..isolator.friction import friction_bounds
+from ..rocking.model import RockingModel
+from ..rocking.sampling import (
+    ALPHA_FACTOR,
+    E_FACTOR,
+    MU,
+    THESIS_THETA_R,
+    ParameterSamples,
+    check_count,
+    check_seed,
+    nominal,
+)
 from . import states
 from .states import BASES
 
@@ -179,14 +191,67 @@ def write_records(rd: Path, rs) -> None:
     write_json(rd / "set.json", {**rs.to_dict(), **set_files(rd, names)})
 
 
+E_RANGE = (0.95, 1.05)
+"""``e_factor`` range of the default study: +-5 % about the model's e_L, e_R, the scatter of the
+thesis' measured restitution about its mean (Table 23: e_R 0.911-0.947, e_L 0.909-0.992, mean
+0.924 and 0.963: -1.4/+2.5 % and -5.6/+3.0 %); capped at e = 1."""
+ALPHA_RANGE = (0.90, 1.10)
+"""``alpha_factor`` range of the default study (imperfect model): +-10 % about the config's
+alpha_L, alpha_R (Table 22 gives one identified value a side, no scatter: +-10 % is a stated
+assumption, the benchmarks' range 0.143-0.175 and 0.158-0.193 about 0.159 and 0.175); capped at 1."""
+
+
+def study_design(model: RockingModel, n: int, mu: float | None = None, mu_low: float | None = None,
+                 mu_high: float | None = None, seed: int = 0) -> ParameterSamples:
+    """The default fragility study's n samples (``method`` "lhs", ``seed``): one Latin hypercube
+    (scipy.stats.qmc, seeded) over, jointly,
+
+    * ``theta_R`` over the thesis' range THESIS_THETA_R x delta_R (imperfect model only);
+    * ``e_factor`` over E_RANGE (both sides' restitution, capped at 1);
+    * ``alpha_factor`` over ALPHA_RANGE (imperfect model only: Housner's has no alpha to reduce);
+    * ``mu`` (with an isolator, ``mu`` not None): the friction at its LOW and HIGH bound
+      (isolator/friction.py ``friction_bounds``), a two-level factor: the hypercube's column ranked, the lower
+      ceil(n / 2) ranks at mu_low, the others at mu_high (balanced, deterministic for a seed).
+
+    n = 1 is the model as it is (rocking.sampling ``nominal``, with ``mu`` as given): one sample varies nothing.
+
+    >>> from statue2model.geometry.rocking_params import RockingParams
+    >>> m = RockingModel.imperfect(RockingParams.rectangular_block(0.05, 0.25, 10.0), 0.5, 0.6)
+    >>> d = study_design(m, 8, mu=0.01, mu_low=0.008, mu_high=0.015)
+    >>> sorted(d.values), sorted(set(d.values["mu"].tolist())), int((d.values["mu"] == 0.008).sum())
+    (['alpha_factor', 'e_factor', 'mu', 'theta_R'], [0.008, 0.015], 4)
+    """
+    from scipy.stats import qmc
+
+    n = check_count(n, "number of samples")
+    seed = check_seed(seed)
+    if n == 1:
+        return nominal(1) if mu is None else ParameterSamples({MU: np.array([float(mu)])}, 1, "nominal", None)
+    ranges = {}
+    if model.kind == "imperfect":
+        d = model.params.delta_R
+        ranges["theta_R"] = (THESIS_THETA_R[0] * d, THESIS_THETA_R[1] * d)
+    ranges[E_FACTOR] = E_RANGE
+    if model.kind == "imperfect":
+        ranges[ALPHA_FACTOR] = ALPHA_RANGE
+    dims = len(ranges) + (mu is not None)
+    u = qmc.LatinHypercube(d=dims, seed=np.random.default_rng(seed)).random(n)
+    vals = {name: lo + (hi - lo) * u[:, j] for j, (name, (lo, hi)) in enumerate(ranges.items())}
+    if mu is not None:
+        lo, hi, _ = friction_bounds(mu, mu_low, mu_high)
+        rank = np.argsort(np.argsort(u[:, -1], kind="stable"), kind="stable")
+        vals[MU] = np.where(rank < (n + 1) // 2, lo, hi)
+    return ParameterSamples(vals, n, "lhs", seed)
+
+
 def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: float, executor=None,
               mu_low: float | None = None, mu_high: float | None = None, rounds: int = 3) -> StudyRun:
     """Run the study of the module docstring on the records ``rs`` matched to ``target``: the
-    parameter samples of rocking.sampling.study_design (``n_samples`` of them; the isolator's
+    parameter samples of :func:`study_design` (``n_samples`` of them; the isolator's
     friction at ``mu_low`` and ``mu_high``, None: mu times Table 25's spread), the coarse levels of
     ``levels_text`` and up to ``rounds`` rounds of adaptive levels (0: the coarse levels only),
     on a fixed base and on ``iso`` (or None)."""
-    from ..rocking.sampling import describe, friction_bounds, study_design
+    from ..rocking.sampling import describe
     from .fragility import AdaptiveLevels, FragilityStudy, run_fragility
 
     met = bool(rs.check()["met"])

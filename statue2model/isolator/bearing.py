@@ -57,7 +57,7 @@ that is data ("measured"), outside them an extrapolation; another ball size, ano
 beech fit of the same ball material), polymers and steel races (a constant from the literature) are
 assumptions ("assumed"), and :class:`FrictionEstimate` says which.
 The design verifies at the bounds mu x (MU_LOW_FACTOR, MU_HIGH_FACTOR)
-(statue2model.rocking.sampling.friction_bounds: Table 25's spread about its nominal value).
+(statue2model.isolator.friction.friction_bounds: Table 25's spread about its nominal value).
 
 Example
 -------
@@ -97,8 +97,7 @@ P0_RACE = 4.2e9
 S0_RACE = 2.0
 """ISO 76 / bearing catalogues: static safety factor where quiet running is required."""
 E_STEEL, NU_STEEL = 210e9, 0.3
-MU_LOW_FACTOR, MU_HIGH_FACTOR = 0.0039 / 0.0073, 0.0108 / 0.0073
-"""The friction bounds about the nominal mu (Table 25's spread; rocking.sampling.friction_bounds)."""
+from .friction import MU_HIGH_FACTOR, MU_LOW_FACTOR  # noqa: E402  (Table 25's spread: friction.friction_bounds)
 
 
 @dataclass(frozen=True)

@@ -529,7 +529,7 @@ def _context(statue, g, alpha, target, a_lim, a_lim_why, side_max, min_side, fus
         a_lim, why = target, f"target {target:.4f} m/s^2 (below the statue's limit)"
     given = None
     if mu is not None:
-        from ..rocking.sampling import friction_bounds
+        from .friction import friction_bounds
 
         lo, hi, _ = friction_bounds(mu)
         given = (mu, lo if mu_low is None else mu_low, hi if mu_high is None else mu_high)

@@ -112,3 +112,32 @@ def friction_from_record(t, u, T: float | None = None, g: float = G, min_fractio
     period = float(2 * np.mean(np.diff(pk_t)))
     res = identify_mu(pk_u, period if T is None else T, g=g)
     return FrictionIdentification(pk_t, pk_u, period, np.asarray(res["per_cycle"]), res["mean"], res["fitted"])
+
+
+MU_LOW_FACTOR, MU_HIGH_FACTOR = 0.0039 / 0.0073, 0.0108 / 0.0073
+"""Where the design gives no friction bounds: mu_low = mu x MU_LOW_FACTOR, mu_high = mu x
+MU_HIGH_FACTOR, the spread the thesis measured on its four-groove device (Table 25: 0.0039 to
+0.0108 about the nominal 0.0073; the same default as the isolator's time-history verification).
+The codes ask for bounds from the device's own tests (EN 15129 upper and lower design values,
+ASCE 7-16 17.2.8.4 lambda_min, lambda_max): set [isolator] mu_low and mu_high."""
+
+
+def friction_bounds(mu: float, mu_low: float | None = None, mu_high: float | None = None) -> tuple[float, float, str]:
+    """(mu_low, mu_high, where from) of an isolator of nominal friction ``mu``: the given bounds,
+    else mu x MU_LOW_FACTOR and mu x MU_HIGH_FACTOR (Table 25's spread; capped below 1). Refused
+    unless 0 <= mu_low <= mu <= mu_high < 1.
+
+    >>> [round(x, 4) for x in friction_bounds(0.0073)[:2]]          # Table 25: 0.0039 and 0.0108
+    [0.0039, 0.0108]
+    """
+    mu = float(mu)
+    src = "[isolator] mu_low, mu_high"
+    if mu_low is None or mu_high is None:
+        src = ("mu x 0.0039 / 0.0073 and mu x 0.0108 / 0.0073 (the spread of Table 25 about its nominal mu: the "
+               "design gives no bounds; EN 15129 and ASCE 7-16 17.2.8.4 ask for them from the device's tests)")
+        mu_low = mu * MU_LOW_FACTOR if mu_low is None else mu_low
+        mu_high = min(mu * MU_HIGH_FACTOR, 0.99) if mu_high is None else mu_high
+    lo, hi = float(mu_low), float(mu_high)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= mu <= hi < 1):
+        raise InputError(f"friction bounds must satisfy 0 <= mu_low <= mu <= mu_high < 1, got {lo:g}, {mu:g}, {hi:g}")
+    return lo, hi, src

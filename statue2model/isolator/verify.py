@@ -103,12 +103,12 @@ DEFINITIONS = {
 
 
 def friction_bounds(mu: float) -> tuple[float, float]:
-    """(mu_low, mu_high) by default: ``mu`` times Table 25's spread (rocking.sampling.friction_bounds).
+    """(mu_low, mu_high) by default: ``mu`` times Table 25's spread (isolator/friction.py friction_bounds).
 
     >>> [round(x, 4) for x in friction_bounds(0.0073)]
     [0.0039, 0.0108]
     """
-    from ..rocking.sampling import friction_bounds as bounds
+    from .friction import friction_bounds as bounds
 
     lo, hi, _ = bounds(mu)
     return lo, hi

@@ -355,7 +355,7 @@ def _uplift_band(ctx: Context):
 def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     """The dynamics stage's fragility study (assessment/study.py) on the design record set ``rs``:
     the isolator's friction at its bounds ([isolator] mu_low, mu_high; auto: mu times Table 25's
-    spread, rocking.sampling.friction_bounds), ``fragility_rounds`` rounds of adaptive
+    spread, isolator.friction.friction_bounds), ``fragility_rounds`` rounds of adaptive
     levels; writes fragility.json, .csv and .png (one panel per limit state, the design PGA marked)."""
     from ..assessment.study import run_study
     from ..report.fragility_plots import plot_fragility

@@ -14,10 +14,8 @@ the intensity measure and the motion the body feels).
 * :func:`lognormal_factor` - ``im_factor`` = exp(beta z), z at the n stratified
   normal quantiles of a Latin hypercube: a lognormal(0, beta) amplification.
 * :func:`nominal` - n copies of the model (nothing varied).
-* :func:`study_design` - the default fragility study's joint design (assessment/study.py):
-  a Latin hypercube over theta_R (the thesis' range, imperfect model), the restitution
-  (``e_factor``), the uplift reduction (``alpha_factor``, imperfect model) and the isolator's
-  friction at its two bounds (``mu``, low and high, EN 15129 / ASCE 7-16 17.2.8.4 practice).
+* the default fragility study's joint design over these names is assessment/study.py
+  ``study_design``; the isolator's friction bounds are isolator/friction.py ``friction_bounds``.
 
 Three more special names, not fields of a RockingModel: ``e_factor`` (> 0) multiplies both
 sides' restitution (every value of a velocity table; the result is capped at 1, so the
@@ -37,11 +35,6 @@ Example
 >>> f = lognormal_factor(0.3, 1000, seed=2).values["im_factor"]
 >>> round(float(np.log(f).std()), 3), round(float(np.median(f)), 3)    # dispersion 0.3, median 1
 (0.3, 1.0)
->>> from statue2model.geometry.rocking_params import RockingParams
->>> m = RockingModel.imperfect(RockingParams.rectangular_block(0.05, 0.25, 10.0), 0.5, 0.6)
->>> d = study_design(m, 8, mu=0.01, mu_low=0.008, mu_high=0.015)
->>> sorted(d.values), sorted(set(d.values["mu"].tolist())), int((d.values["mu"] == 0.008).sum())
-(['alpha_factor', 'e_factor', 'mu', 'theta_R'], [0.008, 0.015], 4)
 """
 from __future__ import annotations
 
@@ -63,20 +56,6 @@ FACTORS = (IM_FACTOR, E_FACTOR, ALPHA_FACTOR, MU)
 SAMPLEABLE = SWEEPABLE + FACTORS
 THESIS_THETA_R = (1.78e-2, 2.26e-2)
 """theta_R / delta_R range of the thesis' uncertainty sweep (Table 24, 49 values)."""
-E_RANGE = (0.95, 1.05)
-"""``e_factor`` range of the default study: +-5 % about the model's e_L, e_R, the scatter of the
-thesis' measured restitution about its mean (Table 23: e_R 0.911-0.947, e_L 0.909-0.992, mean
-0.924 and 0.963: -1.4/+2.5 % and -5.6/+3.0 %); capped at e = 1."""
-ALPHA_RANGE = (0.90, 1.10)
-"""``alpha_factor`` range of the default study (imperfect model): +-10 % about the config's
-alpha_L, alpha_R (Table 22 gives one identified value a side, no scatter: +-10 % is a stated
-assumption, the benchmarks' range 0.143-0.175 and 0.158-0.193 about 0.159 and 0.175); capped at 1."""
-MU_LOW_FACTOR, MU_HIGH_FACTOR = 0.0039 / 0.0073, 0.0108 / 0.0073
-"""Where the design gives no friction bounds: mu_low = mu x MU_LOW_FACTOR, mu_high = mu x
-MU_HIGH_FACTOR, the spread the thesis measured on its four-groove device (Table 25: 0.0039 to
-0.0108 about the nominal 0.0073; the same default as the isolator's time-history verification).
-The codes ask for bounds from the device's own tests (EN 15129 upper and lower design values,
-ASCE 7-16 17.2.8.4 lambda_min, lambda_max): set [isolator] mu_low and mu_high."""
 MAX_SAMPLES = 100_000
 
 
@@ -91,7 +70,7 @@ class ParameterSamples:
     seed: int | None = None
 
     def __post_init__(self):
-        n = _count(self.n_samples, "number of samples")
+        n = check_count(self.n_samples, "number of samples")
         for name, v in self.values.items():
             if name not in SAMPLEABLE:
                 raise InputError(f"cannot sample {name!r}; choose one of {', '.join(SAMPLEABLE)}")
@@ -154,7 +133,7 @@ class ParameterSamples:
                 "values": {k: np.asarray(v, dtype=float) for k, v in self.values.items()}}
 
 
-def _count(n, what: str) -> int:
+def check_count(n, what: str) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_SAMPLES:
         raise InputError(f"{what} must be a whole number in 1..{MAX_SAMPLES}, got {n!r}")
     return int(n)
@@ -172,7 +151,7 @@ def _range(name: str, lo, hi) -> tuple[float, float]:
     return lo, hi
 
 
-def _seed(seed) -> int:
+def check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a non-negative integer, got {seed!r}")
     return int(seed)
@@ -183,8 +162,8 @@ def latin_hypercube(ranges: dict, n: int, seed: int = 0) -> ParameterSamples:
     ``ranges`` = {name: (lo, hi)}, uniform in each range."""
     from scipy.stats import qmc
 
-    n = _count(n, "number of samples")
-    seed = _seed(seed)
+    n = check_count(n, "number of samples")
+    seed = check_seed(seed)
     if not ranges:
         raise InputError("a Latin hypercube needs at least one parameter range")
     rs = {name: _range(name, *r) for name, r in ranges.items()}
@@ -195,7 +174,7 @@ def latin_hypercube(ranges: dict, n: int, seed: int = 0) -> ParameterSamples:
 
 def grid(name: str, lo: float, hi: float, n: int) -> ParameterSamples:
     """n evenly spaced values of ``name`` from lo to hi (both included)."""
-    n = _count(n, "number of samples")
+    n = check_count(n, "number of samples")
     lo, hi = _range(name, lo, hi)
     return ParameterSamples({name: np.linspace(lo, hi, n)}, n, "grid", None)
 
@@ -211,8 +190,8 @@ def lognormal_factor(beta: float, n: int, seed: int = 0) -> ParameterSamples:
     n stratified samples of a lognormal with median 1 and dispersion ``beta``."""
     from scipy.stats import norm, qmc
 
-    n = _count(n, "number of samples")
-    seed = _seed(seed)
+    n = check_count(n, "number of samples")
+    seed = check_seed(seed)
     if not (math.isfinite(beta) and beta >= 0):
         raise InputError(f"dispersion beta must be >= 0, got {beta}")
     u = qmc.LatinHypercube(d=1, seed=np.random.default_rng(seed)).random(n)[:, 0]
@@ -221,65 +200,7 @@ def lognormal_factor(beta: float, n: int, seed: int = 0) -> ParameterSamples:
 
 def nominal(n: int = 1) -> ParameterSamples:
     """n samples of the model as it is (nothing varied)."""
-    return ParameterSamples({}, _count(n, "number of samples"), "nominal", None)
-
-
-def friction_bounds(mu: float, mu_low: float | None = None, mu_high: float | None = None) -> tuple[float, float, str]:
-    """(mu_low, mu_high, where from) of an isolator of nominal friction ``mu``: the given bounds,
-    else mu x MU_LOW_FACTOR and mu x MU_HIGH_FACTOR (Table 25's spread; capped below 1). Refused
-    unless 0 <= mu_low <= mu <= mu_high < 1.
-
-    >>> [round(x, 4) for x in friction_bounds(0.0073)[:2]]          # Table 25: 0.0039 and 0.0108
-    [0.0039, 0.0108]
-    """
-    mu = float(mu)
-    src = "[isolator] mu_low, mu_high"
-    if mu_low is None or mu_high is None:
-        src = ("mu x 0.0039 / 0.0073 and mu x 0.0108 / 0.0073 (the spread of Table 25 about its nominal mu: the "
-               "design gives no bounds; EN 15129 and ASCE 7-16 17.2.8.4 ask for them from the device's tests)")
-        mu_low = mu * MU_LOW_FACTOR if mu_low is None else mu_low
-        mu_high = min(mu * MU_HIGH_FACTOR, 0.99) if mu_high is None else mu_high
-    lo, hi = float(mu_low), float(mu_high)
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= mu <= hi < 1):
-        raise InputError(f"friction bounds must satisfy 0 <= mu_low <= mu <= mu_high < 1, got {lo:g}, {mu:g}, {hi:g}")
-    return lo, hi, src
-
-
-def study_design(model: RockingModel, n: int, mu: float | None = None, mu_low: float | None = None,
-                 mu_high: float | None = None, seed: int = 0) -> ParameterSamples:
-    """The default fragility study's n samples (``method`` "lhs", ``seed``): one Latin hypercube
-    (scipy.stats.qmc, seeded) over, jointly,
-
-    * ``theta_R`` over the thesis' range THESIS_THETA_R x delta_R (imperfect model only);
-    * ``e_factor`` over E_RANGE (both sides' restitution, capped at 1);
-    * ``alpha_factor`` over ALPHA_RANGE (imperfect model only: Housner's has no alpha to reduce);
-    * ``mu`` (with an isolator, ``mu`` not None): the friction at its LOW and HIGH bound
-      (:func:`friction_bounds`), a two-level factor: the hypercube's column ranked, the lower
-      ceil(n / 2) ranks at mu_low, the others at mu_high (balanced, deterministic for a seed).
-
-    n = 1 is the model as it is (:func:`nominal`, with ``mu`` as given): one sample varies nothing.
-    """
-    from scipy.stats import qmc
-
-    n = _count(n, "number of samples")
-    seed = _seed(seed)
-    if n == 1:
-        return nominal(1) if mu is None else ParameterSamples({MU: np.array([float(mu)])}, 1, "nominal", None)
-    ranges = {}
-    if model.kind == "imperfect":
-        d = model.params.delta_R
-        ranges["theta_R"] = (THESIS_THETA_R[0] * d, THESIS_THETA_R[1] * d)
-    ranges[E_FACTOR] = E_RANGE
-    if model.kind == "imperfect":
-        ranges[ALPHA_FACTOR] = ALPHA_RANGE
-    dims = len(ranges) + (mu is not None)
-    u = qmc.LatinHypercube(d=dims, seed=np.random.default_rng(seed)).random(n)
-    vals = {name: lo + (hi - lo) * u[:, j] for j, (name, (lo, hi)) in enumerate(ranges.items())}
-    if mu is not None:
-        lo, hi, _ = friction_bounds(mu, mu_low, mu_high)
-        rank = np.argsort(np.argsort(u[:, -1], kind="stable"), kind="stable")
-        vals[MU] = np.where(rank < (n + 1) // 2, lo, hi)
-    return ParameterSamples(vals, n, "lhs", seed)
+    return ParameterSamples({}, check_count(n, "number of samples"), "nominal", None)
 
 
 def describe(samples: ParameterSamples, model: RockingModel, mu_source: str | None = None) -> str:
