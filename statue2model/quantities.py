@@ -13,6 +13,9 @@ G           9.81 m/s^2: the g of an acceleration written '0.3g' (SPEC strings, g
 G_STANDARD  9.80665 m/s^2: standard gravity, the g of accelerogram files (PEER NGA) and of
             the codes' spectra
 
+These are the only places g is written: no other module types 9.81 or 9.80665
+(tests/test_states.py; a doctest may), so a printed 'g' is always G.
+
 Example
 -------
 >>> length("9mm"), length("0.5 mm"), length("9")

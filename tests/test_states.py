@@ -68,3 +68,22 @@ def test_the_registry_is_coherent():
     assert states.CLASSIFIED == ("full_contact", "overturning", "capacity")
     with pytest.raises(KeyError, match="unknown limit state 'uplift'"):
         states.get("uplift")
+
+
+def test_one_g_written_once():
+    """g is written in one place (statue2model/quantities.py: G for what the tool computes and prints,
+    G_STANDARD for accelerogram files in g and the codes' spectra); no module types 9.81 or 9.80665 in
+    its code (a doctest may). Issue [21]: reports printed g with either value."""
+    import re
+
+    hits = []
+    for p in sorted(ROOT.rglob("*.py")):
+        if p.name == "quantities.py":
+            continue
+        for k, line in enumerate(p.read_text(encoding="utf-8").splitlines(), start=1):
+            code = line.split("#", 1)[0]
+            if ">>>" in line or line.lstrip().startswith("..."):
+                continue
+            if re.search(r"(?<![\d.])9\.8(1|0665)(?!\d)", code) and '("kgf", 9.80665)' not in code:
+                hits.append(f"{p.relative_to(ROOT.parent)}:{k}")
+    assert not hits, f"use quantities.G or G_STANDARD: {hits}"

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..quantities import G  # m/s^2: the g every report prints
 from ..errors import InputError
 from .states import CURVE_LABELS as LABELS
 
@@ -325,11 +326,11 @@ def median_reason(cv) -> str | None:
         return None
     lv = np.asarray(cv.levels, dtype=float)[np.asarray(cv.n_trials) > 0]
     if cv.median < lv.min():
-        return (f"median not identified: the fit puts it at {cv.median / 9.80665:.3f} g, below the lowest level run "
-                f"({lv.min() / 9.80665:.3f} g)")
+        return (f"median not identified: the fit puts it at {cv.median / G:.3f} g, below the lowest level run "
+                f"({lv.min() / G:.3f} g)")
     if cv.median > lv.max():
-        return (f"median not identified: the fit puts it at {cv.median / 9.80665:.3f} g, above the highest level run "
-                f"({lv.max() / 9.80665:.3f} g)")
+        return (f"median not identified: the fit puts it at {cv.median / G:.3f} g, above the highest level run "
+                f"({lv.max() / G:.3f} g)")
     return None
 
 
@@ -356,13 +357,13 @@ def spread_reason(cv, confidence: float = 0.90) -> str | None:
         with np.errstate(invalid="ignore", divide="ignore"):
             frac = np.where(nt > 0, zf / np.maximum(nt, 1), np.nan)
         below, above = lv[frac == 0], lv[frac >= 1]
-        gap = (f" (from none at {below.max() / 9.80665:.3f} g to all at {above.min() / 9.80665:.3f} g)"
+        gap = (f" (from none at {below.max() / G:.3f} g to all at {above.min() / G:.3f} g)"
                if below.size and above.size else "")
         return f"spread not identified: the failures jump between adjacent levels{gap}; beta is not known"
     if partial < MIN_PARTIAL:
         at = lv[(zf > 0) & (zf < nt)]
         return (f"spread not identified: {partial} level with a partial fraction of failures (at "
-                f"{at[0] / 9.80665:.3f} g), {MIN_PARTIAL} are needed (with one, a step through it fits "
+                f"{at[0] / G:.3f} g), {MIN_PARTIAL} are needed (with one, a step through it fits "
                 "best); beta is not known")
     if cv.status == "step":
         return "spread not identified: the best fit is a step (beta at its floor); beta is not known"

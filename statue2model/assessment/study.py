@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..quantities import G  # m/s^2: the g every report prints
 from ..errors import InputError
 from ..isolator.friction import friction_bounds
 from ..rocking.model import RockingModel
@@ -330,7 +331,7 @@ def fragility_data(res, pga: float, isolated: bool) -> dict:
 
 def _range_text(levels) -> str:
     lv = np.asarray(levels, dtype=float)
-    return f"{lv.min() / 9.80665:.3f}-{lv.max() / 9.80665:.3f} g" if lv.size else "no level"
+    return f"{lv.min() / G:.3f}-{lv.max() / G:.3f} g" if lv.size else "no level"
 
 
 def curve_entry(cv, pga: float) -> dict:

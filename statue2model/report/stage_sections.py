@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..quantities import G  # m/s^2: the g every report prints
+
 
 def fig(path: str, caption: str) -> dict:
     """A figure entry of a manifest: ``path`` relative to the stage folder."""
@@ -116,7 +118,7 @@ def isolator_section(res) -> dict:
     if res.passed and tail and not tail.get("dominates"):
         n = len(tail.get("fixed_sorted") or [])
         warnings.append(f"The device keeps its failure median at or beyond where half the design records overturn the "
-                        f"statue without it, but not its lower tail: from {tail['worse_from'] / 9.81:.3f} g "
+                        f"statue without it, but not its lower tail: from {tail['worse_from'] / G:.3f} g "
                         f"{tail['device_fails']} of {n} records pass the device's travel capacity while "
                         f"{tail['fixed_fails']} overturn the statue on a fixed base (a larger plate or more friction "
                         "would close it).")
@@ -150,7 +152,7 @@ def isolator_section(res) -> dict:
         text.append(f"Verified by time histories ({v['model']}) on {len(v.get('sets') or [])} record sets of "
                     f"{rec['count']} records: the {v['statistic']} over each set, every record at mu_low "
                     f"{v['mu_low']:.4g} and mu_high {v['mu_high']:.4g}. Collapse level: {v['slc']['rule']}. "
-                    + (f"Reserve: {v['reserve']['rule']} (here {v['reserve']['pga'] / 9.81:.3f} g, "
+                    + (f"Reserve: {v['reserve']['rule']} (here {v['reserve']['pga'] / G:.3f} g, "
                        f"{v['reserve']['pga_over_design']:.2f} x the design PGA)." if v.get("reserve") else "")
                     + " Margins: " + "; ".join(f"{k}: {d}" for k, d in v["definitions"].items()) + ".")
         tables.append({"title": "The record sets the device holds on",

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..quantities import G  # m/s^2: the g every report prints
 from .plots import _pyplot
 
 
@@ -61,7 +62,7 @@ def write_validation_page(result: dict, path, folder) -> Path:
     text = [f"Specimen {sp['scan']}: {sp['mass']:.2f} kg, the table's axis at {sp['direction_deg']:g} deg; along it "
             f"h {sp['h']:.4f} m, b_L {sp['b_L']:.4f} m, b_R {sp['b_R']:.4f} m (where the rays from G' leave the "
             f"footprint; obliquity {sp['obliquity_L']:.1f} / {sp['obliquity_R']:.1f} deg), uplift a_L "
-            f"{sp['a_L'] / 9.81:.3f} g, a_R {sp['a_R'] / 9.81:.3f} g.",
+            f"{sp['a_L'] / G:.3f} g, a_R {sp['a_R'] / G:.3f} g.",
             f"Contact: alpha {ct['alpha']:g}, restitution x {ct['e_factor']:g} ({ct['source']}). {result['decision']}."]
     if result.get("identification"):
         idn = result["identification"]
