@@ -295,3 +295,44 @@ def test_an_object_that_may_slide_is_unknown_not_the_worst(results):
     rows = rank([object_row(box), object_row(tips)])
     assert [r["object"] for r in rows] == ["tips", "squat_box"]
     assert rows[1]["state"] == "slides" and "risk is unknown" in TIER_TEXT["slides"]
+
+
+def test_values_weight_the_ranking_as_risk_times_value(results):
+    """[values] (issue [21]): the assessed objects ranked by risk x value, the unassessed first; an object
+    without a value counts at the largest; the page states the rule."""
+    from statue2model.assessment.collection import VALUE_RULE
+    from statue2model.report.collection_page import render_collection_page
+
+    rows = [object_row(r, "/museum/out") for r in results]
+    # 'some' (lifts in some records, P(overturn) 1e-20) is worth far more than the others
+    valued = rank([{**r, "value": 1e6 if r["object"] == "some" else 1.0} for r in rows])
+    assert [r["object"] for r in valued][:2] == ["broken", "noparams"]           # not assessed: still first
+    by = {r["object"]: r for r in valued}
+    assert by["tips"]["risk_x_value"] == pytest.approx(0.30 * 1.0)               # P(overturn) 0.30 x 1
+    assert by["lifter2"]["risk_x_value"] == pytest.approx(1e-5)
+    assert by["some"]["risk_x_value"] == pytest.approx(1e-20 * 1e6)
+    assert [r["object"] for r in valued][2] == "tips"                          # 0.30 > every other product
+    # without a value an object counts at the largest given: here all but one have none
+    one = rank([{**r, "value": 2.0} if r["object"] == "tips" else r for r in rows])
+    assert {r["object"]: r["risk_x_value"] for r in one}["lifter"] == pytest.approx(1e-5 * 2.0)
+    page = render_collection_page(valued, summary(valued), title="museum")
+    assert VALUE_RULE.split(":")[0] in page and "value 1e+06" in page
+
+
+def test_the_values_table_is_read_and_checked():
+    from statue2model.errors import InputError
+    from statue2model.pipeline.config import load_config_text
+    from statue2model.pipeline.rooms import check_scans, value_of
+
+    cfg = load_config_text('[values]\n"maria_*" = 2\n"maria_b.ply" = 5.5\n"ghost.stl" = 1\n')
+    assert value_of(cfg, "maria_b.ply") == 5.5 and value_of(cfg, "maria_x.ply") == 2.0
+    assert value_of(cfg, "dancing_girl.ply") is None
+    assert check_scans(cfg, ["maria_b.ply"]) == ['[values] "ghost.stl" matches no scan of the folder']
+    assert "[values]" in cfg.to_toml() and load_config_text(cfg.to_toml()).values == cfg.values
+    for bad, words in (('"a" = 0', "give a number > 0"), ('"a" = "high"', "give a number > 0"),
+                       ('"a/b.stl" = 1', "not a path")):
+        with pytest.raises(InputError, match=words):
+            load_config_text("[values]\n" + bad + "\n")
+    two = load_config_text('[values]\n"m*" = 1\n"ma*" = 2\n')
+    with pytest.raises(InputError, match="gets 1 from"):
+        value_of(two, "maria.ply")

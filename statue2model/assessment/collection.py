@@ -373,9 +373,45 @@ def rank_key(row: dict) -> tuple:
             _desc(row.get("governing_fixed_ratio")), str(row.get("object", "")))
 
 
+def risk_today(row: dict) -> float:
+    """The risk the value weighs (:data:`VALUE_RULE`): P(overturning at the design PGA, fixed base); where
+    it is not known, 1 for an object that overturns, lifts or may slide at the design level (conservative),
+    else P(uplift) or 0.5 when that is not known either."""
+    p = _finite(row.get("p_overturning_fixed"))
+    if p is not None:
+        return p
+    if row.get("state") in ("overturns", "lifts", "slides"):
+        return 1.0
+    u = _finite(row.get("p_full_contact_fixed"))
+    return 0.5 if u is None else u
+
+
+VALUE_RULE = ("With values ([values] in the project file): the assessed objects are ranked by risk x value, "
+              "largest first (risk: the probability of overturning at the design PGA on a fixed base; where it "
+              "is not known, 1 for an object that overturns, lifts or may slide, else the probability of uplift); "
+              "an object without a value counts at the largest value given; ties by the rule above. Objects not "
+              "assessed stay first.")
+
+
 def rank(rows: list[dict]) -> list[dict]:
-    """The rows most urgent first by :data:`RANKING_RULE`, each a copy with ``rank`` 1..n."""
-    return [{**r, "rank": i} for i, r in enumerate(sorted(rows, key=rank_key), start=1)]
+    """The rows most urgent first by :data:`RANKING_RULE` or, when any row has a ``value``, by risk x value
+    (:data:`VALUE_RULE`), each a copy with ``rank`` 1..n (and ``risk_x_value`` when values are given)."""
+    values = [v for v in (_finite(r.get("value")) for r in rows) if v is not None and v > 0]
+    if not values:
+        return [{**r, "rank": i} for i, r in enumerate(sorted(rows, key=rank_key), start=1)]
+    top = max(values)
+
+    def weighted(r):
+        v = _finite(r.get("value"))
+        return risk_today(r) * (top if v is None or v <= 0 else v)
+
+    def key(r):
+        base = rank_key(r)
+        return (0, 0.0, *base) if not r.get("assessed") else (1, -weighted(r), *base)
+    out = []
+    for i, r in enumerate(sorted(rows, key=key), start=1):
+        out.append({**r, "rank": i, "risk_x_value": weighted(r) if r.get("assessed") else None})
+    return out
 
 
 def _code(verdict: dict) -> str:
@@ -427,6 +463,7 @@ def summary(rows: list[dict]) -> dict:
 
 CSV_COLUMNS = (
     ("rank", "rank"), ("object", "object"), ("scan", "scan"), ("room", "room"), ("floor", "floor"),
+    ("value", "value (the user's)"), ("risk_x_value", "risk x value"),
     ("assessed", "assessed"),
     ("reason", "not assessed because"), ("status", "status"), ("code", "recommendation code"),
     ("headline", "recommendation"), ("recommendation", "reasoning"),

@@ -19,6 +19,8 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
              (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
              an upper floor takes the floor spectrum of the Circolare / EC8, hazard/floor.py)
 [rooms.NAME] the [building] keys of one room that differ from [building] (floor = 2, ...)
+[values]     scan file name (or its stem, or a pattern) = the object's value > 0: the collection
+             ranks by risk x value (pipeline/rooms.py value_of)
 [objects]    scan file name (or its stem, or a pattern: "maria_*") = a room name, or inline
              [building] keys ({ floor = 1 }): each scan of a folder on its own floor
              (pipeline/rooms.py; an exact name wins over a pattern)
@@ -282,6 +284,9 @@ class ProjectConfig:
     # ((scan name or pattern, room name or ((key, value), ...)), ...); values as [building]'s
     rooms: tuple = ()
     objects: tuple = ()
+    # [values] (pipeline/rooms.py value_of): ((scan name or pattern, the user's value > 0), ...): the
+    # collection ranks by risk x value when given; no stage reads it
+    values: tuple = ()
     source: str | None = None
 
     def section(self, name: str) -> dict:
@@ -302,6 +307,8 @@ class ProjectConfig:
             out["rooms"] = {name: dict(keys) for name, keys in self.rooms}
         if self.objects:
             out["objects"] = {k: v if isinstance(v, str) else dict(v) for k, v in self.objects}
+        if self.values:
+            out["values"] = dict(self.values)
         return out
 
     def to_toml(self) -> str:
@@ -323,6 +330,8 @@ class ProjectConfig:
         if "objects" in table:
             data["objects"] = {k: v if isinstance(v, str) else {kk: clean(vv) for kk, vv in v.items()}
                                for k, v in table["objects"].items()}
+        if "values" in table:
+            data["values"] = dict(table["values"])
         data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
         data["isolator"]["prices"] = {k: v for k, v in self.isolator.prices}   # [isolator.prices]
         for sec, key in _ACCELS:                # accelerations with their unit, as the user writes them
@@ -494,6 +503,27 @@ def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tup
     return tuple(sorted(room_rows)), tuple(sorted(object_rows, key=lambda row: row[0]))   # file order is no meaning
 
 
+def parse_values(values, where: str = "project file") -> tuple:
+    """The ``[values]`` table (scan file name, its stem or a pattern = the user's value of the object, a
+    number > 0: a price, an insured value or a 1-5 importance) as ProjectConfig's ``values``, sorted."""
+    if values is None:
+        return ()
+    if not isinstance(values, dict):
+        raise InputError(f"{where}: values must be a table [values] of scan name = a number > 0")
+    rows = []
+    for key, value in values.items():
+        _check_name("[values] key", key, where)
+        if "/" in key or "\\" in key:
+            raise InputError(f"{where}: [values] {_label(key)}: a key is a scan's file name or a pattern on it, "
+                             "not a path")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0) \
+                or value > 1e15:
+            raise InputError(f"{where}: [values] {_label(key)} = {str(value)[:40]!s}: give a number > 0 (a price, an "
+                             "insured value or an importance; at most 1e15)")
+        rows.append((key, float(value)))
+    return tuple(sorted(rows))
+
+
 def check_rooms(cfg: ProjectConfig, where: str = "project file") -> None:
     """Every room and inline table of ``cfg`` checked as ``[building]`` is (the floor
     spectrum can be built), and every room named in ``[objects]`` defined."""
@@ -522,9 +552,10 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{where} is not valid TOML: {exc}") from None
     kw = dict(zip(("rooms", "objects"), parse_rooms(data.pop("rooms", None), data.pop("objects", None), where)))
+    kw["values"] = parse_values(data.pop("values", None), where)
     for sec, table in data.items():
         if sec not in SECTIONS:
-            known = [*SECTIONS, "rooms", "objects"]
+            known = [*SECTIONS, "rooms", "objects", "values"]
             near = difflib.get_close_matches(sec, known, 1)
             hint = f" (did you mean [{near[0]}]?)" if near else f" (sections: {', '.join(known)})"
             raise InputError(f"{where}: unknown section [{sec}]{hint}")
@@ -850,4 +881,7 @@ ROOMS_EXAMPLE = """
 # [objects]                         # scan file name, its stem or a pattern -> a room, or [building] keys
 # "maria_*" = "gallery_2"
 # "dancing_girl.ply" = { floor = 1 }
+#
+# [values]                          # optional: the object's value (a price, or an importance 1-5):
+# "dancing_girl.ply" = 5            # the collection ranks by risk x value
 """

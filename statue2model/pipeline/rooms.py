@@ -112,14 +112,38 @@ def room_of(cfg: ProjectConfig, scan_name: str) -> tuple[str | None, str | None,
     return None, k0, dict(v0)
 
 
+def value_of(cfg: ProjectConfig, scan_name: str) -> float | None:
+    r"""The user's value of the scan named ``scan_name`` from ``[values]`` (matched as [objects]' keys: an
+    exact name wins over a pattern; two patterns that give different values are an InputError naming
+    both), None when no key matches.
+
+    >>> from statue2model.pipeline.config import load_config_text
+    >>> cfg = load_config_text('[values]\n"maria_*" = 2\n"maria_b.ply" = 5\n')
+    >>> value_of(cfg, "maria_b.ply"), value_of(cfg, "maria_a.ply"), value_of(cfg, "nefertiti.obj")
+    (5.0, 2.0, None)
+    """
+    scan_name = str(scan_name).replace("\\", "/").rsplit("/", 1)[-1]
+    hits = [(k, v) for k, v in getattr(cfg, "values", ()) if _matches(k, scan_name)]
+    exact = [(k, v) for k, v in hits if not any(c in k for c in WILDCARDS)]
+    hits = exact or hits
+    if not hits:
+        return None
+    (k0, v0), *rest = hits
+    for k, v in rest:
+        if v != v0:
+            raise InputError(f"[values]: scan {scan_name!r} gets {v0:g} from {_label(k0)} and {v:g} from "
+                             f"{_label(k)}; keep one, or name the scan exactly")
+    return v0
+
+
 def config_for(cfg: ProjectConfig, scan_name: str) -> ProjectConfig:
     """The configuration of one object: ``[building]`` updated with the keys of the room (or inline
     table) ``[objects]`` places the scan ``scan_name`` in, and ``rooms``/``objects`` dropped (applied).
     ``cfg`` itself when the table is empty; a scan no key matches keeps ``[building]``."""
-    if not cfg.objects and not cfg.rooms:
+    if not cfg.objects and not cfg.rooms and not getattr(cfg, "values", ()):
         return cfg
     _, _, keys = room_of(cfg, scan_name)
-    return replace(cfg, building=replace(cfg.building, **keys), rooms=(), objects=())
+    return replace(cfg, building=replace(cfg.building, **keys), rooms=(), objects=(), values=())
 
 
 def object_placement(cfg: ProjectConfig, scan_name: str) -> dict:
@@ -133,7 +157,7 @@ def object_placement(cfg: ProjectConfig, scan_name: str) -> dict:
     hz = site(one)
     b = one.building
     return {"room": room, "key": key, "floor": b.floor, "storeys": b.storeys, "height": b.height,
-            "on_floor": bool(hz.on_floor), "pga_g": hz.pga / G}
+            "on_floor": bool(hz.on_floor), "pga_g": hz.pga / G, "value": value_of(cfg, scan_name)}
 
 
 def where_text(place: dict) -> str:
@@ -165,5 +189,8 @@ def check_scans(cfg: ProjectConfig, scan_names) -> list[str]:
     names = [str(n).replace("\\", "/").rsplit("/", 1)[-1] for n in scan_names]
     for n in names:
         room_of(cfg, n)
-    return [f"[objects] {_label(k)} matches no scan of the folder" for k, _ in cfg.objects
+    for n in names:
+        value_of(cfg, n)
+    return [f"[{table}] {_label(k)} matches no scan of the folder" for table, rows in
+            (("objects", cfg.objects), ("values", getattr(cfg, "values", ()))) for k, _ in rows
             if not any(_matches(k, n) for n in names)]

@@ -370,7 +370,7 @@ def _run_collection(folder, out: Path, config, scans, *, stages, force, executor
     objects = []
     for r in rows:
         o, place = object_row(r, out), places[r["scan"]]
-        o.update(room=place.get("room"), floor=place.get("floor"), where=where_text(place))
+        o.update(room=place.get("room"), floor=place.get("floor"), where=where_text(place), value=place.get("value"))
         objects.append(o)
     ranked = rank(objects)
     summ = collection_summary(ranked)

@@ -41,7 +41,7 @@ import os
 from pathlib import Path
 from urllib.parse import quote
 
-from ..assessment.collection import NOT_ASSESSED, RANKING_RULE, TIER_TEXT, TIERS
+from ..assessment.collection import NOT_ASSESSED, RANKING_RULE, TIER_TEXT, TIERS, VALUE_RULE
 from ..assessment.verdict import finite_number as _num
 from ..io.files import atomic_write
 from ..version import __version__
@@ -223,6 +223,9 @@ def _row_html(r: dict) -> str:
     st_cls = {"ok": "st-ok", "warn": "st-warn", "fail": "st-fail"}.get(status, "st-na")
     state = r.get("state") if r.get("state") in TIERS else NOT_ASSESSED
     where = str(r.get("where") or "-")
+    if _num(r.get("value")) is not None:
+        where += f"; value {_num(r.get('value')):g}" + (f", risk x value {_num(r.get('risk_x_value')):.3g}"
+                                                        if _num(r.get("risk_x_value")) is not None else "")
     cells = [_td(str(r.get("rank", "")), r.get("rank"), "num"), _td(obj, name, "obj", raw=True),
              _td(where, where), _td(status, STATUS_ORDER.index(status), st_cls)]
     if not assessed:
@@ -286,6 +289,7 @@ def render_collection_page(rows: list[dict], summary: dict, *, title: str, confi
         f"each name opens the object's report. statue2model {_esc(__version__)}.</p></header>",
         f'<div class="tiles" id="summary">{summ}</div>',
         f'<div class="rule" id="ranking-rule"><h2>How the objects are ranked</h2><p>{_esc(RANKING_RULE)}</p>'
+        + (f"<p>{_esc(VALUE_RULE)}</p>" if any(_num(r.get("value")) is not None for r in rows) else "") +
         "<p>P: the fragility study's probability at the design PGA; in brackets, its band from the confidence "
         "interval of the fitted median. Demand/capacity: the largest over the limit states at the design level "
         "(mean over the design records); &gt; 1 means the limit state is exceeded.</p></div>",
