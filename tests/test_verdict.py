@@ -333,3 +333,19 @@ def test_on_a_floor_the_design_pga_is_one_number(tmp_path):
     assert v["hazard"]["on_floor"] and v["hazard"]["pga"] > v["hazard"]["ground_pga"]
     assert "ground PGA" in v["lines"][0] and "the design PGA at the object" in v["lines"][0]
     _plain(v)
+
+
+def test_a_headline_never_passes_forty_words():
+    """Every code with every detail at its longest (a long limit-state title, long reasons, 7 of 7 records
+    lifting and overturning, a price and a margin): at most 40 words, details dropped in order."""
+    from statue2model.assessment.recommendation import MAX_WORDS, Code, Facts, headline, words
+    from statue2model.assessment.verdict import REASONS
+
+    longest = max(REASONS.values(), key=words)
+    f = Facts(pga=2.8, uplift=1.4, n=7, k_lift=7, k_over=7, cost=123456.0, travel_margin=0.22,
+              iso_governing="rocking without overturning", iso_k=7, reason=longest + " " + longest)
+    for code in Code:
+        h = headline(code, f)
+        assert words(h) <= MAX_WORDS, (code, words(h), h)
+    iso = headline(Code.ISOLATE, Facts(n=7, k_lift=6, cost=9011.0, travel_margin=0.22))
+    assert "about 9011 EUR" in iso and "22 % travel to spare" in iso                # fits: every detail kept

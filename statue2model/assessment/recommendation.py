@@ -149,34 +149,48 @@ def _s(k) -> str:
     return "s" if k == 1 else ""
 
 
+MAX_WORDS = 40
+"""A headline's longest: the optional details (the price, the margin, the overturn count, the reason)
+are dropped, in that order, until it fits."""
+
+
 def headline(code, f: Facts) -> str:
-    """One plain sentence (at most 40 words, no formula, no config key): what to do and why, in the
-    terms of the governing limit state."""
+    """One plain sentence (at most :data:`MAX_WORDS` words, no formula, no config key): what to do and
+    why, in the terms of the governing limit state. The bullets carry every number it drops."""
     code = Code(code)
+    for detail in range(4, -1, -1):          # 4: every detail, 0: none
+        text = _headline(code, f, detail)
+        if words(text) <= MAX_WORDS:
+            return text
+    return text
+
+
+def _headline(code: Code, f: Facts, detail: int) -> str:
+    """The headline with ``detail`` optional parts kept (4: all; module docstring of MAX_WORDS)."""
     act = CODES[code].action
     lifts = (f"without it, {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it" if f.n and f.k_lift is not None
              else "without it, the design earthquake lifts it")
-    over = f" and {f.k_over} overturn{_s(f.k_over)} it" if f.n and f.k_over else ""
+    over = f" and {f.k_over} overturn{_s(f.k_over)} it" if f.n and f.k_over and detail >= 2 else ""
     if code is Code.NO_ISOLATOR:
         where = f"in all {f.n} design records" if f.n else "under the design earthquake's peak ground acceleration"
         return f"{act}: on its own base it stays in full contact under the design earthquake, {where}."
     if code is Code.NO_ISOLATOR_BUT_RECORDS_LIFT:
         return (f"{act}: the code's check holds on average, but {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it "
                 f"on {'its' if f.k_lift == 1 else 'their'} own" + (f" and {f.k_over} overturn{_s(f.k_over)} it"
-                                                                   if f.k_over else "") + ".")
+                                                                   if f.k_over and detail >= 2 else "") + ".")
     if code is Code.ISOLATE:
-        cost = f" (about {f.cost:.0f} EUR)" if f.cost else ""
+        cost = f" (about {f.cost:.0f} EUR)" if f.cost and detail >= 4 else ""
         margin = (f", with {_pct(f.travel_margin)} travel to spare" if f.travel_margin is not None
-                  and f.travel_margin >= 0 else "")
+                  and f.travel_margin >= 0 and detail >= 3 else "")
         return (f"{act}: on the designed device{cost} it stays in full contact under the design earthquake"
                 f"{margin}; {lifts}{over}.")
     if code is Code.DEVICE_DOES_NOT_PROTECT:
         what = f.iso_governing or "a limit state"
-        recs = f" in {_records(f.iso_k, f.n)}" if f.n and f.iso_k else ""
+        recs = f" in {_records(f.iso_k, f.n)}" if f.n and f.iso_k and detail >= 1 else ""
         return f"{act}: on it, {what} is exceeded{recs}; {lifts}{over}."
     if code is Code.NO_DEVICE_IN_RANGE:
-        why = f" ({f.reason})" if f.reason else ""
-        return f"{act}{why}; {lifts}{over}: a restraint or a specialist's device is needed."
+        why = f" ({f.reason})" if f.reason and detail >= 1 else ""
+        return f"{act}{why}; {lifts}{over}: restrain it, or have a specialist's device made."
     if code is Code.RUN_ISOLATOR_STAGE:
         return f"{act}: {lifts[len('without it, '):]}{over}, and this run designed no isolator."
     if code is Code.RUN_ISOLATED_DYNAMICS:
