@@ -5,7 +5,8 @@ independent ones, side by side: run time and the error of the peak sliding displ
 
 * ours     statue2model.rocking.sliding.simulate_sliding: closed-form onsets and stops on the
            record's own samples (no time step);
-* fine     the same stick-slip law in fixed steps of 2e-5 s (trapezoid), pure Python;
+* fine     the same stick-slip law in fixed steps of 2e-5 s (trapezoid), pure Python
+           (tests/test_sliding.py fine_step_sliding);
 * scipy    scipy.integrate.solve_ivp (RK45, rtol 1e-10, atol 1e-12, max_step 1e-3) phase by phase,
            with a stop event (u' = 0) while sliding and an onset event (|a_g| = mu_s g) while stuck.
 
@@ -22,33 +23,16 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from statue2model.hazard import motions  # noqa: E402
 from statue2model.quantities import G  # noqa: E402
 from statue2model.rocking.sliding import Friction, simulate_sliding  # noqa: E402
+from test_sliding import fine_step_sliding  # noqa: E402  (the tests' independent integrator)
 
 
 def fine(friction, motion, dt):
-    t = np.arange(0.0, motion.end + 3.0, dt)
-    a = motion.acc(t)
-    mus, c = friction.mu_s * G, friction.mu_k * G
-    u = v = umax = 0.0
-    for ak in a.tolist():
-        if v == 0.0:
-            if abs(ak) <= mus:
-                continue
-            s = -math.copysign(1.0, ak)
-        else:
-            s = math.copysign(1.0, v)
-        vn = v - (ak + s * c) * dt
-        if v != 0.0 and vn * v <= 0.0:
-            u += v * dt / 2
-            v = 0.0
-        else:
-            u += (v + vn) * dt / 2
-            v = vn
-        umax = max(umax, abs(u))
-    return umax
+    return fine_step_sliding(friction, motion, dt)[0]
 
 
 def scipy_phases(friction, motion):

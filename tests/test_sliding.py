@@ -31,14 +31,15 @@ def test_below_the_static_friction_nothing_moves():
     assert not r.slides and r.u_max == 0.0 and r.n_slides == 0
 
 
-def _fine(friction, motion, dt=2e-5):
-    """An independent integrator: fixed small steps of the same stick-slip law (no closed form)."""
+def fine_step_sliding(friction, motion, dt=2e-5):
+    """An independent integrator: fixed small steps of the same stick-slip law (no closed form); (peak
+    |u|, final u). benchmarks/bench_sliding.py times it beside ours."""
     t = np.arange(0.0, motion.end + 3.0, dt)
     a = motion.acc(t)
     mus, c = friction.mu_s * G, friction.mu_k * G
     u = v = 0.0
     umax = 0.0
-    for ak in a:
+    for ak in a.tolist():
         if v == 0.0:
             if abs(ak) <= mus:
                 continue
@@ -60,7 +61,7 @@ def test_a_record_against_an_independent_fine_step_integrator():
     rec = motions.synthetic_record(duration=8.0, dt=0.01, pga=0.45 * G, seed=3)
     f = Friction(0.3, 0.25)
     r = simulate_sliding(f, rec)
-    umax, uend = _fine(f, rec)
+    umax, uend = fine_step_sliding(f, rec)
     assert r.slides and r.n_slides >= 2
     assert r.u_max == pytest.approx(umax, rel=2e-3, abs=1e-5) and r.u_end == pytest.approx(uend, rel=2e-3, abs=1e-5)
 

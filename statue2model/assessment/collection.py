@@ -195,7 +195,9 @@ NO_DEVICE = {"friction": "it lifts below the balls' own rolling resistance (rest
 """The device column's words for the kind of reason no design passes (isolator.design.what_would_pass)."""
 
 
-def _device(verdict: dict, data: dict) -> dict:
+def _device(verdict: dict, data: dict, code: str = "") -> dict:
+    """The row's device columns (:func:`object_row`) of the verdict's isolator and the recommendation
+    ``code``: a body that slides before it rocks has none that applies (no plates, no cost)."""
     iso = verdict.get("isolated") or {}
     if not iso:
         why = "the isolator stage did not run" if not data.get("isolator") else "no design"
@@ -203,6 +205,9 @@ def _device(verdict: dict, data: dict) -> dict:
                 "n_grooves": None, "T": None, "device_note": ""}
     R, r, T = _finite(iso.get("R")), _finite(iso.get("r")), _finite(iso.get("T"))
     n = iso.get("n_grooves") if isinstance(iso.get("n_grooves"), int) else None
+    if code == Code.SLIDES.value:
+        return {"device_state": "not applicable", "device": "not applicable: it slides before it rocks", "R": R,
+                "r": r, "n_grooves": n, "T": T, "device_note": str(iso.get("what_would_pass") or "")}
     geo = (f"R {R:.2f} m" if R is not None else "R -") + (f", r {r * 1000:.1f} mm" if r is not None else "") \
         + (f", {n} grooves" if n is not None else "") + (f", T {T:.2f} s" if T is not None else "")
     if iso.get("passed"):
@@ -347,11 +352,7 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     row["weakest_deg"] = _finite(params.get("weakest_deg"))
     for k in ("m", "h", "b_L", "b_R"):
         row[k] = _finite(params.get(k))
-    row.update(_device(verdict, data))
-    if row["code"] == Code.SLIDES.value and row["device_state"] != "not designed":
-        # the isolator does not apply to a body that slides before it rocks: no plates, no cost
-        row.update(device_state="not applicable", device="not applicable: it slides before it rocks",
-                   device_note=str((verdict.get("isolated") or {}).get("what_would_pass") or ""))
+    row.update(_device(verdict, data, row["code"]))
     sheets = (data.get("prototype") or {}).get("n_sheets")
     row["sheets"] = sheets if isinstance(sheets, int) and not isinstance(sheets, bool) else None
     row["doubts"] = _doubts(verdict, data)

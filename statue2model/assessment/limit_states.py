@@ -74,6 +74,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import states
+from .records import field_number
 
 LIMIT_STATES = states.IDS
 """The rows of a base, in the order the damage grows (``first_exceeded`` follows it): the registry's
@@ -99,19 +100,6 @@ def _num(x) -> float | None:
         return None
     x = float(x)
     return x if math.isfinite(x) else None
-
-
-def _f(d: dict, key: str, where: str, optional: bool = True) -> float | None:
-    """d[key] as a float: None (or a missing key) stays None where ``optional``, a non-number is an
-    InputError naming ``where`` and the key (a record read back from a file is input)."""
-    x = d.get(key)
-    if x is None:
-        if optional:
-            return None
-        raise InputError(f"{where}: {key} is missing")
-    if isinstance(x, bool) or not isinstance(x, (int, float)):
-        raise InputError(f"{where}: {key} must be a number, got {x!r:.40}")
-    return _num(x)
 
 
 def _nan(x: float | None) -> float:
@@ -157,8 +145,8 @@ class FixedRecord:
         .to_dict() == r.to_dict()``)."""
         d = _mapping(d, "fixed-base record")
         w = f"fixed-base record {d.get('label')!r:.40}"
-        return cls(str(d.get("label", "")), _nan(_f(d, "pga_pos", w)), _nan(_f(d, "pga_neg", w)),
-                   bool(d.get("uplift")), _f(d, "t_uplift", w), _nan(_f(d, "theta_max_over_delta", w)),
+        return cls(str(d.get("label", "")), _nan(field_number(d, "pga_pos", w)), _nan(field_number(d, "pga_neg", w)),
+                   bool(d.get("uplift")), field_number(d, "t_uplift", w), _nan(field_number(d, "theta_max_over_delta", w)),
                    int(d.get("n_impacts") or 0), bool(d.get("overturned")), str(d.get("outcome", "")),
                    bool(d.get("applicable", True)))
 
@@ -194,9 +182,9 @@ class IsolatedRecord:
         """The record of :meth:`to_dict` (a None number back as nan)."""
         d = _mapping(d, "isolated record")
         w = f"isolated record {d.get('label')!r:.40}"
-        return cls(str(d.get("label", "")), _nan(_f(d, "pga", w)), _nan(_f(d, "u_max", w)),
-                   bool(d.get("capacity_exceeded")), _f(d, "t_capacity", w), _nan(_f(d, "acc_felt", w)),
-                   bool(d.get("uplift")), _f(d, "t_uplift", w), _nan(_f(d, "theta_max_over_delta", w)),
+        return cls(str(d.get("label", "")), _nan(field_number(d, "pga", w)), _nan(field_number(d, "u_max", w)),
+                   bool(d.get("capacity_exceeded")), field_number(d, "t_capacity", w), _nan(field_number(d, "acc_felt", w)),
+                   bool(d.get("uplift")), field_number(d, "t_uplift", w), _nan(field_number(d, "theta_max_over_delta", w)),
                    int(d.get("n_impacts") or 0), bool(d.get("overturned")), str(d.get("outcome", "")))
 
 
@@ -266,7 +254,7 @@ class LimitState:
         k = d.get("n_exceeding") or 0
         if isinstance(k, bool) or not isinstance(k, (int, float)) or k < 0:
             raise InputError(f"{w}: n_exceeding must be a count, got {k!r:.40}")
-        return cls(name, base, _f(d, "demand", w), _f(d, "capacity", w), _f(d, "ratio", w), str(d.get("unit") or ""),
+        return cls(name, base, field_number(d, "demand", w), field_number(d, "capacity", w), field_number(d, "ratio", w), str(d.get("unit") or ""),
                    str(d.get("definition") or ""), bool(d.get("exceeded")), int(k),
                    tuple(_num(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else None
                          for v in d.get("per_record") or ()),
@@ -375,9 +363,9 @@ class LimitStates:
         return cls(rows, tuple(FixedRecord.from_dict(r) for r in d.get("fixed_records") or ()),
                    None if iso is None else tuple(IsolatedRecord.from_dict(r) for r in iso), n,
                    str(d.get("statistic") or "mean"),
-                   (_nan(_f(lim, "left_pivot_toward_plus_x", "uplift_limits")),
-                    _nan(_f(lim, "right_pivot_toward_minus_x", "uplift_limits"))),
-                   None if band is None else tuple(_f({"v": v}, "v", "uplift_band") for v in band),
+                   (_nan(field_number(lim, "left_pivot_toward_plus_x", "uplift_limits")),
+                    _nan(field_number(lim, "right_pivot_toward_minus_x", "uplift_limits"))),
+                   None if band is None else tuple(field_number({"v": v}, "v", "uplift_band") for v in band),
                    tuple(str(w) for w in d.get("warnings") or ()))
 
     def table(self) -> str:

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..quantities import G
 
@@ -105,7 +105,7 @@ class Facts:
     pga            design PGA at the object (m/s^2)        hazard   the design target in words
     uplift         weakest uplift acceleration (m/s^2)      n        design records (None: quasi-static)
     k_lift         records lifting it on a fixed base        k_over   records overturning it on a fixed base
-    lift_ratio     full contact's demand / capacity, fixed  device   one line on the device, or ""
+    device         one line on the device, or ""
     cost           the device's price (EUR)                 travel_margin  capacity / travel need - 1
     iso_governing  title of the exceeded state on the device (DEVICE_DOES_NOT_PROTECT)
     iso_k          records exceeding it                     iso_felt_ratio  felt / uplift on the device
@@ -119,7 +119,6 @@ class Facts:
     n: int | None = None
     k_lift: int | None = None
     k_over: int | None = None
-    lift_ratio: float | None = None
     device: str = ""
     cost: float | None = None
     travel_margin: float | None = None
@@ -129,11 +128,11 @@ class Facts:
     p_over_fixed: float | None = None
     p_fail_isolated: float | None = None
     reason: str = ""
-    extra: tuple = field(default_factory=tuple)
 
 
-def _g(x) -> str:
-    return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"     # as the reasoning prints it
+def g_text(x) -> str:
+    """An acceleration (m/s^2) in g for a sentence, '-' when undefined: the verdict's every 'g'."""
+    return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"
 
 
 def _pct(x) -> str:
@@ -206,10 +205,10 @@ def bullets(code, f: Facts) -> list[str]:
     code = Code(code)
     out = []
     if f.pga is not None:
-        out.append(f"Design earthquake: peak ground acceleration {_g(f.pga)} at the object"
+        out.append(f"Design earthquake: peak ground acceleration {g_text(f.pga)} at the object"
                    + (f" ({f.hazard})" if f.hazard else "") + ".")
     if f.uplift is not None:
-        line = f"It lifts from {_g(f.uplift)} of ground acceleration"
+        line = f"It lifts from {g_text(f.uplift)} of ground acceleration"
         if f.n and f.k_lift is not None:
             line += f"; {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it on its own base"
             if f.k_over is not None:
@@ -225,16 +224,17 @@ def bullets(code, f: Facts) -> list[str]:
         out.append(f"On the device: {f.iso_governing} exceeded"
                    + (f" in {_records(f.iso_k, f.n)}" if f.n and f.iso_k else "") + ".")
     if f.p_over_fixed is not None:
-        line = f"Probability of overturning at the design level: {_p(f.p_over_fixed)} on its own base"
+        line = f"Probability of overturning at the design level: {prob_text(f.p_over_fixed)} on its own base"
         if f.p_fail_isolated is not None:
-            line += f", {_p(f.p_fail_isolated)} of failure on the device"
+            line += f", {prob_text(f.p_fail_isolated)} of failure on the device"
         out.append(line + ".")
     if f.reason and code is Code.NO_DEVICE_IN_RANGE:
         out.append(f"Why no device: {f.reason}.")
     return out[:6]
 
 
-def _p(p: float) -> str:
+def prob_text(p: float) -> str:
+    """A probability for a sentence: '< 0.01', '> 0.99' or two decimals (the verdict's every P)."""
     return "< 0.01" if p < 0.005 else "> 0.99" if p > 0.995 else f"{p:.2f}"
 
 

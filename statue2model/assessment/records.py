@@ -21,8 +21,10 @@ from dataclasses import asdict, dataclass, field
 from ..errors import InputError
 
 
-def _num(d: dict, key: str, where: str = "design.json") -> float | None:
-    """d[key] as a finite float, None when missing, null or not finite; a non-number is an InputError."""
+def field_number(d: dict, key: str, where: str = "design.json") -> float | None:
+    """d[key] as a finite float, None when missing, null or not finite; a non-number is an InputError
+    naming ``where`` and the key (a record read back from a file is input). Every typed record of the
+    assessment reads its numbers with it (this module, limit_states.py)."""
     x = d.get(key)
     if x is None:
         return None
@@ -54,7 +56,7 @@ class CheckRecord:
         if not isinstance(d, dict):
             raise InputError(f"design.json: a check must be a table, got {type(d).__name__}")
         w = f"design.json check {d.get('name')!r:.40}"
-        return cls(str(d.get("name") or ""), _num(d, "value", w), _num(d, "limit", w), str(d.get("unit") or ""),
+        return cls(str(d.get("name") or ""), field_number(d, "value", w), field_number(d, "limit", w), str(d.get("unit") or ""),
                    bool(d.get("required", True)), bool(d.get("passed")))
 
 
@@ -126,25 +128,25 @@ class DesignRecord:
         if not isinstance(v, dict):
             raise InputError("design.json: verification must be a table")
         sets = [s for s in v.get("sets") or () if isinstance(s, dict)]
-        felts = [f for f in (_num(s, "felt", "design.json verification set") for s in sets) if f is not None]
+        felts = [f for f in (field_number(s, "felt", "design.json verification set") for s in sets) if f is not None]
         wwp = d.get("what_would_pass") if isinstance(d.get("what_would_pass"), dict) else {}
         margins = d.get("th_margins") if isinstance(d.get("th_margins"), dict) else {}
         n = d.get("n_grooves")
         reserve = v.get("reserve") if isinstance(v.get("reserve"), dict) else {}
         slc = v.get("slc") if isinstance(v.get("slc"), dict) else {}
-        felt = max(felts) if felts else _num(d, "felt")
+        felt = max(felts) if felts else field_number(d, "felt")
         return cls(
             passed=bool(d.get("passed")),
-            capacity=_num(d, "capacity") if d.get("capacity") is not None else _num(d, "d_max"),
-            travel_need=_num(d, "travel_need") if d.get("travel_need") is not None else _num(d, "d_design"),
-            a_design=_num(d, "a_design"), mu=_num(d, "mu"), T=_num(d, "T"), R=_num(d, "R"), r=_num(d, "r"),
+            capacity=field_number(d, "capacity") if d.get("capacity") is not None else field_number(d, "d_max"),
+            travel_need=field_number(d, "travel_need") if d.get("travel_need") is not None else field_number(d, "d_design"),
+            a_design=field_number(d, "a_design"), mu=field_number(d, "mu"), T=field_number(d, "T"), R=field_number(d, "R"), r=field_number(d, "r"),
             n_grooves=n if isinstance(n, int) and not isinstance(n, bool) else None,
             layout=_text(d, "layout"), surface=_text(d, "surface_name") or _text(d, "surface"),
-            ball_material=_text(d, "ball_material"), side=_num(d, "side"), cost=_num(d, "cost"),
-            th_margins={str(k): _num(margins, k, "design.json th_margins") for k in margins},
+            ball_material=_text(d, "ball_material"), side=field_number(d, "side"), cost=field_number(d, "cost"),
+            th_margins={str(k): field_number(margins, k, "design.json th_margins") for k in margins},
             felt=felt, n_sets=len(sets) if sets else int(d.get("n_sets") or 0),
             slc_rule=_text(slc, "rule") or _text(d, "slc_rule"),
-            reserve_pga=_num(reserve, "pga") if reserve else _num(d, "reserve_pga"),
+            reserve_pga=field_number(reserve, "pga") if reserve else field_number(d, "reserve_pga"),
             tail=(reserve.get("tail") if reserve else d.get("tail")) or None,
             wwp_text=_text(wwp, "text") or _text(d, "wwp_text"), wwp_reason=_text(wwp, "reason") or _text(d, "wwp_reason"),
             failure=_text(d, "failure"),

@@ -50,18 +50,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..quantities import G  # m/s^2
 from . import states
-from .recommendation import Code, Facts, bullets, headline, status_of
+from .recommendation import Code, Facts, bullets, g_text, headline, prob_text, status_of
 from .limit_states import LimitState, LimitStates
 from .records import DesignRecord
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
 ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the recommendation)"
 """Appended to what the variability sweep (one record) says once the design set's limit states decide."""
-
-
-def _g(x: float | None) -> str:
-    return "-" if x is None or not math.isfinite(x) else f"{x / G:.3f} g"
 
 
 def _n(x: float | None, spec: str = ".2f") -> str:
@@ -153,7 +148,7 @@ def verdict(inp: VerdictInputs) -> dict:
     state = ("slides before it rocks (b/h {:.2f} > mu_s {:.2f}): the rocking results do not apply"
              .format(b_over_h, mu_s) if fixed["slides"] else
              ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
-    line = (f"Fixed base: the statue {state} at the design level (uplift {_g(uplift)} vs design PGA {_g(pga)}, "
+    line = (f"Fixed base: the statue {state} at the design level (uplift {g_text(uplift)} vs design PGA {g_text(pga)}, "
             f"margin {_n(fixed['uplift_margin'])})")
     ls = inp.limit_states
     sweep_note = ILLUSTRATION if ls else ""     # with the design set's limit states, a sweep only illustrates
@@ -161,7 +156,7 @@ def verdict(inp: VerdictInputs) -> dict:
         if fixed["first_overturn_pga"] is None:
             line += "; it did not overturn at any PGA of the variability sweep" + sweep_note
         else:
-            line += (f"; it overturned from {_g(fixed['first_overturn_pga'])} in the variability sweep "
+            line += (f"; it overturned from {g_text(fixed['first_overturn_pga'])} in the variability sweep "
                      f"(margin {_n(fixed['overturn_margin'])} on the design PGA)" + sweep_note)
     lines.append(line + ".")
 
@@ -198,17 +193,17 @@ def verdict(inp: VerdictInputs) -> dict:
                     f" at the collapse level")
             if th.get("reserve") is not None:
                 line += (f", travel {_n(finite_number(th.get('reserve')))} where half the records overturn the "
-                         f"statue without it ({_g(isolated['reserve_pga'])})")
+                         f"statue without it ({g_text(isolated['reserve_pga'])})")
                 tail = isolated.get("tail") or {}
                 if tail and not tail.get("dominates"):
                     n_rec = len(tail.get("fixed_sorted") or [])
                     line += (f"; below that its failure curve lies left of the fixed base's overturning curve: from "
-                             f"{_g(tail['worse_from'])} {tail['device_fails']} of {n_rec} records pass its travel "
+                             f"{g_text(tail['worse_from'])} {tail['device_fails']} of {n_rec} records pass its travel "
                              f"capacity while {tail['fixed_fails']} overturn the statue without it")
             if "first_failure_pga" in isolated:
                 f_ = isolated["first_failure_pga"]
                 line += ("; no overturning and no capacity exceeded at any PGA of the sweep" if f_ is None else
-                         f"; it overturned or exceeded the capacity from {_g(f_)} in the sweep "
+                         f"; it overturned or exceeded the capacity from {g_text(f_)} in the sweep "
                          f"(margin {_n(isolated['failure_margin'])} on the design PGA)") + sweep_note
             lines.append(line + ".")
         else:
@@ -284,7 +279,7 @@ def facts(hz: dict, fixed: dict, isolated: dict, ls: LimitStates | None, fr: dic
         p_over, p_fail = finite_number(fr.get("p_design_fixed")), finite_number(fr.get("p_design_isolated"))
     return Facts(pga=finite_number(hz.get("pga")), hazard=_hazard_words(hz), uplift=uplift,
                  n=ls.n_records if ls else None, k_lift=count(fc), k_over=count(ot),
-                 lift_ratio=None if fc is None else fc.ratio, device=device, cost=isolated.get("cost")
+                 device=device, cost=isolated.get("cost")
                  if isolated else None, travel_margin=travel_margin, iso_governing=gov, iso_k=gov_k,
                  iso_felt_ratio=felt_ratio, p_over_fixed=p_over, p_fail_isolated=p_fail if isolated else None,
                  reason=REASONS.get(isolated.get("reason_key") or "", "") if isolated and not isolated.get("passed")
@@ -348,7 +343,7 @@ def _rv(r: LimitState | None) -> str:
 
     def q(x):
         x = finite_number(x)
-        return "-" if x is None else (_g(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
+        return "-" if x is None else (g_text(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
                                       f"{x:.0f} N" if u == "N" else f"{x:.3g}")
     ratio = finite_number(r.ratio)
     return f"{q(r.demand)} vs {q(r.capacity)}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
@@ -369,8 +364,8 @@ def limit_state_line(ls: LimitStates) -> str:
     band = ls.uplift_band
     doubt = ""
     if band and None not in band:
-        doubt = (f" The base contact is uncertain: the weakest uplift acceleration lies between {_g(band[0])} and "
-                 f"{_g(band[1])} (half and double the contact tolerance); full contact is checked against the low end.")
+        doubt = (f" The base contact is uncertain: the weakest uplift acceleration lies between {g_text(band[0])} and "
+                 f"{g_text(band[1])} (half and double the contact tolerance); full contact is checked against the low end.")
     return (f"Design level ({stat} over the {n} design records matched to the design target, NTC 2018 7.3.5 / "
             f"EC8 4.3.3.4.3): " + ". ".join(parts) + "." + doubt)
 
@@ -444,7 +439,7 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
 
     def p_text(what, p, side):
         if p is not None:
-            return f", P({what}) at the design PGA {_prob(p)}"
+            return f", P({what}) at the design PGA {prob_text(p)}"
         why = dyn.get(f"fragility_p_design_{side}_reason")
         return f", P({what}) at the design PGA not known ({why})" if why else ""
 
@@ -455,12 +450,12 @@ def fragility(dyn: dict | None, pga: float, isolated: bool) -> dict:
         ci = dyn.get(f"fragility_median_ci_{side}") or [None, None]
         lo, hi = (finite_number(x) for x in (list(ci) + [None, None])[:2])
         if lo is not None and hi is not None:
-            return f"{_g(m)} ({_g(lo)}-{_g(hi)})"
+            return f"{g_text(m)} ({g_text(lo)}-{g_text(hi)})"
         why = dyn.get(f"fragility_median_ci_{side}_reason")
         if lo is None and hi is None:
-            return _g(m) + (f" ({why})" if why else "")
-        end = f"band from {_g(lo)}" if lo is not None else f"band up to {_g(hi)}"
-        return f"{_g(m)} ({end}" + (f"; {why})" if why else ")")
+            return g_text(m) + (f" ({why})" if why else "")
+        end = f"band from {g_text(lo)}" if lo is not None else f"band up to {g_text(hi)}"
+        return f"{g_text(m)} ({end}" + (f"; {why})" if why else ")")
 
     fl = dyn.get("fragility_limit_states")
     if isinstance(fl, dict) and fl:
@@ -526,10 +521,6 @@ def crosscheck_line(cls: dict | None) -> dict | None:
     return {"line": line + ".", "met": met, "missed": missed}
 
 
-def _prob(p: float) -> str:
-    return "< 0.01" if p < 0.005 else "> 0.99" if p > 0.995 else f"{p:.2f}"
-
-
 def _curve_text(c: dict) -> str:
     """'median 0.287 g (0.276 g-0.310 g), beta 0.11, P at the design PGA 0.51' of one limit-state curve
     (the study's fragility_limit_states entry); every undefined number says why instead."""
@@ -537,14 +528,14 @@ def _curve_text(c: dict) -> str:
     if m is None:
         return f"median not fitted ({c.get('median_reason') or c.get('status') or 'undefined'})"
     lo, hi = (finite_number(x) for x in (list(c.get("median_ci") or []) + [None, None])[:2])
-    band = f" ({_g(lo)}-{_g(hi)})" if lo is not None and hi is not None else (
+    band = f" ({g_text(lo)}-{g_text(hi)})" if lo is not None and hi is not None else (
         f" (band: {c.get('median_ci_reason')})" if c.get("median_ci_reason") else "")
     b = finite_number(c.get("beta"))
     beta = f", beta {b:.2f}" if b is not None else f", beta not identified ({c.get('beta_reason') or 'see fragility.json'})"
     p = finite_number(c.get("p_design"))
-    pt = (f", P at the design PGA {_prob(p)}" if p is not None else
+    pt = (f", P at the design PGA {prob_text(p)}" if p is not None else
           f", P at the design PGA not known ({c.get('p_design_reason') or 'not identified'})")
-    return f"median {_g(m)}{band}{beta}{pt}"
+    return f"median {g_text(m)}{band}{beta}{pt}"
 
 
 def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
@@ -574,8 +565,8 @@ def limit_state_fragility_line(dyn: dict, fl: dict, isolated: bool) -> str:
     pga, mean_pga = finite_number(dyn.get("fragility_design_pga")), finite_number(dyn.get("records_mean_pga"))
     read = ""
     if pga is not None and mean_pga is not None:
-        read = (f" The curves scale each record to a PGA; P is read at the design PGA {_g(pga)}, while the design "
-                f"records as matched have PGAs averaging {_g(mean_pga)} ({mean_pga / pga:.2f} x; EC8 asks the mean "
+        read = (f" The curves scale each record to a PGA; P is read at the design PGA {g_text(pga)}, while the design "
+                f"records as matched have PGAs averaging {g_text(mean_pga)} ({mean_pga / pga:.2f} x; EC8 asks the mean "
                 "for at least a_g S): the limit states above, taken on the records as matched, can be more severe "
                 "than P at the design PGA suggests.")
     return (f"Fragility per limit state over the design records ({runs}" + (f"; varied: {varied}" if varied else "")
@@ -615,7 +606,7 @@ def decide(fixed: dict, isolated: dict, pga: float) -> tuple[Code, str]:
         return Code.NO_ISOLATOR, (f"no isolator needed at the design level: the statue stays in full contact (uplift margin "
                 f"{_n(fixed['uplift_margin'])})")
     if not isolated:
-        return Code.RUN_ISOLATOR_STAGE, (f"the statue lifts at the design level (uplift {_g(fixed['uplift'])} < design PGA {_g(pga)}) and no "
+        return Code.RUN_ISOLATOR_STAGE, (f"the statue lifts at the design level (uplift {g_text(fixed['uplift'])} < design PGA {g_text(pga)}) and no "
                 "isolator was designed: run the isolator stage")
     if not isolated.get("passed"):
         return Code.NO_DEVICE_IN_RANGE, f"no isolator in range works: {isolated.get('reason') or 'see the isolator checks'}"
@@ -630,10 +621,10 @@ def decide(fixed: dict, isolated: dict, pga: float) -> tuple[Code, str]:
         why.append(f"travel demand {_mm(isolated['travel_demand'])} mm > capacity "
                    f"{_mm(isolated['capacity'])} mm")
     if not ok_margin(felt):
-        why.append(f"the statue feels {_g(isolated['felt'])} > its uplift {_g(fixed['uplift'])}")
+        why.append(f"the statue feels {g_text(isolated['felt'])} > its uplift {g_text(fixed['uplift'])}")
     if not swept_ok:
         kind = f" ({isolated['failure_kind']})" if isolated.get("failure_kind") else ""
         record = f" under {isolated['record']}" if isolated.get("record") else ""
-        why.append(f"on the isolator it fails from {_g(isolated['first_failure_pga'])}{kind}{record} "
-                   f"< design PGA {_g(pga)}")
+        why.append(f"on the isolator it fails from {g_text(isolated['first_failure_pga'])}{kind}{record} "
+                   f"< design PGA {g_text(pga)}")
     return Code.DEVICE_DOES_NOT_PROTECT, "the designed isolator does not protect at the design level: " + "; ".join(why)
