@@ -284,17 +284,21 @@ def test_the_printed_page_keeps_every_objects_action(ranked, tmp_path):
     assert text.count("Doubts") >= 1
 
 
-def test_an_object_that_may_slide_is_unknown_not_the_worst(results):
-    """A squat box that may slide (sliding not assessed) ranks after an object known to overturn in
-    design records, and its state says its risk is unknown (issue [21])."""
+def test_an_object_that_slides_ranks_after_one_that_overturns(results):
+    """A squat box that slides beyond its allowance (issue [22]: sliding is assessed) ranks after an
+    object known to overturn in design records, and its state says it slides; an object whose rows say it
+    overturns is 'overturns' even when it slides too."""
     from statue2model.assessment.collection import TIER_TEXT
 
     tips = next(r for r in results if r["scan"] == "tips.ply")             # overturns in 6 of 7 records
     box = {**tips, "scan": "squat_box.ply",
-           "verdict": {**tips["verdict"], "code": "SLIDES", "fixed": {"slides": True, "lifts": False}}}
+           "verdict": {**tips["verdict"], "code": "SLIDES", "limit_states": None,
+                       "fixed": {"slides": True, "lifts": False}}}
     rows = rank([object_row(box), object_row(tips)])
     assert [r["object"] for r in rows] == ["tips", "squat_box"]
-    assert rows[1]["state"] == "slides" and "risk is unknown" in TIER_TEXT["slides"]
+    assert rows[1]["state"] == "slides" and "slides beyond its allowance" in TIER_TEXT["slides"]
+    both = {**tips, "verdict": {**tips["verdict"], "fixed": {"slides": True}}}
+    assert object_row(both)["state"] == "overturns"
 
 
 def test_values_weight_the_ranking_as_risk_times_value(results):

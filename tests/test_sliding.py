@@ -72,3 +72,15 @@ def test_the_regime_before_lift_off_and_bad_friction():
         Friction(0.2, 0.3)
     with pytest.raises(InputError, match="mu_s must be a number"):
         Friction(float("nan"), 0.1)
+
+
+def test_sides_and_no_frictionless_support():
+    """u_pos / u_neg: the peaks toward each side (a pulse toward +x slides the body toward -x); a support
+    without kinetic friction is refused (the body would never stop: no finite displacement)."""
+    r = simulate_sliding(Friction(0.25, 0.2), motions.rect_pulse(0.3 * G, 0.5))
+    assert r.u_pos == 0.0 and r.u_neg == pytest.approx(r.u_max) and r.u_neg == pytest.approx(-r.u_end)
+    two = motions.record([0.0] + [0.5 * G] * 100 + [-0.5 * G] * 300 + [0.0], 0.005)
+    r2 = simulate_sliding(Friction(0.2, 0.2), two)
+    assert r2.u_pos > 0 and r2.u_neg > 0 and r2.u_max == max(r2.u_pos, r2.u_neg)
+    with pytest.raises(InputError, match="mu_k"):
+        Friction(0.2, 0.0)

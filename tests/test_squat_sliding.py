@@ -192,13 +192,25 @@ def test_spectrum_and_variability_of_a_sliding_block(tmp_path, capsys):
     assert "slides before it rocks" in stdout and data["summary"]["n"] == 0
 
 
-def test_config_mu_static():
+def test_config_sliding_friction():
+    """The statue's friction is [sliding] mu_statue (issue [22]); [model] mu_static, where it was before,
+    is refused with where it went."""
     from statue2model.pipeline.config import load_config, load_config_text
 
-    assert load_config(None).model.mu_static == MU_STATIC
-    assert load_config_text("[model]\nmu_static = 0.45\n", "t.toml").model.mu_static == 0.45
-    with pytest.raises(InputError, match="mu_static"):
-        load_config_text("[model]\nmu_static = 0\n", "t.toml")
+    assert load_config(None).sliding.mu_statue == 0.4
+    assert load_config_text("[sliding]\nmu_statue = 0.45\n", "t.toml").sliding.mu_statue == 0.45
+    with pytest.raises(InputError, match=r"\[model\] mu_static has moved: write it as \[sliding\] mu_statue"):
+        load_config_text("[model]\nmu_static = 0.45\n", "t.toml")
+    for bad in ("mu_statue = 0", "mu_pedestal = 3", "kinetic_ratio = 1.5", "allowance = -1"):
+        with pytest.raises(InputError, match=bad.split()[0]):
+            load_config_text(f"[sliding]\n{bad}\n", "t.toml")
+    with pytest.raises(InputError, match="both size"):
+        load_config_text("[pedestal]\nsize = [0.6, 0.6, 1.0]\n", "t.toml")
+    with pytest.raises(InputError, match="off the pedestal"):
+        load_config_text("[pedestal]\nsize = [0.6, 0.6, 1.0]\nmass = 250\nposition = [0.4, 0]\n", "t.toml")
+    cfg = load_config_text("[pedestal]\nsize = [0.6, 0.6, 1.0]\nmass = 250\n", "t.toml")
+    assert cfg.pedestal.size == (0.6, 0.6, 1.0) and cfg.pedestal.position == (0.0, 0.0)
+    assert load_config_text(cfg.to_toml(), "again").pedestal == cfg.pedestal
 
 
 # --- crosscheck --------------------------------------------------------------------------------

@@ -54,7 +54,8 @@ def test_no_module_lists_the_limit_states_itself():
 
 
 def test_the_registry_is_coherent():
-    assert states.IDS == ("full_contact", "rocking", "overturning", "capacity", "bearing")
+    assert states.IDS == ("full_contact", "sliding", "rocking", "overturning", "pedestal_sliding",
+                          "pedestal_overturning", "capacity", "bearing")
     for s in states.REGISTRY:
         assert set(s.bases) <= set(states.BASES) and s.title and s.noun and s.exceeded_words
         for base, key in s.curves.items():

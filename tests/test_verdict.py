@@ -6,7 +6,8 @@ import re
 import pytest
 
 from statue2model.pipeline.config import ProjectConfig
-from statue2model.assessment.verdict import hazard, recommend
+from statue2model.assessment.verdict import VerdictInputs, hazard, recommend, verdict
+from statue2model.quantities import G
 from statue2model.pipeline.assess import assess
 from statue2model.report.browser import body_attributes, dump_dom
 from statue2model.report.html import render_report
@@ -121,7 +122,18 @@ def test_imperfect_model_reduces_the_uplift_acceleration():
 
 def test_sliding_body_is_not_given_rocking_advice():
     fixed = {"slides": True, "lifts": True, "uplift": 1.0, "uplift_margin": 0.5}
-    assert recommend(fixed, {}, 3.0).startswith("the statue slides before it rocks")
+    assert recommend(fixed, {}, 3.0).startswith("the statue would slide before it lifts")
+
+
+def test_no_sliding_regime_claimed_that_the_design_level_does_not_reach():
+    """Issue [25] item 4: a squat box (b/h 0.8 > mu_s 0.4) under a design PGA below mu_s g is not
+    said to slide; at a PGA above mu_s g it is (quasi-static, without the design records)."""
+    squat = {"a_min": 0.8 * G, "a_L": 0.8 * G, "a_R": 0.8 * G, "h": 0.25, "b_L": 0.2, "b_R": 0.2}
+    low = verdict(VerdictInputs({**hazard(None), "pga": 0.3 * G}, squat, mu_static=0.4))
+    assert low["fixed"]["slides_first"] and not low["fixed"]["slides"] and low["code"] == "NO_ISOLATOR"
+    assert "stays below mu_s g" in low["lines"][1]
+    high = verdict(VerdictInputs({**hazard(None), "pga": 0.5 * G}, squat, mu_static=0.4))
+    assert high["fixed"]["slides"] and high["code"] == "SLIDES" and "reaches mu_s g" in high["lines"][1]
 
 
 def test_verdict_box_is_rendered_first_in_the_browser(chromium, tmp_path):

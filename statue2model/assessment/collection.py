@@ -67,8 +67,8 @@ NOT_ASSESSED = "not assessed"
 TIERS = (NOT_ASSESSED, "overturns", "lifts", "slides", "lifts in some records", "full contact")
 """The fixed-base state at the design level, most urgent first (the ranking's first key)."""
 TIER_TEXT = {NOT_ASSESSED: "not assessed: risk unknown, fix the scan first",
-             "slides": "may slide before it rocks: sliding is not assessed, its risk is unknown (ranked after the "
-                       "objects known to overturn or lift; rocking results do not apply)",
+             "slides": "stays in full contact but slides beyond its allowance (on the floor or its pedestal) at the "
+                       "design level, or would slide before it lifts where the dynamics stage did not run",
              "overturns": "overturns (a design record overturns it)",
              "lifts": "lifts and rocks (mean of the design records)",
              "lifts in some records": "lifts in some design records (the mean holds)",
@@ -167,15 +167,17 @@ def fixed_state(verdict: dict) -> str:
     'lifts in some records'
     """
     fixed = verdict.get("fixed") or {}
-    if fixed.get("slides"):
-        return "slides"
     ls = verdict.get("limit_states")
     if ls and _rows_of(ls, "fixed"):
-        ot, rk, fc = (_row(ls, n, "fixed") for n in (states.OVERTURNING, states.ROCKING, states.FULL_CONTACT))
-        if (ot or {}).get("exceeded") or (rk or {}).get("exceeded"):
+        ot, rk, fc, pot = (_row(ls, n, "fixed") for n in (states.OVERTURNING, states.ROCKING, states.FULL_CONTACT,
+                                                          states.PEDESTAL_OVERTURNING))
+        if any((r or {}).get("exceeded") for r in (ot, rk, pot)):
             return "overturns"
         if (fc or {}).get("exceeded"):
             return "lifts"
+        if any((_row(ls, n, "fixed") or {}).get("exceeded") for n in (states.SLIDING, states.PEDESTAL_SLIDING)) \
+                or fixed.get("slides"):
+            return "slides"
         if int(_finite((fc or {}).get("n_exceeding")) or 0) > 0:
             return "lifts in some records"
         return "full contact"
@@ -183,6 +185,8 @@ def fixed_state(verdict: dict) -> str:
         return "overturns"
     if fixed.get("lifts"):
         return "lifts"
+    if fixed.get("slides"):
+        return "slides"
     return "full contact"
 
 
@@ -197,7 +201,7 @@ NO_DEVICE = {"friction": "it lifts below the balls' own rolling resistance (rest
 
 def _device(verdict: dict, data: dict, code: str = "") -> dict:
     """The row's device columns (:func:`object_row`) of the verdict's isolator and the recommendation
-    ``code``: a body that slides before it rocks has none that applies (no plates, no cost)."""
+    ``code``: a body that slides and does not lift needs none (no plates, no cost): a restraint."""
     iso = verdict.get("isolated") or {}
     if not iso:
         why = "the isolator stage did not run" if not data.get("isolator") else "no design"
@@ -206,7 +210,7 @@ def _device(verdict: dict, data: dict, code: str = "") -> dict:
     R, r, T = _finite(iso.get("R")), _finite(iso.get("r")), _finite(iso.get("T"))
     n = iso.get("n_grooves") if isinstance(iso.get("n_grooves"), int) else None
     if code == Code.SLIDES.value:
-        return {"device_state": "not applicable", "device": "not applicable: it slides before it rocks", "R": R,
+        return {"device_state": "not applicable", "device": "not applicable: it slides, it does not lift (restrain it)", "R": R,
                 "r": r, "n_grooves": n, "T": T, "device_note": str(iso.get("what_would_pass") or "")}
     geo = (f"R {R:.2f} m" if R is not None else "R -") + (f", r {r * 1000:.1f} mm" if r is not None else "") \
         + (f", {n} grooves" if n is not None else "") + (f", T {T:.2f} s" if T is not None else "")

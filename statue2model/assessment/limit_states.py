@@ -68,7 +68,7 @@ Example
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
@@ -122,7 +122,11 @@ class FixedRecord:
     ``theta_max_over_delta``: peak |theta| / delta_side over both sides; ``n_impacts``;
     ``overturned``; ``outcome`` (the engine's words); ``applicable``: False if the body slides
     before it rocks under this record (the rocking numbers are then those of a base that cannot
-    slide)."""
+    slide). With a support (assessment/support.py): ``slide_pos`` / ``slide_neg`` the statue's peak
+    sliding on it toward +x / -x (m), and with a pedestal ``ped_slide_pos`` / ``ped_slide_neg`` the
+    pedestal's on the floor (m), ``ped_uplift``, ``ped_overturned``, ``ped_theta_max_over_delta``
+    its rocking with the statue, ``from_stack`` True when the rocking numbers above are the two-block
+    run's (the pedestal lifted); nan (None in the file) where not computed."""
 
     label: str
     pga_pos: float
@@ -134,6 +138,14 @@ class FixedRecord:
     overturned: bool
     outcome: str
     applicable: bool
+    slide_pos: float = math.nan
+    slide_neg: float = math.nan
+    ped_slide_pos: float = math.nan
+    ped_slide_neg: float = math.nan
+    ped_uplift: bool = False
+    ped_overturned: bool = False
+    ped_theta_max_over_delta: float = math.nan
+    from_stack: bool = False
 
     def to_dict(self) -> dict:
         """Every field, in order; a non-finite number as None."""
@@ -148,7 +160,12 @@ class FixedRecord:
         return cls(str(d.get("label", "")), _nan(field_number(d, "pga_pos", w)), _nan(field_number(d, "pga_neg", w)),
                    bool(d.get("uplift")), field_number(d, "t_uplift", w), _nan(field_number(d, "theta_max_over_delta", w)),
                    int(d.get("n_impacts") or 0), bool(d.get("overturned")), str(d.get("outcome", "")),
-                   bool(d.get("applicable", True)))
+                   bool(d.get("applicable", True)), *(_nan(field_number(d, k, w)) for k in _SLIDES),
+                   bool(d.get("ped_uplift")), bool(d.get("ped_overturned")),
+                   _nan(field_number(d, "ped_theta_max_over_delta", w)), bool(d.get("from_stack")))
+
+
+_SLIDES = ("slide_pos", "slide_neg", "ped_slide_pos", "ped_slide_neg")
 
 
 @dataclass(frozen=True)
@@ -189,14 +206,18 @@ class IsolatedRecord:
 
 
 def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
-    """The per-record numbers of one record: ``item`` = (model, iso or None, motion, rtol[, fixed]);
-    the fixed-base run (unless ``fixed`` is False: the record's run at another friction bound of
-    the same isolator, whose fixed base is already run; then None) and, with an isolator, the
-    coupled statue-on-isolator run (module level: an executor can map it)."""
+    """The per-record numbers of one record: ``item`` = (model, iso or None, motion, rtol[, fixed[,
+    support]]); the fixed-base run (unless ``fixed`` is False: the record's run at another friction
+    bound of the same isolator, whose fixed base is already run; then None), with its sliding and
+    pedestal numbers when ``support`` (assessment/support.py) is given, and, with an isolator, the
+    coupled statue-on-isolator run (module level: an executor can map it). With a pedestal that
+    lifts, the statue's rocking numbers are the two-block run's; while it stays in full contact the
+    statue rocks as on the ground (the single-body model, imperfect or not)."""
     from ..isolator.coupled import simulate_coupled
     from ..rocking.engine import simulate
 
     model, iso, motion, rtol = item[:4]
+    support = item[5] if len(item) > 5 else None
     fixed = None
     if len(item) < 5 or item[4]:
         hi, lo = motion.extremes()
@@ -204,6 +225,15 @@ def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
         fixed = FixedRecord(motion.label, float(hi), float(-lo), r.uplift_time is not None, r.uplift_time,
                             float(r.theta_max_over_delta), r.n_impacts, bool(r.overturned), r.outcome,
                             bool(r.applicable))
+        if support is not None:
+            sr = support.run(motion)
+            st = sr.statue or {}
+            fixed = replace(fixed, slide_pos=sr.slide_pos, slide_neg=sr.slide_neg, ped_slide_pos=sr.ped_slide_pos,
+                            ped_slide_neg=sr.ped_slide_neg, ped_uplift=sr.ped_uplift,
+                            ped_overturned=sr.ped_overturned, ped_theta_max_over_delta=sr.ped_theta_max_over_delta,
+                            from_stack=sr.statue is not None, **{k: st[k] for k in (
+                                "uplift", "t_uplift", "theta_max_over_delta", "n_impacts", "overturned", "outcome")
+                                if k in st})
     if iso is None:
         return fixed, None
     c = simulate_coupled(iso, model, motion, rtol=rtol, dt_out=0.05)
@@ -469,7 +499,7 @@ def friction_bounds_of(design: dict | None) -> tuple[float, float] | None:
 
 
 def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_band=None,
-             executor=None, mu_bounds=None) -> LimitStates:
+             executor=None, mu_bounds=None, support=None) -> LimitStates:
     """The limit states of ``model`` (a RockingModel: its alpha-reduced uplift limits are the ones
     used) under ``records`` (the design record set's GroundMotions, at the design level), on a
     fixed base and, with ``iso`` (an Isolator) or ``design`` (the isolator design's dict,
@@ -479,7 +509,9 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     (statue2model.compute.executors), else they run here. ``mu_bounds``: (mu_low, mu_high) of the
     isolator's rolling friction (default: the design's verified bounds, :func:`friction_bounds_of`,
     else the isolator's mu alone): every record runs on the isolator at both bounds and each quantity
-    is taken at the bound that makes it worse (:func:`_worse`)."""
+    is taken at the bound that makes it worse (:func:`_worse`). ``support``: what the statue stands on
+    (:class:`statue2model.assessment.support.Support`): adds the sliding row, and with a pedestal the
+    pedestal's rows; None: neither."""
     records, iso, design, band = _check(model, records, iso, design, uplift_band)
     if mu_bounds is None:
         mu_bounds = friction_bounds_of(design)
@@ -488,10 +520,9 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
         if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
             raise InputError(f"limit states: mu_bounds must be 0 <= mu_low <= mu_high, got {mu_bounds!r}")
         mu_bounds = (lo, hi)
-    from dataclasses import replace
-
     isos = [iso] if iso is None or mu_bounds is None else [replace(iso, mu=mu_bounds[0]), replace(iso, mu=mu_bounds[1])]
-    items = [(model, i, rec, float(rtol), k == 0) for k, i in enumerate(isos) for rec in records]
+    items = [(model, i, rec, float(rtol), k == 0, support if k == 0 else None)
+             for k, i in enumerate(isos) for rec in records]
     if executor is None:
         runs = [run_record(it) for it in items]
     else:
@@ -517,6 +548,13 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
         warnings.append(f"{na} of {n} records exceed the friction of a body that slides before it rocks: their "
                         "rocking numbers are those of a base that cannot slide")
     rows = _fixed_rows(fixed, lim, band, statistic)
+    if support is not None:
+        rows += _support_rows(fixed, support, statistic)
+        rows.sort(key=lambda r: LIMIT_STATES.index(r.name))
+        n_st = sum(r.from_stack for r in fixed)
+        if n_st:
+            warnings.append(f"the pedestal lifts in {n_st} of {n} records: there the statue's rocking numbers are the "
+                            "two-block model's (Housner's restitution on each contact)")
     if iso is not None:
         if design is not None and design.get("passed") is False:
             warnings.append("the isolator design does not pass its own required checks")
@@ -563,6 +601,58 @@ def _fixed_rows(fixed, lim, band, statistic) -> list[LimitState]:
          "uplift_band": None if band is None else list(band)})
     return [full, *_motion_rows("fixed", [r.theta_max_over_delta for r in fixed], [r.overturned for r in fixed],
                                 [False] * n, [r.n_impacts for r in fixed], [r.uplift for r in fixed], statistic)]
+
+
+def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, statistic) -> LimitState:
+    """A sliding row: the peak sliding toward each side, the statistic over the records per side, against
+    the distance that side allows; the row is the side with the larger ratio."""
+    n = len(per_pos)
+    d_pos, d_neg = _stat(per_pos, statistic), _stat(per_neg, statistic)
+    r_pos = d_pos / cap[0] if cap[0] > 0 else (math.inf if d_pos > 0 else 0.0)
+    r_neg = d_neg / cap[1] if cap[1] > 0 else (math.inf if d_neg > 0 else 0.0)
+    pos = r_pos >= r_neg
+    per_ratio = [max(p / cap[0] if cap[0] > 0 else (math.inf if p > 0 else 0.0),
+                     q / cap[1] if cap[1] > 0 else (math.inf if q > 0 else 0.0)) for p, q in zip(per_pos, per_neg)]
+    ratio = max(r_pos, r_neg)
+    reason = ""
+    if not math.isfinite(ratio):
+        reason = "no sliding capacity on the side it slides to: its base reaches the support's edge"
+    who = "the statue" if name == states.SLIDING else "the pedestal, carrying the statue,"
+    return LimitState(
+        name, "fixed", d_pos if pos else d_neg, cap[0] if pos else cap[1], ratio, "m",
+        f"peak sliding displacement of {who} on {support_words} toward each side (exact rigid-plastic sliding, "
+        f"Coulomb friction mu_s {friction.mu_s:g}, mu_k {friction.mu_k:g}), the {statistic} over the {n} records "
+        f"(m), against {source} on that side; the row shows the side with the larger ratio; exceeded when "
+        "ratio >= 1",
+        ratio >= 1.0, sum(x >= 1.0 for x in per_ratio), tuple(per_pos if pos else per_neg),
+        {"side": "toward +x" if pos else "toward -x", "demand_pos": d_pos, "capacity_pos": cap[0],
+         "demand_neg": d_neg, "capacity_neg": cap[1], "mu_s": friction.mu_s, "mu_k": friction.mu_k,
+         "capacity_source": source, "n_sliding": sum(max(p, q) > 0 for p, q in zip(per_pos, per_neg)),
+         "per_record_ratio": per_ratio}, reason)
+
+
+def _support_rows(fixed, support, statistic) -> list[LimitState]:
+    """The sliding row, and with a pedestal the pedestal's sliding and overturning rows."""
+    rows = [_sliding_row(states.SLIDING, [r.slide_pos for r in fixed], [r.slide_neg for r in fixed],
+                         support.capacity, support.capacity_source, support.support_words, support.friction,
+                         statistic)]
+    if support.stack is None:
+        return rows
+    rows.append(_sliding_row(states.PEDESTAL_SLIDING, [r.ped_slide_pos for r in fixed],
+                             [r.ped_slide_neg for r in fixed], support.pedestal_capacity,
+                             support.pedestal_capacity_source, "the floor", support.pedestal_friction, statistic))
+    n = len(fixed)
+    n_ot = sum(r.ped_overturned for r in fixed)
+    rows.append(LimitState(
+        states.PEDESTAL_OVERTURNING, "fixed", n_ot / n, 1.0 / n, float(n_ot), "-",
+        f"fraction of the {n} records in which the pedestal overturns with the statue (the two-block model); as "
+        "for the statue's overturning any record exceeds it: capacity 1/n, ratio = the number of records, exceeded "
+        "when ratio >= 1",
+        n_ot >= 1, n_ot, tuple(1.0 if r.ped_overturned else 0.0 for r in fixed),
+        {"n_uplift": sum(r.ped_uplift for r in fixed),
+         "theta_max_over_delta": _stat([r.ped_theta_max_over_delta for r in fixed], statistic),
+         "theta_max_over_delta_per_record": [r.ped_theta_max_over_delta for r in fixed]}))
+    return rows
 
 
 def _motion_rows(base, tod, overturned, at_capacity, impacts, uplift, statistic) -> list[LimitState]:

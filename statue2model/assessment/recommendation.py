@@ -20,7 +20,9 @@ NO_DEVICE_IN_RANGE             fail    no rolling-ball isolator in the tool's ra
                                        restraint or a specialist's device is needed
 RUN_ISOLATOR_STAGE             warn    it lifts; this run designed no isolator: run the isolator stage
 RUN_ISOLATED_DYNAMICS          warn    the device was designed but not analysed over the design records
-SLIDES                         warn    it may slide before it rocks: sliding is not assessed here
+SLIDES                         warn    it stays in full contact but slides beyond its allowance (or would
+                                       slide before it lifts, not yet measured): restrain it
+PEDESTAL_OVERTURNS             fail    its pedestal overturns with it: anchor or widen the pedestal
 NO_VERDICT                     warn    the scan's rocking parameters were not computed: no verdict
 =============================  ======  =====================================================================
 
@@ -51,6 +53,7 @@ class Code(str, enum.Enum):
     RUN_ISOLATOR_STAGE = "RUN_ISOLATOR_STAGE"
     RUN_ISOLATED_DYNAMICS = "RUN_ISOLATED_DYNAMICS"
     SLIDES = "SLIDES"
+    PEDESTAL_OVERTURNS = "PEDESTAL_OVERTURNS"
     NO_VERDICT = "NO_VERDICT"
 
     def __str__(self) -> str:
@@ -77,7 +80,8 @@ CODES: dict[Code, CodeInfo] = {
     Code.NO_DEVICE_IN_RANGE: CodeInfo("fail", True, False, "No isolator of this kind protects it"),
     Code.RUN_ISOLATOR_STAGE: CodeInfo("warn", True, False, "Design an isolator"),
     Code.RUN_ISOLATED_DYNAMICS: CodeInfo("warn", True, False, "Analyse the designed isolator"),
-    Code.SLIDES: CodeInfo("warn", True, False, "Have its sliding assessed"),
+    Code.SLIDES: CodeInfo("warn", True, False, "Restrain it against sliding"),
+    Code.PEDESTAL_OVERTURNS: CodeInfo("fail", True, False, "Anchor or widen its pedestal"),
     Code.NO_VERDICT: CodeInfo("warn", False, False, "No verdict"),
 }
 STATUSES = ("ok", "warn", "fail")
@@ -111,6 +115,9 @@ class Facts:
     iso_k          records exceeding it                     iso_felt_ratio  felt / uplift on the device
     p_over_fixed / p_fail_isolated  P at the design PGA of the fragility curves
     reason         why no device works (plain words), or ""
+    slide / slide_cap / k_slide  the governing sliding row: demand and capacity (m), records exceeding
+    slide_what     what slides, in words ("it slides on the pedestal's top"); k_ped_over  records overturning
+                   the pedestal
     """
 
     pga: float | None = None
@@ -128,6 +135,11 @@ class Facts:
     p_over_fixed: float | None = None
     p_fail_isolated: float | None = None
     reason: str = ""
+    slide: float | None = None
+    slide_cap: float | None = None
+    k_slide: int | None = None
+    slide_what: str = ""
+    k_ped_over: int | None = None
 
 
 def g_text(x) -> str:
@@ -195,8 +207,15 @@ def _headline(code: Code, f: Facts, detail: int) -> str:
     if code is Code.RUN_ISOLATED_DYNAMICS:
         return f"{act} over the design records: it was designed but not analysed; {lifts}{over}."
     if code is Code.SLIDES:
-        return (f"{act}: it is squat enough to slide before it rocks, and this tool does not assess sliding; "
-                "anchor or restrain it after a specialist's check.")
+        if f.slide is None:
+            return (f"{act}: it would slide before it lifts, and the design earthquake reaches its friction; "
+                    "run the dynamics stage to measure how far.")
+        recs = f" ({_records(f.k_slide, f.n)})" if f.n and f.k_slide is not None and detail >= 1 else ""
+        return (f"{act}: {f.slide_what or 'it slides'} {mm_text(f.slide)} mm under the design earthquake, more than "
+                f"the {mm_text(f.slide_cap)} mm it may{recs}; it stays in full contact.")
+    if code is Code.PEDESTAL_OVERTURNS:
+        k = f" in {_records(f.k_ped_over, f.n)}" if f.n and f.k_ped_over else ""
+        return f"{act}: the pedestal overturns with the statue{k}; an isolator under the statue does not hold it."
     return f"{act}: the scan's rocking parameters were not computed."
 
 
@@ -228,6 +247,9 @@ def bullets(code, f: Facts) -> list[str]:
         if f.p_fail_isolated is not None:
             line += f", {prob_text(f.p_fail_isolated)} of failure on the device"
         out.append(line + ".")
+    if f.slide is not None:
+        out.append(f"Sliding: {f.slide_what or 'it slides'} {mm_text(f.slide)} mm, against {mm_text(f.slide_cap)} mm it may"
+                   + (f"; {_records(f.k_slide, f.n)} pass it" if f.n and f.k_slide is not None else "") + ".")
     if f.reason and code is Code.NO_DEVICE_IN_RANGE:
         out.append(f"Why no device: {f.reason}.")
     return out[:6]
@@ -236,6 +258,11 @@ def bullets(code, f: Facts) -> list[str]:
 def prob_text(p: float) -> str:
     """A probability for a sentence: '< 0.01', '> 0.99' or two decimals (the verdict's every P)."""
     return "< 0.01" if p < 0.005 else "> 0.99" if p > 0.995 else f"{p:.2f}"
+
+
+def mm_text(x, spec: str = ".0f") -> str:
+    """A length (m) in millimetres for a sentence, '-' when undefined (the verdict's every mm)."""
+    return "-" if x is None or not math.isfinite(x) else format(x * 1000, spec)
 
 
 def words(text: str) -> int:

@@ -12,11 +12,19 @@ identifiers of its own.
 identifier      title                        bases            fragility curve (fragility.json ``curves``)
 ==============  ===========================  ===============  ==========================================
 full_contact    full contact (no uplift)     fixed, isolated  full_contact_fixed, full_contact_isolated
+sliding         sliding on its support       fixed            -
 rocking         rocking without overturning  fixed, isolated  -
 overturning     overturning                  fixed, isolated  overturning_fixed, overturning_isolated
+pedestal_...    the pedestal sliding, and    fixed            -
+                the pedestal (with the
+                statue) overturning
 capacity        isolator travel capacity     isolated         capacity_isolated
 bearing         ball load on the grooves     isolated         -
 ==============  ===========================  ===============  ==========================================
+
+``sliding`` is the statue's on its support (the floor, or the pedestal's top with a pedestal);
+``pedestal_sliding`` and ``pedestal_overturning`` (the pedestal, carrying the statue) are rows only when
+the project has a [pedestal]. The fixed base is then the statue on its pedestal on the floor.
 
 On the isolator, overturning counts a run that reached the device's capacity as overturned (the
 balls leave their grooves: as bad as overturning); the curve of overturning alone there is
@@ -25,7 +33,7 @@ balls leave their grooves: as bad as overturning); the curve of overturning alon
 >>> title("capacity"), curve("overturning", "isolated"), STATE_OF_CURVE["full_contact_fixed"]
 ('isolator travel capacity', 'overturning_isolated', ('full_contact', 'fixed'))
 >>> [s.id for s in on_base("fixed")]
-['full_contact', 'rocking', 'overturning']
+['full_contact', 'sliding', 'rocking', 'overturning', 'pedestal_sliding', 'pedestal_overturning']
 """
 from __future__ import annotations
 
@@ -57,11 +65,17 @@ REGISTRY: tuple[LimitState, ...] = (
     LimitState("full_contact", "full contact (no uplift)", BASES,
                {"fixed": "full_contact_fixed", "isolated": "full_contact_isolated"},
                "full contact lost (uplift)", True, "lifts off", "uplift"),
+    LimitState("sliding", "sliding on its support", ("fixed",), exceeded_words="slides beyond its allowance",
+               noun="sliding"),
     LimitState("rocking", "rocking without overturning", BASES, exceeded_words="rocks to its limit",
                noun="rocking to its limit"),
     LimitState("overturning", "overturning", BASES,
                {"fixed": "overturning_fixed", "isolated": "overturning_isolated"},
                "overturning", True, "overturns", "overturning"),
+    LimitState("pedestal_sliding", "the pedestal sliding on the floor", ("fixed",),
+               exceeded_words="slides on its pedestal's base beyond the allowance", noun="pedestal sliding"),
+    LimitState("pedestal_overturning", "the pedestal overturning (with the statue)", ("fixed",),
+               exceeded_words="overturns with its pedestal", noun="pedestal overturning"),
     LimitState("capacity", "isolator travel capacity", ("isolated",), {"isolated": "capacity_isolated"},
                "isolator capacity exceeded", True, "reaches the capacity", "capacity exceeded"),
     LimitState("bearing", "ball load on the grooves", ("isolated",), exceeded_words="overloads the grooves",
@@ -71,7 +85,9 @@ REGISTRY: tuple[LimitState, ...] = (
 
 BY_ID = {s.id: s for s in REGISTRY}
 IDS = tuple(BY_ID)
-FULL_CONTACT, ROCKING, OVERTURNING, CAPACITY, BEARING = IDS
+FULL_CONTACT, SLIDING, ROCKING, OVERTURNING, PEDESTAL_SLIDING, PEDESTAL_OVERTURNING, CAPACITY, BEARING = IDS
+ON_PEDESTAL = (PEDESTAL_SLIDING, PEDESTAL_OVERTURNING)
+"""The limit states that exist only with a pedestal."""
 
 OVERTURNING_ALONE_ISOLATED = "overturning_alone_isolated"
 """The fragility curve of overturning alone on the isolator (a component of overturning_isolated)."""

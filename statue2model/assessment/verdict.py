@@ -14,9 +14,10 @@ side, < 1 that it is not:
                          acceleration that starts rocking)
                overturns? the lowest PGA of the variability sweep at which the statue
                          overturned ([dynamics] motion scaled), against the design PGA
-               slides?   lifting needs a ground acceleration g b/h; sliding starts at
-                         mu_s g: when b/h > mu_s the body slides before it rocks and the
-                         rocking results do not apply
+               slides?   with the design records' limit states: the sliding rows (the statue on
+                         its support, the pedestal on the floor) exceeded; without them (quasi-
+                         static): it would slide before it lifts (b/h > mu_s) AND the design PGA
+                         reaches mu_s g (no regime is claimed that the design level does not reach)
     isolated   travel    the isolator's capacity against the design displacement demand
                felt      the uplift acceleration against what the statue feels on the
                          plate (the design's Se(T) + mu g)
@@ -50,8 +51,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..quantities import G
 from . import states
-from .recommendation import Code, Facts, bullets, g_text, headline, prob_text, status_of
+from .recommendation import Code, Facts, bullets, g_text, headline, mm_text, prob_text, status_of
 from .limit_states import LimitState, LimitStates
 from .records import DesignRecord
 DEFAULT_SPECTRUM = "ec8:ag=0.25g,ground=C,type=1"
@@ -62,11 +64,6 @@ ILLUSTRATION = " (illustration: one record scaled over PGA, not the basis of the
 def _n(x: float | None, spec: str = ".2f") -> str:
     """A number for a sentence: '-' when it is None or not finite (never 'nan' or 'inf')."""
     return "-" if x is None or not math.isfinite(x) else format(x, spec)
-
-
-def _mm(x: float | None, spec: str = ".0f") -> str:
-    """A length in m as millimetres for a sentence, '-' when undefined."""
-    return _n(None if x is None else x * 1000, spec)
 
 
 def _ratio(cap: float | None, demand: float | None) -> float | None:
@@ -136,7 +133,14 @@ def verdict(inp: VerdictInputs) -> dict:
     fixed = {"uplift": uplift, "alpha": alpha, "lifts": uplift <= pga, "uplift_margin": _ratio(uplift, pga)}
     b_over_h = min(params.get("b_L", math.inf), params.get("b_R", math.inf)) / params.get("h", math.nan)
     mu_s = inp.mu_static
-    fixed["slides"] = bool(mu_s is not None and math.isfinite(b_over_h) and b_over_h > mu_s)
+    ls = inp.limit_states
+    fixed["slides_first"] = bool(mu_s is not None and math.isfinite(b_over_h) and b_over_h > mu_s)
+    slide_rows = [r for r in (_row(ls, states.SLIDING, "fixed"), _row(ls, states.PEDESTAL_SLIDING, "fixed"))
+                  if r is not None]
+    if slide_rows:
+        fixed["slides"] = any(r.exceeded for r in slide_rows)
+    else:
+        fixed["slides"] = fixed["slides_first"] and pga >= mu_s * G
     dyn = inp.dynamics
     if dyn is not None:
         ot = dyn.get("first_overturn_pga_fixed")
@@ -145,12 +149,12 @@ def verdict(inp: VerdictInputs) -> dict:
         fixed["overturns"] = ot is not None and ot <= pga
     out["fixed"] = fixed
     lines = [f"Hazard: {hz['text']}."]
-    state = ("slides before it rocks (b/h {:.2f} > mu_s {:.2f}): the rocking results do not apply"
-             .format(b_over_h, mu_s) if fixed["slides"] else
-             ("lifts and rocks" if fixed["lifts"] else "stays in full contact"))
+    state = "lifts and rocks" if fixed["lifts"] else "stays in full contact"
+    if fixed["slides_first"]:
+        state += (f"; it would slide before it lifts (b/h {b_over_h:.2f} > mu_s {mu_s:.2f}), and the design PGA "
+                  + ("reaches" if pga >= mu_s * G else "stays below") + f" mu_s g = {g_text(mu_s * G)}")
     line = (f"Fixed base: the statue {state} at the design level (uplift {g_text(uplift)} vs design PGA {g_text(pga)}, "
             f"margin {_n(fixed['uplift_margin'])})")
-    ls = inp.limit_states
     sweep_note = ILLUSTRATION if ls else ""     # with the design set's limit states, a sweep only illustrates
     if "overturn_margin" in fixed:
         if fixed["first_overturn_pga"] is None:
@@ -183,9 +187,9 @@ def verdict(inp: VerdictInputs) -> dict:
         if isolated["passed"]:
             th = isolated.get("th_margins") or {}
             line = (f"Isolator: {isolated['n_grooves']} {design.ball_material or ''} balls of "
-                    f"{_mm(2 * (isolated['r'] or 0), '.0f')} mm on {isolated['surface']}, plates "
-                    f"{_mm(design.side, '.0f')} mm square, T {_n(isolated['T'])} s, travel capacity "
-                    f"{_mm(cap)} mm, about {design.cost or 0:.0f} EUR; verified by time histories on "
+                    f"{mm_text(2 * (isolated['r'] or 0), '.0f')} mm on {isolated['surface']}, plates "
+                    f"{mm_text(design.side, '.0f')} mm square, T {_n(isolated['T'])} s, travel capacity "
+                    f"{mm_text(cap)} mm, about {design.cost or 0:.0f} EUR; verified by time histories on "
                     f"{isolated['sets']} record sets: margins travel {_n(finite_number(th.get('travel')))}, felt "
                     f"acceleration {_n(finite_number(th.get('acceleration')))}, ball load "
                     f"{_n(finite_number(th.get('bearing')))} at the design level, travel "
@@ -256,8 +260,8 @@ def facts(hz: dict, fixed: dict, isolated: dict, ls: LimitStates | None, fr: dic
     device, travel_margin, felt_ratio, gov, gov_k = "", None, None, "", None
     if isolated and isolated.get("passed") and design is not None:
         device = (f"{isolated.get('n_grooves')} {design.ball_material or ''} balls of "
-                  f"{_mm(2 * (isolated.get('r') or 0))} mm on {isolated.get('surface')}, plates "
-                  f"{_mm(design.side)} mm square").replace("  ", " ")
+                  f"{mm_text(2 * (isolated.get('r') or 0))} mm on {isolated.get('surface')}, plates "
+                  f"{mm_text(design.side)} mm square").replace("  ", " ")
         if isolated.get("cost"):
             device += f", about {isolated['cost']:.0f} EUR"
         cap = _row(ls, "capacity", "isolated") if ls else None
@@ -277,7 +281,17 @@ def facts(hz: dict, fixed: dict, isolated: dict, ls: LimitStates | None, fr: dic
     p_fail = finite_number(((lsf.get("overturning") or {}).get("isolated") or {}).get("p_design"))
     if not lsf and fr:
         p_over, p_fail = finite_number(fr.get("p_design_fixed")), finite_number(fr.get("p_design_isolated"))
+    slide_rows = [r for r in (_row(ls, states.SLIDING, "fixed"), _row(ls, states.PEDESTAL_SLIDING, "fixed"))
+                  if r is not None] if ls else []
+    sl = max(slide_rows, key=lambda r: (r.exceeded, r.ratio if r.ratio is not None else math.inf), default=None)
+    on_pedestal = _row(ls, states.PEDESTAL_SLIDING, "fixed") is not None if ls else False
+    slide_what = ("" if sl is None else "the pedestal slides on the floor" if sl.name == states.PEDESTAL_SLIDING
+                  else "it slides on the pedestal's top" if on_pedestal else "it slides on the floor")
+    pot = _row(ls, states.PEDESTAL_OVERTURNING, "fixed") if ls else None
     return Facts(pga=finite_number(hz.get("pga")), hazard=_hazard_words(hz), uplift=uplift,
+                 slide=None if sl is None else finite_number(sl.demand),
+                 slide_cap=None if sl is None else finite_number(sl.capacity), k_slide=count(sl),
+                 slide_what=slide_what, k_ped_over=count(pot),
                  n=ls.n_records if ls else None, k_lift=count(fc), k_over=count(ot),
                  device=device, cost=isolated.get("cost")
                  if isolated else None, travel_margin=travel_margin, iso_governing=gov, iso_k=gov_k,
@@ -314,8 +328,9 @@ def basis(ls: LimitStates | None, hz: dict, kind: str = "housner") -> dict:
         "(dynamics/records/set.json lists each rule and each record's PGA, PGV, PGD).",
         "The statue is a rigid body rocking in the plane of the excitation direction (2D model, "
         + ("imperfect model with the identified alpha and theta" if kind == "imperfect" else
-           "Housner's model with the angular-momentum restitution of eq. 15") + "); its base does not slide "
-        "unless b/h exceeds the static friction mu_s.",
+           "Housner's model with the angular-momentum restitution of eq. 15") + "); sliding is computed apart (exact rigid-plastic sliding with static and kinetic Coulomb friction, "
+        "no slide-rock coupling), and a body that would slide before it lifts (b/h > mu_s) has its rocking "
+        "numbers flagged per record.",
         "The isolator is the thesis' rolling-ball device with the measured rolling friction; the ball load it "
         "carries is compared with the thesis' tests on beech grooves (ch. 6.4)."]
     limitations = [
@@ -343,7 +358,7 @@ def _rv(r: LimitState | None) -> str:
 
     def q(x):
         x = finite_number(x)
-        return "-" if x is None else (g_text(x) if u == "m/s^2" else f"{_mm(x)} mm" if u == "m" else
+        return "-" if x is None else (g_text(x) if u == "m/s^2" else f"{mm_text(x)} mm" if u == "m" else
                                       f"{x:.0f} N" if u == "N" else f"{x:.3g}")
     ratio = finite_number(r.ratio)
     return f"{q(r.demand)} vs {q(r.capacity)}, ratio {'-' if ratio is None else f'{ratio:.2f}'}"
@@ -371,8 +386,11 @@ def limit_state_line(ls: LimitStates) -> str:
 
 
 RULE = """The recommendation, from the limit states at the design level (the design record set):
+with a pedestal that overturns with the statue, anchor or widen the pedestal first (an isolator
+under the statue does not hold it);
 no isolator needed when the statue stays in full contact on a fixed base (and does not overturn),
-said with a warning when single records lift it while the mean holds;
+said with a warning when single records lift it while the mean holds, and restrain it instead
+when it (or its pedestal) slides beyond the allowance;
 else, with a passing isolator design, isolate when on the isolator full contact, rocking,
 overturning and the travel capacity all hold; the ball load on the grooves is then a condition
 of the recommendation when it is exceeded; any of the others exceeded: the designed isolator
@@ -388,12 +406,23 @@ def recommend_from_limit_states(fixed: dict, isolated: dict, ls: LimitStates) ->
 def decide_from_limit_states(fixed: dict, isolated: dict, ls: LimitStates) -> tuple[Code, str]:
     """(the recommendation code, its reasoning in one line) from the limit-state table ``ls`` by
     :data:`RULE`."""
-    if fixed.get("slides"):
-        return Code.SLIDES, ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the "
-                             "rocking analyses and the isolator design do not apply")
     n = ls.n_records
+    slid = [r for r in (_row(ls, states.SLIDING, "fixed"), _row(ls, states.PEDESTAL_SLIDING, "fixed"))
+            if r is not None and r.exceeded]
+    if fixed.get("slides") and not slid and _row(ls, states.SLIDING, "fixed") is None:
+        return Code.SLIDES, ("the statue would slide before it lifts and the design PGA reaches its friction; this "
+                             "table has no sliding row: run the dynamics stage again to measure how far it slides")
+    pot = _row(ls, states.PEDESTAL_OVERTURNING, "fixed")
+    if pot is not None and pot.exceeded:
+        return Code.PEDESTAL_OVERTURNS, (f"the pedestal overturns with the statue in {pot.n_exceeding} of {n} design "
+                                         "records: anchor the pedestal to the floor or widen its base; an isolator "
+                                         "under the statue does not hold the pedestal")
     fc, ot = _row(ls, states.FULL_CONTACT, "fixed"), _row(ls, states.OVERTURNING, "fixed")
     if fc is not None and not fc.exceeded and not (ot is not None and ot.exceeded):
+        if slid:
+            return Code.SLIDES, ("it stays in full contact but slides beyond what it may at the design level: " + "; ".join(
+                f"{r.title} ({_rv(r)}; {r.n_exceeding} of {n} records; {r.details.get('capacity_source', '')})"
+                for r in slid) + ": restrain it (a stop or an anchorage) or give it room; rocking needs no isolator")
         k = fc.n_exceeding
         if k:
             return Code.NO_ISOLATOR_BUT_RECORDS_LIFT, (f"no isolator needed by the codes' mean of effects, but {k} of {n} design records lift the statue "
@@ -598,8 +627,8 @@ def decide(fixed: dict, isolated: dict, pga: float) -> tuple[Code, str]:
     """(the recommendation code, its reasoning in one line) without the design records' limit states:
     the quasi-static uplift check and the isolator design's own checks."""
     if fixed.get("slides"):
-        return Code.SLIDES, ("the statue slides before it rocks: assess sliding (anchorage or a restraint), the "
-                             "rocking analyses and the isolator design do not apply")
+        return Code.SLIDES, ("the statue would slide before it lifts and the design PGA reaches its friction: run "
+                             "the dynamics stage to measure how far it slides (restrain it if beyond its allowance)")
     def ok_margin(m):
         return m is not None and m >= 1.0
     if not fixed["lifts"] and not fixed.get("overturns", False):
@@ -618,8 +647,8 @@ def decide(fixed: dict, isolated: dict, pga: float) -> tuple[Code, str]:
                 f"(felt-acceleration margin {_n(felt)})")
     why = []
     if not ok_margin(travel):
-        why.append(f"travel demand {_mm(isolated['travel_demand'])} mm > capacity "
-                   f"{_mm(isolated['capacity'])} mm")
+        why.append(f"travel demand {mm_text(isolated['travel_demand'])} mm > capacity "
+                   f"{mm_text(isolated['capacity'])} mm")
     if not ok_margin(felt):
         why.append(f"the statue feels {g_text(isolated['felt'])} > its uplift {g_text(fixed['uplift'])}")
     if not swept_ok:

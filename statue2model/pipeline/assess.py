@@ -48,7 +48,7 @@ def inputs(stages: dict, dirs: dict, cfg) -> VerdictInputs:
     dynamics_cfg = getattr(cfg, "dynamics", None) if cfg is not None else None
     return VerdictInputs(
         hazard=hazard(cfg), params=_data(stages, "params"), alpha=alpha, model_kind=kind,
-        mu_static=getattr(model, "mu_static", None) if model is not None else None, dynamics=dyn,
+        mu_static=cfg.sliding.mu_statue if cfg is not None else None, dynamics=dyn,
         limit_states=LimitStates.from_dict(ls) if ls else None, design=design,
         classification=(_data(stages, "crosscheck") or {}).get("classification"),
         record=getattr(dynamics_cfg, "motion", None) if dynamics_cfg is not None else None)

@@ -9,8 +9,11 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [prototype]  enabled, scale, board, glue, policy, tool, compensate, tolerance, rod,
              clearance, wall, sheet, margin, edge, feed, pass_depth, board_density,
              glue_density, rod_density, front, previews                 (``slice``)
-[model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol,  (the 2D rocking model)
-             mu_static
+[model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol   (the 2D rocking model)
+[sliding]    mu_statue, mu_pedestal, kinetic_ratio, allowance           (friction: sliding and the
+                                                                         regime; assessment/support.py)
+[pedestal]   size = [width, depth, height] (m), mass (kg), position = [x, y] (m, the statue's centre of
+             mass from the pedestal's axis; default centred): the statue stands on it (rocking/stack.py)
 [isolator]   enabled, mu, spectrum, motion, slc_spectrum, grooves, layout, surface, ball_material,
              thickness, side_max, target, fuse_release, segments, mu_low, mu_high (friction bounds),
              ball_capacity (a load test: N on a 40 mm ball), extra_sets
@@ -144,8 +147,34 @@ class ModelConfig:
     e_L: float | None = None            # restitution; None = angular momentum (eq. 15)
     e_R: float | None = None
     rtol: float = 1e-7
-    mu_static: float = 0.7              # static friction of the base: rocking.model.MU_STATIC, a typical
-                                        # value for stone on stone; uplift above mu_static g: slides first
+
+
+MU_SOURCES = ("Monaco et al. 2020 (Procedia Struct. Integrity 29: a 650 kg marble statue on its pedestal, mu_s 0.40, "
+              "mu_k 0.30); Kafali, Fathali, Grigoriu & Whittaker 2007 (MCEER-07-0001: tilt and pull tests give "
+              "higher coefficients than the kinetic ones shake-table responses imply)")
+"""Where the default friction comes from (docs/pedestal.md lists the ranges)."""
+
+
+@dataclass(frozen=True)
+class SlidingConfig:
+    """Friction of the statue on its support and of the pedestal on the floor (assessment/support.py): the
+    sliding limit states and the regime (a body whose uplift needs more than mu_s g slides first). Defaults
+    :data:`MU_SOURCES`: stone, marble or bronze on wood or stone lies about 0.3-0.7 static; the lower value is
+    the conservative reading for sliding."""
+
+    mu_statue: float = 0.4              # static friction of the statue on its support (floor or pedestal top)
+    mu_pedestal: float = 0.4            # static friction of the pedestal on the floor
+    kinetic_ratio: float = 0.75         # mu_k / mu_s (0.30 / 0.40 in Monaco et al. 2020)
+    allowance: float | None = None      # m the body may slide; auto = the pedestal top's edge, on the floor 0.05 m
+
+
+@dataclass(frozen=True)
+class PedestalConfig:
+    """The pedestal the statue stands on (rocking/stack.py); no size: the statue stands on the floor."""
+
+    size: tuple | None = None           # [width along the excitation, depth, height], m
+    mass: float | None = None           # kg
+    position: tuple = (0.0, 0.0)        # m: the statue's centre of mass from the pedestal's vertical axis
 
 
 @dataclass(frozen=True)
@@ -244,14 +273,16 @@ class RunConfig:
     scheduler: str | None = None        # Dask scheduler address (tcp://host:8786)
 
 
-SECTIONS = {"scan": ScanConfig, "prototype": PrototypeConfig, "model": ModelConfig, "isolator": IsolatorConfig,
+SECTIONS = {"scan": ScanConfig, "prototype": PrototypeConfig, "model": ModelConfig, "sliding": SlidingConfig,
+            "pedestal": PedestalConfig, "isolator": IsolatorConfig,
             "building": BuildingConfig, "dynamics": DynamicsConfig, "crosscheck": CrosscheckConfig, "run": RunConfig}
 
 # how a value is read: the converter of each key that is not a plain number/bool/str
 _LENGTHS = {("scan", "height"), ("scan", "base_tol"), ("prototype", "board"), ("prototype", "glue"),
             ("prototype", "tool"), ("prototype", "tolerance"), ("prototype", "rod"), ("prototype", "clearance"),
             ("prototype", "wall"), ("prototype", "margin"), ("prototype", "edge"), ("prototype", "pass_depth"),
-            ("isolator", "thickness"), ("isolator", "side_max"), ("crosscheck", "grid"), ("building", "height")}
+            ("isolator", "thickness"), ("isolator", "side_max"), ("crosscheck", "grid"), ("building", "height"),
+            ("sliding", "allowance")}
 _ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
 _AUTO_GRIDS = {("dynamics", "fragility_levels")}     # "auto" or a grid
 _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
@@ -275,6 +306,8 @@ class ProjectConfig:
     scan: ScanConfig = field(default_factory=ScanConfig)
     prototype: PrototypeConfig = field(default_factory=PrototypeConfig)
     model: ModelConfig = field(default_factory=ModelConfig)
+    sliding: SlidingConfig = field(default_factory=SlidingConfig)
+    pedestal: PedestalConfig = field(default_factory=PedestalConfig)
     isolator: IsolatorConfig = field(default_factory=IsolatorConfig)
     building: BuildingConfig = field(default_factory=BuildingConfig)
     dynamics: DynamicsConfig = field(default_factory=DynamicsConfig)
@@ -375,6 +408,15 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             raise ValueError("true/false where a value is due")
         if (sec, key) == ("isolator", "prices"):
             return _prices(value)
+        if (sec, key) in (("pedestal", "size"), ("pedestal", "position")):
+            k = 3 if key == "size" else 2
+            if not isinstance(value, (list, tuple)) or len(value) != k or any(
+                    isinstance(x, bool) or not isinstance(x, (int, float)) for x in value):
+                raise ValueError("must be [width, depth, height] in m" if k == 3 else "must be [x, y] in m")
+            v = tuple(float(x) for x in value)
+            if not all(math.isfinite(x) for x in v):
+                raise ValueError("must be finite")
+            return v
         if (sec, key) in _CHOICES:
             v = str(value).strip().lower()
             if v not in _CHOICES[sec, key]:
@@ -566,6 +608,9 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
         nullable = {f.name: "None" in str(f.type) for f in fields(cls)}
         values = {}
         for key, value in table.items():
+            if (sec, key) == ("model", "mu_static"):
+                raise InputError(f"{where}: [model] mu_static has moved: write it as [sliding] mu_statue (the "
+                                 "statue's static friction on its support)")
             if key not in defaults:
                 near = difflib.get_close_matches(key, defaults, 1)
                 hint = f" (did you mean '{near[0]}'?)" if near else ""
@@ -681,8 +726,27 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
             bad(f"[model] {name} must be > 0 rad, got {v}")
     if not 0 < m.rtol < 1e-2:
         bad(f"[model] rtol must be in (0, 0.01), got {m.rtol}")
-    if not (math.isfinite(m.mu_static) and 0 < m.mu_static <= 10):
-        bad(f"[model] mu_static (static friction coefficient) must be in (0, 10], got {m.mu_static}")
+    sl, pd = cfg.sliding, cfg.pedestal
+    for name in ("mu_statue", "mu_pedestal"):
+        if not 0.05 <= getattr(sl, name) <= 2:
+            bad(f"[sliding] {name} (a static friction coefficient) must be in 0.05..2 (stone, marble or bronze on "
+                f"wood or stone: about 0.3-0.7), got {getattr(sl, name)}")
+    if not 0 < sl.kinetic_ratio <= 1:
+        bad(f"[sliding] kinetic_ratio (mu_k / mu_s) must be in (0, 1], got {sl.kinetic_ratio}")
+    if sl.allowance is not None and not 0 < sl.allowance <= 10:
+        bad(f"[sliding] allowance must be in (0, 10] m, got {sl.allowance}")
+    if (pd.size is None) != (pd.mass is None):
+        bad("[pedestal] give both size = [width, depth, height] (m) and mass (kg), or neither")
+    if pd.size is not None:
+        if not all(0.01 <= x <= 20 for x in pd.size):
+            bad(f"[pedestal] size must be three lengths in 0.01..20 m (width, depth, height), got {list(pd.size)}")
+        if not 0.1 <= pd.mass <= 1e6:
+            bad(f"[pedestal] mass must be in 0.1..1e6 kg, got {pd.mass}")
+        if any(abs(x) > s_ / 2 for x, s_ in zip(pd.position, pd.size)):
+            bad(f"[pedestal] position {list(pd.position)} puts the statue's centre of mass off the pedestal's top "
+                f"({pd.size[0]:g} x {pd.size[1]:g} m)")
+    elif pd.position != (0.0, 0.0):
+        bad("[pedestal] position needs a pedestal: give its size and mass")
     if i.mu is not None and not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):

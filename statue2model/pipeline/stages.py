@@ -79,10 +79,36 @@ class Context:
         from ..rocking.model import RockingModel
 
         m, p = self.config.model, self.params()
-        mu_s = getattr(m, "mu_static", None)
+        mu_s = self.config.sliding.mu_statue
         if m.kind == "housner":
             return RockingModel.housner(p, m.e_L, m.e_R, mu_static=mu_s)
         return RockingModel.imperfect(p, m.alpha_L, m.alpha_R, m.theta_L, m.theta_R, m.e_L, m.e_R, mu_static=mu_s)
+
+    def support(self, params=None):
+        """What the statue stands on (assessment/support.py): its friction on the floor or on the
+        [pedestal], the sliding capacities, and the two-block model with a pedestal."""
+        from ..assessment.support import FLOOR_ALLOWANCE, Support, edge_distances
+        from ..rocking.sliding import Friction
+
+        sl, pd = self.config.sliding, self.config.pedestal
+        p = self.params() if params is None else params
+        friction = Friction(sl.mu_statue, sl.kinetic_ratio * sl.mu_statue)
+        floor_cap = FLOOR_ALLOWANCE if sl.allowance is None else sl.allowance
+        floor_words = (f"the default floor allowance {FLOOR_ALLOWANCE:g} m" if sl.allowance is None else
+                       f"the allowance {sl.allowance:g} m ([sliding] allowance)")
+        if pd.size is None:
+            return Support(friction, (floor_cap, floor_cap), floor_words)
+        from ..rocking.stack import Pedestal, StackModel
+
+        stack = StackModel(p, Pedestal.box(pd.size[0], pd.size[1], pd.size[2], pd.mass), x2=pd.position[0])
+        edge = edge_distances(p.b_L, p.b_R, pd.position[0], pd.size[0] / 2)
+        if sl.allowance is None:
+            cap, words = edge, "the distance from its base to the pedestal top's edge"
+        else:
+            cap = tuple(min(e, sl.allowance) for e in edge)
+            words = f"the smaller of the pedestal top's edge and the allowance {sl.allowance:g} m"
+        return Support(friction, cap, words, stack, Friction(sl.mu_pedestal, sl.kinetic_ratio * sl.mu_pedestal),
+                       (floor_cap, floor_cap), floor_words)
 
     def design(self) -> dict | None:
         """The isolator design (dict) if the isolator stage ran and its design passed every required check
@@ -284,7 +310,7 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
     data = r.data()
     rs, target = _design_set(ctx, d)
     ls = evaluate(model, rs.records, iso=iso, design=design, rtol=rtol, uplift_band=_uplift_band(ctx),
-                  executor=ex)
+                  executor=ex, support=ctx.support(model.params))
     write_json(d / "limit_states.json", ls.to_dict())
     data["limit_states"] = ls.to_dict()
     data.update(design_set_data(rs))
@@ -467,11 +493,13 @@ STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isol
 assert tuple(STAGES) == STAGE_NAMES, "a stage is named in config.STAGE_NAMES and run here"
 # stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
 DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),
-           "isolator": (("params",), (), ("model", "isolator", "building",
+           "isolator": (("params",), (), ("model", "sliding:mu_statue", "isolator", "building",
                                           "dynamics:fragility_records,fragility_duration")),
-           "dynamics": (("params",), ("isolator",), ("model", "isolator", "building", "dynamics")),
+           "dynamics": (("params",), ("isolator",), ("model", "sliding", "pedestal", "isolator", "building",
+                                                      "dynamics")),
            "crosscheck": (("params",), ("isolator", "dynamics"),
-                          ("model", "scan", "crosscheck", "building", "dynamics:fragility_records,fragility_duration"))}
+                          ("model", "sliding:mu_statue", "scan", "crosscheck", "building",
+                           "dynamics:fragility_records,fragility_duration"))}
 
 
 def enabled(name: str, cfg: ProjectConfig) -> bool:

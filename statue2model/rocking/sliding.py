@@ -48,15 +48,17 @@ class Friction:
     def __post_init__(self):
         for name in ("mu_s", "mu_k"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or v > 5:
-                raise InputError(f"friction {name} must be a number in 0..5, got {v!r}")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0 or v > 5:
+                raise InputError(f"friction {name} must be a number in (0, 5] (a support without friction "
+                                 f"never stops the body), got {v!r}")
         if self.mu_k > self.mu_s:
             raise InputError(f"the kinetic friction mu_k {self.mu_k:g} exceeds the static mu_s {self.mu_s:g}")
 
 
 @dataclass(frozen=True)
 class SlidingResult:
-    """``u_max`` the peak |u| (m), ``u_end`` the displacement where the body comes to rest (m, signed),
+    """``u_max`` the peak |u| (m), ``u_pos`` / ``u_neg`` the peak displacement toward +x / toward -x (m,
+    >= 0; u_max is the larger), ``u_end`` the displacement where the body comes to rest (m, signed),
     ``t_first`` the first onset (s; None: it never slides), ``n_slides`` the sliding phases,
     ``slide_time`` their total duration (s), ``t_rest`` when it last came to rest (s)."""
 
@@ -66,6 +68,8 @@ class SlidingResult:
     n_slides: int
     slide_time: float
     t_rest: float
+    u_pos: float = 0.0
+    u_neg: float = 0.0
 
     @property
     def slides(self) -> bool:
@@ -73,7 +77,8 @@ class SlidingResult:
 
     def to_dict(self) -> dict:
         return {"u_max": self.u_max, "u_end": self.u_end, "t_first": self.t_first, "n_slides": self.n_slides,
-                "slide_time": self.slide_time, "t_rest": self.t_rest, "slides": self.slides}
+                "slide_time": self.slide_time, "t_rest": self.t_rest, "u_pos": self.u_pos, "u_neg": self.u_neg,
+                "slides": self.slides}
 
 
 def slides_first(friction: Friction, b_over_h: float) -> bool:
@@ -137,7 +142,8 @@ def simulate_sliding(friction: Friction, motion, t_end: float | None = None, dt:
     mus, c = friction.mu_s * g, friction.mu_k * g
     u = v = 0.0
     s = 0.0                     # the sliding direction (sign of v); 0: stuck
-    u_max, t_first, n_slides, slide_time, t_rest, t_on = 0.0, None, 0, 0.0, 0.0, 0.0
+    u_pos = u_neg = 0.0
+    t_first, n_slides, slide_time, t_rest, t_on = None, 0, 0.0, 0.0, 0.0
 
     def onset(time, acc):
         nonlocal s, t_first, n_slides, t_on
@@ -177,18 +183,16 @@ def simulate_sliding(friction: Friction, motion, t_end: float | None = None, dt:
             tau0 += step
             if ts is not None:
                 v = 0.0
-                u_max = max(u_max, abs(u))
+                u_pos, u_neg = max(u_pos, u), max(u_neg, -u)
                 slide_time += t0 + tau0 - t_on
                 t_rest = t0 + tau0
                 s = 0.0
-        u_max = max(u_max, abs(u))
+        u_pos, u_neg = max(u_pos, u), max(u_neg, -u)
     if s != 0.0 and t_end is None:          # after the motion: decelerate at mu_k g to rest
-        tr = abs(v) / c if c > 0 else math.inf
-        if math.isfinite(tr):
-            u += v * tr - 0.5 * s * c * tr * tr
-            slide_time += float(t[-1]) + tr - t_on
-            t_rest = float(t[-1]) + tr
-        else:
-            u = math.copysign(math.inf, v)
-        u_max = max(u_max, abs(u))
-    return SlidingResult(float(u_max), float(u), t_first, n_slides, float(slide_time), float(t_rest))
+        tr = abs(v) / c                     # c > 0: Friction refuses mu_k = 0
+        u += v * tr - 0.5 * s * c * tr * tr
+        slide_time += float(t[-1]) + tr - t_on
+        t_rest = float(t[-1]) + tr
+        u_pos, u_neg = max(u_pos, u), max(u_neg, -u)
+    return SlidingResult(float(max(u_pos, u_neg)), float(u), t_first, n_slides, float(slide_time), float(t_rest),
+                         float(u_pos), float(u_neg))
