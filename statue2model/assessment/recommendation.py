@@ -233,6 +233,8 @@ def bullets(code, f: Facts) -> list[str]:
             if f.k_over is not None:
                 line += ", none overturns it" if f.k_over == 0 else f", {f.k_over} overturn{_s(f.k_over)} it"
         out.append(line + ".")
+    if f.slide is not None and code is Code.SLIDES:
+        out.append(_slide_bullet(f))
     if f.device:
         out.append(f"Device: {f.device}.")
     if code is Code.ISOLATE and f.travel_margin is not None:
@@ -247,12 +249,19 @@ def bullets(code, f: Facts) -> list[str]:
         if f.p_fail_isolated is not None:
             line += f", {prob_text(f.p_fail_isolated)} of failure on the device"
         out.append(line + ".")
-    if f.slide is not None:
-        out.append(f"Sliding: {f.slide_what or 'it slides'} {mm_text(f.slide)} mm, against {mm_text(f.slide_cap)} mm it may"
-                   + (f"; {_records(f.k_slide, f.n)} pass it" if f.n and f.k_slide is not None else "") + ".")
+    if f.slide is not None and code is not Code.SLIDES:
+        out.append(_slide_bullet(f))
     if f.reason and code is Code.NO_DEVICE_IN_RANGE:
         out.append(f"Why no device: {f.reason}.")
     return out[:6]
+
+
+def _slide_bullet(f: Facts) -> str:
+    """The sliding row in a line: how far (the mean of the records' peaks) against how far it may."""
+    if f.slide == 0.0:
+        return "Sliding: none; the friction holds in every design record."
+    return (f"Sliding: {f.slide_what or 'it slides'} {mm_text(f.slide)} mm, against {mm_text(f.slide_cap)} mm it may"
+            + (f"; {_records(f.k_slide, f.n)} pass it" if f.n and f.k_slide is not None else "") + ".")
 
 
 def prob_text(p: float) -> str:

@@ -93,8 +93,6 @@ class Support:
 
     def run(self, motion) -> SupportRecord:
         """The sliding and pedestal numbers of one record ``motion`` (a GroundMotion of the floor)."""
-        from ..hazard.motions import record
-
         if self.stack is None:
             s = simulate_sliding(self.friction, motion)
             return SupportRecord(s.u_pos, s.u_neg)
@@ -108,10 +106,9 @@ class Support:
             st = r.statue
             statue = {"uplift": bool(st.uplift), "t_uplift": st.uplift_time,
                       "theta_max_over_delta": float(st.theta_max_over_delta), "n_impacts": int(st.n_impacts),
-                      "overturned": bool(st.overturned), "outcome": f"on the rocking pedestal: {r.outcome}"}
-            t, a = r.top_acceleration()
-            if t.size >= 2:
-                top = record(a, float(t[1] - t[0]), label=f"{motion.label} (pedestal top)")
+                      "overturned": bool(st.overturned or ped.overturned),   # the pedestal falls with it
+                      "outcome": f"on the rocking pedestal: {r.outcome}"}
+            top = r.top_motion()
         s = simulate_sliding(self.friction, top)
         p = simulate_sliding(self.pedestal_friction, motion)
         return SupportRecord(s.u_pos, s.u_neg, p.u_pos, p.u_neg, bool(ped.uplift), bool(ped.overturned),
