@@ -6,7 +6,9 @@ integrator), ``dop853`` (the DOP853 method shared with the isolator's coupled ke
 ``engine`` (simulate -> RockingResult), ``batch`` (many runs in one call), ``spectrum``
 (overturning spectra of pulses), ``sweeps`` (variability over PGA, uncertainty of a
 parameter), ``sampling`` (parameter samples), ``identify`` (restitution from
-free-rocking records), ``reference`` (scipy solve_ivp, the reference of the tests).
+free-rocking records), ``reference`` (scipy solve_ivp, the reference of the tests),
+``sliding`` (Coulomb sliding of one body), ``stack`` (a statue on a pedestal: the two-block
+rocking model).
 Ground motions are :mod:`statue2model.hazard.motions`.
 """
 from .engine import RockingResult, simulate
