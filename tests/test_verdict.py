@@ -7,7 +7,6 @@ import pytest
 
 from statue2model.pipeline.config import ProjectConfig
 from statue2model.assessment.verdict import VerdictInputs, hazard, recommend, verdict
-from statue2model.quantities import G
 from statue2model.pipeline.assess import assess
 from statue2model.report.browser import body_attributes, dump_dom
 from statue2model.report.html import render_report

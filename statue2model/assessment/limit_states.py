@@ -603,10 +603,19 @@ def _fixed_rows(fixed, lim, band, statistic) -> list[LimitState]:
                                 [False] * n, [r.n_impacts for r in fixed], [r.uplift for r in fixed], statistic)]
 
 
-def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, statistic) -> LimitState:
+def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, statistic,
+                 edge: bool = False) -> LimitState:
     """A sliding row: the peak sliding toward each side, the statistic over the records per side, against
-    the distance that side allows; the row is the side with the larger ratio."""
+    the distance that side allows; the row is the side with the larger ratio. ``edge``: the capacity is the
+    support's edge: a record that slides past it drops the body off its support (a collapse, as an
+    overturning record: it exceeds the row by itself, and counts as the edge distance in the statistic,
+    the motion beyond being undefined)."""
     n = len(per_pos)
+    n_off = 0
+    if edge:
+        n_off = sum(p >= cap[0] > 0 or q >= cap[1] > 0 for p, q in zip(per_pos, per_neg))
+        per_pos = [min(p, cap[0]) for p in per_pos]
+        per_neg = [min(q, cap[1]) for q in per_neg]
     d_pos, d_neg = _stat(per_pos, statistic), _stat(per_neg, statistic)
     r_pos = d_pos / cap[0] if cap[0] > 0 else (math.inf if d_pos > 0 else 0.0)
     r_neg = d_neg / cap[1] if cap[1] > 0 else (math.inf if d_neg > 0 else 0.0)
@@ -614,6 +623,8 @@ def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, s
     per_ratio = [max(p / cap[0] if cap[0] > 0 else (math.inf if p > 0 else 0.0),
                      q / cap[1] if cap[1] > 0 else (math.inf if q > 0 else 0.0)) for p, q in zip(per_pos, per_neg)]
     ratio = max(r_pos, r_neg)
+    off_text = ("; a record that slides past the edge drops the statue off its support and exceeds the row by "
+                "itself (it counts as the edge distance in the statistic)" if edge else "")
     reason = ""
     if not math.isfinite(ratio):
         reason = "no sliding capacity on the side it slides to: its base reaches the support's edge"
@@ -623,11 +634,12 @@ def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, s
         f"peak sliding displacement of {who} on {support_words} toward each side (exact rigid-plastic sliding, "
         f"Coulomb friction mu_s {friction.mu_s:g}, mu_k {friction.mu_k:g}), the {statistic} over the {n} records "
         f"(m), against {source} on that side; the row shows the side with the larger ratio; exceeded when "
-        "ratio >= 1",
-        ratio >= 1.0, sum(x >= 1.0 for x in per_ratio), tuple(per_pos if pos else per_neg),
+        f"ratio >= 1{off_text}",
+        ratio >= 1.0 or n_off >= 1, sum(x >= 1.0 for x in per_ratio), tuple(per_pos if pos else per_neg),
         {"side": "toward +x" if pos else "toward -x", "demand_pos": d_pos, "capacity_pos": cap[0],
          "demand_neg": d_neg, "capacity_neg": cap[1], "mu_s": friction.mu_s, "mu_k": friction.mu_k,
          "capacity_source": source, "n_sliding": sum(max(p, q) > 0 for p, q in zip(per_pos, per_neg)),
+         "n_off_the_edge": n_off if edge else None,
          "per_record_ratio": per_ratio}, reason)
 
 
@@ -635,7 +647,7 @@ def _support_rows(fixed, support, statistic) -> list[LimitState]:
     """The sliding row, and with a pedestal the pedestal's sliding and overturning rows."""
     rows = [_sliding_row(states.SLIDING, [r.slide_pos for r in fixed], [r.slide_neg for r in fixed],
                          support.capacity, support.capacity_source, support.support_words, support.friction,
-                         statistic)]
+                         statistic, edge=support.edge)]
     if support.stack is None:
         return rows
     rows.append(_sliding_row(states.PEDESTAL_SLIDING, [r.ped_slide_pos for r in fixed],

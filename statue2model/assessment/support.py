@@ -67,7 +67,8 @@ class Support:
     ``capacity``: (toward +x, toward -x) m; ``capacity_source``: its words ("the allowance", "the
     pedestal top's edge", "the default floor allowance"); ``stack``: the two-block model
     (statue2model.rocking.stack.StackModel) with a pedestal, else None; ``pedestal_friction`` and
-    ``pedestal_capacity`` / ``pedestal_capacity_source``: the pedestal's on the floor."""
+    ``pedestal_capacity`` / ``pedestal_capacity_source``: the pedestal's on the floor; ``edge``: the
+    statue's capacity is the pedestal top's edge (sliding past it drops the statue off)."""
 
     friction: Friction
     capacity: tuple[float, float]
@@ -76,6 +77,7 @@ class Support:
     pedestal_friction: Friction | None = None
     pedestal_capacity: tuple[float, float] | None = None
     pedestal_capacity_source: str = ""
+    edge: bool = False
 
     def __post_init__(self):
         for name in ("capacity", "pedestal_capacity"):

@@ -12,8 +12,9 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
 [model]      kind, alpha_L, alpha_R, theta_L, theta_R, e_L, e_R, rtol   (the 2D rocking model)
 [sliding]    mu_statue, mu_pedestal, kinetic_ratio, allowance           (friction: sliding and the
                                                                          regime; assessment/support.py)
-[pedestal]   size = [width, depth, height] (m), mass (kg), position = [x, y] (m, the statue's centre of
-             mass from the pedestal's axis; default centred): the statue stands on it (rocking/stack.py)
+[pedestal]   size = [width, depth, height] (m), mass (kg), position = [x, y] (m, the centre of the
+             statue's base from the pedestal's axis; default centred): the statue stands on it
+             (rocking/stack.py); width is along the excitation direction
 [isolator]   enabled, mu, spectrum, motion, slc_spectrum, grooves, layout, surface, ball_material,
              thickness, side_max, target, fuse_release, segments, mu_low, mu_high (friction bounds),
              ball_capacity (a load test: N on a 40 mm ball), extra_sets
@@ -174,7 +175,8 @@ class PedestalConfig:
 
     size: tuple | None = None           # [width along the excitation, depth, height], m
     mass: float | None = None           # kg
-    position: tuple = (0.0, 0.0)        # m: the statue's centre of mass from the pedestal's vertical axis
+    position: tuple = (0.0, 0.0)        # m: the centre of the statue's base (along the excitation direction,
+                                        # across it) from the pedestal's vertical axis
 
 
 @dataclass(frozen=True)
@@ -743,7 +745,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         if not 0.1 <= pd.mass <= 1e6:
             bad(f"[pedestal] mass must be in 0.1..1e6 kg, got {pd.mass}")
         if any(abs(x) > s_ / 2 for x, s_ in zip(pd.position, pd.size)):
-            bad(f"[pedestal] position {list(pd.position)} puts the statue's centre of mass off the pedestal's top "
+            bad(f"[pedestal] position {list(pd.position)} puts the centre of the statue's base off the pedestal's top "
                 f"({pd.size[0]:g} x {pd.size[1]:g} m)")
     elif pd.position != (0.0, 0.0):
         bad("[pedestal] position needs a pedestal: give its size and mass")

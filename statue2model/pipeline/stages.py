@@ -100,15 +100,16 @@ class Context:
             return Support(friction, (floor_cap, floor_cap), floor_words)
         from ..rocking.stack import Pedestal, StackModel
 
-        stack = StackModel(p, Pedestal.box(pd.size[0], pd.size[1], pd.size[2], pd.mass), x2=pd.position[0])
-        edge = edge_distances(p.b_L, p.b_R, pd.position[0], pd.size[0] / 2)
+        x2 = pd.position[0] + (p.b_L - p.b_R) / 2          # G from the axis: the base's centre at position
+        stack = StackModel(p, Pedestal.box(pd.size[0], pd.size[1], pd.size[2], pd.mass), x2=x2)
+        edge = edge_distances(p.b_L, p.b_R, x2, pd.size[0] / 2)
         if sl.allowance is None:
             cap, words = edge, "the distance from its base to the pedestal top's edge"
         else:
             cap = tuple(min(e, sl.allowance) for e in edge)
             words = f"the smaller of the pedestal top's edge and the allowance {sl.allowance:g} m"
         return Support(friction, cap, words, stack, Friction(sl.mu_pedestal, sl.kinetic_ratio * sl.mu_pedestal),
-                       (floor_cap, floor_cap), floor_words)
+                       (floor_cap, floor_cap), floor_words, edge=sl.allowance is None or sl.allowance >= min(edge))
 
     def design(self) -> dict | None:
         """The isolator design (dict) if the isolator stage ran and its design passed every required check
