@@ -214,7 +214,7 @@ def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
     lifts, the statue's rocking numbers are the two-block run's; while it stays in full contact the
     statue rocks as on the ground (the single-body model, imperfect or not)."""
     from ..isolator.coupled import simulate_coupled
-    from ..rocking.engine import simulate
+    from ..rocking.bodies import simulate
 
     model, iso, motion, rtol = item[:4]
     support = item[5] if len(item) > 5 else None
@@ -224,7 +224,7 @@ def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
         r = simulate(model, motion, rtol=rtol)
         fixed = FixedRecord(motion.label, float(hi), float(-lo), r.uplift_time is not None, r.uplift_time,
                             float(r.theta_max_over_delta), r.n_impacts, bool(r.overturned), r.outcome,
-                            bool(r.applicable))
+                            bool(getattr(r, "applicable", True)))
         if support is not None:
             sr = support.run(motion)
             st = sr.statue or {}

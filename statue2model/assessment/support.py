@@ -98,9 +98,9 @@ class Support:
         if self.stack is None:
             s = simulate_sliding(self.friction, motion)
             return SupportRecord(s.u_pos, s.u_neg)
-        from ..rocking.stack import simulate_stack
+        from ..rocking.bodies import simulate
 
-        r = simulate_stack(self.stack, motion)
+        r = simulate(self.stack, motion)
         ped = r.pedestal
         statue = None
         top = motion

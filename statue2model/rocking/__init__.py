@@ -8,7 +8,7 @@ integrator), ``dop853`` (the DOP853 method shared with the isolator's coupled ke
 parameter), ``sampling`` (parameter samples), ``identify`` (restitution from
 free-rocking records), ``reference`` (scipy solve_ivp, the reference of the tests),
 ``sliding`` (Coulomb sliding of one body), ``stack`` (a statue on a pedestal: the two-block
-rocking model).
+rocking model), ``bodies`` (the body types behind one seam: a model, a kernel, a registry row).
 Ground motions are :mod:`statue2model.hazard.motions`.
 """
 from .engine import RockingResult, simulate

@@ -553,6 +553,25 @@ class StackResult:
     top_acc: np.ndarray = field(repr=False)
     stats: dict = field(default_factory=dict)
 
+    # -- the response every consumer reads (rocking/bodies.py Response): the statue's, which falls with
+    # its pedestal
+    @property
+    def overturned(self) -> bool:
+        return bool(self.statue.overturned or self.pedestal.overturned)
+
+    @property
+    def theta_max_over_delta(self) -> float:
+        return 1.0 if self.overturned else float(self.statue.theta_max_over_delta)
+
+    @property
+    def uplift_time(self) -> float | None:
+        times = [t for t in (self.statue.uplift_time, self.pedestal.uplift_time) if t is not None]
+        return min(times) if times else None
+
+    @property
+    def n_impacts(self) -> int:
+        return int(self.statue.n_impacts)
+
     def top_motion(self) -> GroundMotion:
         """The pedestal top's horizontal acceleration as a record GroundMotion (the input of
         :func:`statue2model.rocking.sliding.simulate_sliding` for the statue on the pedestal)."""
