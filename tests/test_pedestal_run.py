@@ -57,3 +57,26 @@ def test_a_heavy_wide_pedestal_leaves_the_statue_as_on_the_floor(tmp_path):
     assert not any(r["ped_uplift"] for r in ped["fixed_records"])
     assert b["fixed", "pedestal_overturning"]["n_exceeding"] == 0 and b["fixed", "pedestal_sliding"]["demand"] == 0
     assert ("fixed", "pedestal_sliding") not in a and ("fixed", "sliding") in a
+
+
+def test_objects_give_each_object_its_pedestal():
+    """[objects] (issue [22], item 7): an object's inline table gives it its own pedestal (or none), read and
+    checked as [pedestal]; the resolved file reads back the same."""
+    from statue2model.errors import InputError
+    from statue2model.pipeline.config import load_config_text
+    from statue2model.pipeline.rooms import config_for
+
+    cfg = load_config_text('[pedestal]\nsize = [1.0, 1.0, 0.5]\nmass = 800\n[objects]\n'
+                           '"maria_*" = { pedestal = { size = [0.6, 0.6, 1.0], mass = 250, position = [0.05, 0] } }\n'
+                           '"vase.ply" = { floor = 0, pedestal = false }\n')
+    assert config_for(cfg, "maria_b.ply").pedestal.size == (0.6, 0.6, 1.0)
+    assert config_for(cfg, "maria_b.ply").pedestal.position == (0.05, 0.0)
+    assert config_for(cfg, "vase.ply").pedestal.size is None                  # on the floor
+    assert config_for(cfg, "nefertiti.ply").pedestal.size == (1.0, 1.0, 0.5)  # [pedestal]
+    again = load_config_text(cfg.to_toml(), "resolved")
+    assert again.objects == cfg.objects and again.pedestal == cfg.pedestal
+    for bad, msg in (('{ pedestal = { size = [0.6, 0.6, 1.0] } }', "both size"),
+                     ('{ pedestal = { size = [0.6, 0.6, 1.0], mass = 250, colour = 1 } }', "unknown key 'colour'"),
+                     ('{ pedestal = 3 }', "a table")):
+        with pytest.raises(InputError, match=msg):
+            load_config_text(f'[objects]\n"a.ply" = {bad}\n', "t.toml")

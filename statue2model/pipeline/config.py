@@ -341,7 +341,8 @@ class ProjectConfig:
         if self.rooms:
             out["rooms"] = {name: dict(keys) for name, keys in self.rooms}
         if self.objects:
-            out["objects"] = {k: v if isinstance(v, str) else dict(v) for k, v in self.objects}
+            out["objects"] = {k: v if isinstance(v, str) else {kk: dict(vv) if kk == "pedestal" else vv
+                                                               for kk, vv in v} for k, v in self.objects}
         if self.values:
             out["values"] = dict(self.values)
         return out
@@ -363,8 +364,9 @@ class ProjectConfig:
         if "rooms" in table:
             data["rooms"] = {name: {k: clean(v) for k, v in keys.items()} for name, keys in table["rooms"].items()}
         if "objects" in table:
-            data["objects"] = {k: v if isinstance(v, str) else {kk: clean(vv) for kk, vv in v.items()}
-                               for k, v in table["objects"].items()}
+            data["objects"] = {k: v if isinstance(v, str) else {
+                kk: {pk: clean(pv) for pk, pv in vv.items()} if kk == "pedestal" else clean(vv)
+                for kk, vv in v.items()} for k, v in table["objects"].items()}
         if "values" in table:
             data["values"] = dict(table["values"])
         data["prototype"]["scale"] = scale_text(self.prototype.scale)     # "1:2", as the user writes it
@@ -514,6 +516,43 @@ def _building_keys(table, shown: str, where: str) -> tuple:
     return tuple(sorted(out, key=lambda kv: kv[0]))
 
 
+def _pedestal_keys(table, shown: str, where: str) -> tuple:
+    """An object's own pedestal (``pedestal = { size = [...], mass = ... }`` in its inline [objects] table, or
+    ``pedestal = false``: none), converted and checked as [pedestal]'s: ((key, value), ...)."""
+    if table is False:
+        return (("mass", None), ("size", None))
+    if not isinstance(table, dict):
+        raise InputError(f"{where}: [{shown}] pedestal must be a table {{ size = [w, d, h], mass = kg }} or false")
+    defaults = {f.name: f.default for f in fields(PedestalConfig)}
+    out = {}
+    for key, value in table.items():
+        if key not in defaults:
+            raise InputError(f"{where}: unknown key '{key}' in [{shown}] pedestal (the keys of [pedestal]: "
+                             f"{', '.join(defaults)})")
+        out[key] = _convert("pedestal", key, value, defaults[key], where, key != "position", shown=f"{shown} pedestal")
+    check_pedestal(PedestalConfig(**out), f"{where}: [{shown}] pedestal")
+    return tuple(sorted(out.items()))
+
+
+def check_pedestal(pd: PedestalConfig, where: str) -> None:
+    """A pedestal's keys checked: both size and mass or neither, plausible sizes, the statue on its top."""
+    def bad(msg):
+        raise InputError(f"{where}: {msg}")
+
+    if (pd.size is None) != (pd.mass is None):
+        bad("give both size = [width, depth, height] (m) and mass (kg), or neither")
+    if pd.size is not None:
+        if not all(0.01 <= x <= 20 for x in pd.size):
+            bad(f"size must be three lengths in 0.01..20 m (width, depth, height), got {list(pd.size)}")
+        if not 0.1 <= pd.mass <= 1e6:
+            bad(f"mass must be in 0.1..1e6 kg, got {pd.mass}")
+        if any(abs(x) > s_ / 2 for x, s_ in zip(pd.position, pd.size)):
+            bad(f"position {list(pd.position)} puts the centre of the statue's base off the pedestal's top "
+                f"({pd.size[0]:g} x {pd.size[1]:g} m)")
+    elif pd.position != (0.0, 0.0):
+        bad("position needs a pedestal: give its size and mass")
+
+
 def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tuple]:
     """The ``[rooms]`` and ``[objects]`` tables of a project file (parsed TOML: dicts, or None
     when absent) as ProjectConfig's ``rooms`` ((name, ((key, value), ...)), ...) and
@@ -538,7 +577,12 @@ def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tup
                 raise InputError(f"{where}: [objects] {_label(key)}: a key is a scan's file name or a pattern "
                                  "on it, not a path")
             if isinstance(value, dict):
-                object_rows.append((key, _building_keys(value, f"objects.{_label(key)}", where)))
+                value = dict(value)
+                ped = value.pop("pedestal", None)
+                keys = _building_keys(value, f"objects.{_label(key)}", where)
+                if ped is not None:
+                    keys = tuple(sorted((*keys, ("pedestal", _pedestal_keys(ped, f"objects.{_label(key)}", where)))))
+                object_rows.append((key, keys))
             elif isinstance(value, str):
                 object_rows.append((key, value))
             else:
@@ -579,7 +623,8 @@ def check_rooms(cfg: ProjectConfig, where: str = "project file") -> None:
                     f" (rooms: {', '.join(names)})" if names else " (the file defines no [rooms.NAME])")
             raise InputError(f"{where}: [objects] {_label(key)} = {value!r}: unknown room{hint}")
     shown = [(f"rooms.{_label(n)}", k) for n, k in cfg.rooms]
-    shown += [(f"objects.{_label(n)}", v) for n, v in cfg.objects if not isinstance(v, str)]
+    shown += [(f"objects.{_label(n)}", tuple(kv for kv in v if kv[0] != "pedestal"))
+              for n, v in cfg.objects if not isinstance(v, str)]
     for table, keys in shown:
         try:
             site(replace(cfg, building=replace(cfg.building, **dict(keys))))
@@ -737,18 +782,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         bad(f"[sliding] kinetic_ratio (mu_k / mu_s) must be in (0, 1], got {sl.kinetic_ratio}")
     if sl.allowance is not None and not 0 < sl.allowance <= 10:
         bad(f"[sliding] allowance must be in (0, 10] m, got {sl.allowance}")
-    if (pd.size is None) != (pd.mass is None):
-        bad("[pedestal] give both size = [width, depth, height] (m) and mass (kg), or neither")
-    if pd.size is not None:
-        if not all(0.01 <= x <= 20 for x in pd.size):
-            bad(f"[pedestal] size must be three lengths in 0.01..20 m (width, depth, height), got {list(pd.size)}")
-        if not 0.1 <= pd.mass <= 1e6:
-            bad(f"[pedestal] mass must be in 0.1..1e6 kg, got {pd.mass}")
-        if any(abs(x) > s_ / 2 for x, s_ in zip(pd.position, pd.size)):
-            bad(f"[pedestal] position {list(pd.position)} puts the centre of the statue's base off the pedestal's top "
-                f"({pd.size[0]:g} x {pd.size[1]:g} m)")
-    elif pd.position != (0.0, 0.0):
-        bad("[pedestal] position needs a pedestal: give its size and mass")
+    check_pedestal(pd, f"{where}: [pedestal]")
     if i.mu is not None and not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):

@@ -22,7 +22,10 @@ structure, damping, isolated, floor_spectrum), read and checked as ``[building]`
 room is ``[building]`` updated with its keys. A second building of the museum is a
 room too (its own storeys, height, structure).
 
-``[objects]`` maps a scan to a room name or to an inline table of ``[building]`` keys.
+``[objects]`` maps a scan to a room name or to an inline table of ``[building]`` keys; the inline
+table may give the object its own pedestal, ``pedestal = { size = [0.6, 0.6, 1.0], mass = 250 }``
+(the keys of ``[pedestal]``; ``pedestal = false``: it stands on the floor), which replaces
+``[pedestal]`` for that object.
 A key is the scan's file name (``"dancing_girl.ply"``), its name without the suffix
 (``"dancing_girl"``) or a pattern on them (``*``, ``?``, ``[abc]``; ``"maria_*"``),
 compared without regard to case. It names a file of the folder, never a path (a ``/``
@@ -57,6 +60,9 @@ Example
 (2, 1)
 >>> config_for(cfg, "nefertiti.ply").building.floor              # no key matches: [building]
 0
+>>> ped = load_config_text('[objects]\\n"maria_*" = { floor = 0, pedestal = { size = [0.6, 0.6, 1.0], mass = 250 } }')
+>>> config_for(ped, "maria_b.ply").pedestal.size, config_for(ped, "nefertiti.ply").pedestal.size
+((0.6, 0.6, 1.0), None)
 >>> p = object_placement(cfg, "maria_barjatinskaja.ply")
 >>> p["room"], p["key"], p["floor"], p["on_floor"]
 ('gallery_2', 'maria_*', 2, True)
@@ -70,7 +76,7 @@ from fnmatch import fnmatchcase
 
 from ..errors import InputError
 from ..quantities import G
-from .config import BuildingConfig, ProjectConfig, _label, site
+from .config import BuildingConfig, PedestalConfig, ProjectConfig, _label, site
 
 ROOM_KEYS = tuple(f.name for f in fields(BuildingConfig))
 """The keys a room (or an object's inline table) may set: those of ``[building]``. The table is
@@ -143,7 +149,9 @@ def config_for(cfg: ProjectConfig, scan_name: str) -> ProjectConfig:
     if not cfg.objects and not cfg.rooms and not getattr(cfg, "values", ()):
         return cfg
     _, _, keys = room_of(cfg, scan_name)
-    return replace(cfg, building=replace(cfg.building, **keys), rooms=(), objects=(), values=())
+    ped = dict(keys.pop("pedestal", ()))
+    pedestal = replace(PedestalConfig(), **ped) if ped else cfg.pedestal
+    return replace(cfg, building=replace(cfg.building, **keys), pedestal=pedestal, rooms=(), objects=(), values=())
 
 
 def object_placement(cfg: ProjectConfig, scan_name: str) -> dict:
