@@ -14,7 +14,8 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
                                                                          regime; assessment/support.py)
 [pedestal]   size = [width, depth, height] (m), mass (kg), position = [x, y] (m, the centre of the
              statue's base from the pedestal's axis; default centred): the statue stands on it
-             (rocking/stack.py); width is along the excitation direction
+             (rocking/stack.py); width is along the excitation direction; or file (a scan of the
+             pedestal), units, up, density instead of size
 [isolator]   enabled, mu, spectrum, motion, slc_spectrum, grooves, layout, surface, ball_material,
              thickness, side_max, target, fuse_release, segments, mu_low, mu_high (friction bounds),
              ball_capacity (a load test: N on a 40 mm ball), extra_sets
@@ -171,12 +172,18 @@ class SlidingConfig:
 
 @dataclass(frozen=True)
 class PedestalConfig:
-    """The pedestal the statue stands on (rocking/stack.py); no size: the statue stands on the floor."""
+    """The pedestal the statue stands on (rocking/stack.py); neither size nor file: the statue stands on the
+    floor. A scanned pedestal (``file``) is read as a statue's scan is and enters the 2D model as its
+    equivalent box (its base's extent along the excitation direction, its height, its mass)."""
 
     size: tuple | None = None           # [width along the excitation, depth, height], m
-    mass: float | None = None           # kg
+    mass: float | None = None           # kg (with file: auto = its volume x density)
     position: tuple = (0.0, 0.0)        # m: the centre of the statue's base (along the excitation direction,
                                         # across it) from the pedestal's vertical axis
+    file: str | None = None             # a scan of the pedestal (any format a statue's scan may have)
+    units: str = "auto"                 # of the pedestal's scan, as [scan] units
+    up: str = "auto"                    # of the pedestal's scan, as [scan] up
+    density: float = 2650.0             # kg/m^3 of the pedestal's scan when no mass is given
 
 
 @dataclass(frozen=True)
@@ -289,6 +296,8 @@ _ACCELS = {("isolator", "target"), ("isolator", "fuse_release")}
 _AUTO_GRIDS = {("dynamics", "fragility_levels")}     # "auto" or a grid
 _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
             ("scan", "up"): ("auto", "x", "y", "z", "-x", "-y", "-z"),
+            ("pedestal", "units"): ("auto", "m", "mm", "cm", "in"),
+            ("pedestal", "up"): ("auto", "x", "y", "z", "-x", "-y", "-z"),
             ("prototype", "policy"): ("mid", "envelope", "core"),
             ("model", "kind"): ("housner", "imperfect"),
             ("dynamics", "pulse"): ("cosine", "sine"),
@@ -456,7 +465,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             if isinstance(value, bool) or not float(value).is_integer():
                 raise ValueError("must be a whole number")
             return int(value)
-        elif isinstance(default, str) or key in ("spectrum", "motion", "scheduler", "slc_spectrum"):
+        elif isinstance(default, str) or key in ("spectrum", "motion", "scheduler", "slc_spectrum", "file"):
             if not isinstance(value, str):
                 raise ValueError("must be a string")
             return value
@@ -530,6 +539,9 @@ def _pedestal_keys(table, shown: str, where: str) -> tuple:
             raise InputError(f"{where}: unknown key '{key}' in [{shown}] pedestal (the keys of [pedestal]: "
                              f"{', '.join(defaults)})")
         out[key] = _convert("pedestal", key, value, defaults[key], where, key != "position", shown=f"{shown} pedestal")
+        if key == "file" and out[key] is not None and not Path(out[key]).is_absolute():
+            raise InputError(f"{where}: [{shown}] pedestal file must be an absolute path here (or give it as "
+                             "[pedestal] file, read relative to the project file)")
     check_pedestal(PedestalConfig(**out), f"{where}: [{shown}] pedestal")
     return tuple(sorted(out.items()))
 
@@ -539,6 +551,16 @@ def check_pedestal(pd: PedestalConfig, where: str) -> None:
     def bad(msg):
         raise InputError(f"{where}: {msg}")
 
+    if pd.file is not None:
+        if pd.size is not None:
+            bad("give either size (a box) or file (a scan of the pedestal), not both")
+        if not Path(pd.file).is_file():
+            bad(f"file {pd.file!r:.200} is not a readable file")
+        if not 100 <= pd.density <= 20000:
+            bad(f"density must be in 100..20000 kg/m^3, got {pd.density}")
+        if pd.mass is not None and not 0.1 <= pd.mass <= 1e6:
+            bad(f"mass must be in 0.1..1e6 kg, got {pd.mass}")
+        return
     if (pd.size is None) != (pd.mass is None):
         bad("give both size = [width, depth, height] (m) and mass (kg), or neither")
     if pd.size is not None:
@@ -666,6 +688,8 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
         for key in ("motion",):
             if key in values:
                 values[key] = _absolute_file_spec(values[key], Path(base_dir) if base_dir else Path.cwd())
+        if sec == "pedestal" and values.get("file"):
+            values["file"] = str(((Path(base_dir) if base_dir else Path.cwd()) / values["file"]).resolve())
         kw[sec] = cls(**values)
     cfg = ProjectConfig(**kw, source=where)
     validate(cfg, where)
@@ -705,10 +729,13 @@ def _absolute_file_spec(spec: str | None, base_dir: Path) -> str | None:
 
 
 def motion_files(cfg: ProjectConfig, sections) -> dict:
-    """{path: SHA-256} of the motion records that ``sections`` of ``cfg`` read (for cache keys)."""
+    """{path: SHA-256} of the motion records (and the pedestal's scan) that ``sections`` of ``cfg`` read
+    (for cache keys)."""
     from .cache import file_hash
 
     out = {}
+    if "pedestal" in sections and cfg.pedestal.file and Path(cfg.pedestal.file).is_file():
+        out[cfg.pedestal.file] = file_hash(cfg.pedestal.file)
     for sec, key in MOTION_KEYS:
         spec = getattr(getattr(cfg, sec), key) if sec in sections else None
         if spec and spec.strip().lower().startswith("file:"):

@@ -96,13 +96,14 @@ class Context:
         floor_cap = FLOOR_ALLOWANCE if sl.allowance is None else sl.allowance
         floor_words = (f"the default floor allowance {FLOOR_ALLOWANCE:g} m" if sl.allowance is None else
                        f"the allowance {sl.allowance:g} m ([sliding] allowance)")
-        if pd.size is None:
+        if pd.size is None and pd.file is None:
             return Support(friction, (floor_cap, floor_cap), floor_words)
-        from ..rocking.stack import Pedestal, StackModel
+        from ..rocking.stack import StackModel
 
+        pedestal = self.pedestal(p.direction_deg)
         x2 = pd.position[0] + (p.b_L - p.b_R) / 2          # G from the axis: the base's centre at position
-        stack = StackModel(p, Pedestal.box(pd.size[0], pd.size[1], pd.size[2], pd.mass), x2=x2)
-        edge = edge_distances(p.b_L, p.b_R, x2, pd.size[0] / 2)
+        stack = StackModel(p, pedestal, x2=x2)
+        edge = edge_distances(p.b_L, p.b_R, x2, pedestal.b)
         if sl.allowance is None:
             cap, words = edge, "the distance from its base to the pedestal top's edge"
         else:
@@ -110,6 +111,22 @@ class Context:
             words = f"the smaller of the pedestal top's edge and the allowance {sl.allowance:g} m"
         return Support(friction, cap, words, stack, Friction(sl.mu_pedestal, sl.kinetic_ratio * sl.mu_pedestal),
                        (floor_cap, floor_cap), floor_words, edge=sl.allowance is None or sl.allowance >= min(edge))
+
+    def pedestal(self, direction_deg: float):
+        """The [pedestal] as the 2D model's block (rocking/stack.py Pedestal): its box, or a scan of it read as
+        a statue's scan is (the same loader, repairs and mass properties) and taken as its equivalent box along
+        ``direction_deg``: width b_L + b_R of its base through its centre of mass, its height, its mass."""
+        from ..rocking.stack import Pedestal
+
+        pd = self.config.pedestal
+        if pd.file is None:
+            return Pedestal.box(pd.size[0], pd.size[1], pd.size[2], pd.mass)
+        from ..geometry.body import load_body
+
+        body = load_body(pd.file, units=pd.units, up=pd.up, density=None if pd.mass is not None else pd.density,
+                         mass=pd.mass)
+        q = body.rocking(direction_deg)
+        return Pedestal.box(q.b_L + q.b_R, q.b_L + q.b_R, body.height, body.mass.mass)
 
     def design(self) -> dict | None:
         """The isolator design (dict) if the isolator stage ran and its design passed every required check
