@@ -36,34 +36,39 @@ DT_OUT = 0.005
 """Sampling step of the time histories, s."""
 
 
-def spectra(model, iso, freqs, amps, pulse: str, rtol: float, executor=None) -> tuple:
+def spectra(model, iso, freqs, amps, pulse: str, rtol: float, executor=None, iso_model=None) -> tuple:
     """(the fixed-base StabilitySpectrum, the IsolatedSpectrum on ``iso`` or None) over
-    ``freqs`` (Hz) x ``amps`` (m/s^2) of one-``pulse`` pulses."""
+    ``freqs`` (Hz) x ``amps`` (m/s^2) of one-``pulse`` pulses; ``iso_model``: the body on the isolator
+    (None: ``model``; with the pedestal on the device, the stack as one body)."""
+    iso_model = model if iso_model is None else iso_model
     from ..isolator.sweeps import isolated_spectrum
     from ..rocking.spectrum import stability_spectrum
 
     sp = stability_spectrum(model, freqs, amps, pulse=pulse, rtol=rtol, executor=executor)
-    spi = None if iso is None else isolated_spectrum(iso, model, freqs, amps, pulse=pulse, rtol=rtol,
+    spi = None if iso is None else isolated_spectrum(iso, iso_model, freqs, amps, pulse=pulse, rtol=rtol,
                                                      executor=executor)
     return sp, spi
 
 
-def variabilities(model, iso, motion, pgas, rtol: float, executor=None) -> tuple:
+def variabilities(model, iso, motion, pgas, rtol: float, executor=None, iso_model=None) -> tuple:
     """(the fixed-base SweepResult, the IsolatedSweep on ``iso`` or None, its plate's peak
-    absolute accelerations or None) of ``motion`` scaled to each of ``pgas`` (m/s^2)."""
+    absolute accelerations or None) of ``motion`` scaled to each of ``pgas`` (m/s^2); ``iso_model``
+    as :func:`spectra`'s."""
+    iso_model = model if iso_model is None else iso_model
     from ..isolator.sweeps import isolated_variability
     from ..rocking.sweeps import variability
 
     sw = variability(model, motion, pgas, rtol=rtol, executor=executor)
     swi = acc_i = None
     if iso is not None:
-        swi, acc_i = isolated_variability(iso, model, motion, pgas, rtol=rtol, executor=executor)
+        swi, acc_i = isolated_variability(iso, iso_model, motion, pgas, rtol=rtol, executor=executor)
     return sw, swi, acc_i
 
 
-def histories(model, iso, motion, rtol: float) -> tuple:
+def histories(model, iso, motion, rtol: float, iso_model=None) -> tuple:
     """(the fixed-base response, the plate alone on ``iso`` or None, the statue coupled to
-    the plate or None) under ``motion``, sampled every DT_OUT s."""
+    the plate or None) under ``motion``, sampled every DT_OUT s; ``iso_model`` as :func:`spectra`'s."""
+    iso_model = model if iso_model is None else iso_model
     from ..isolator.coupled import simulate_coupled
     from ..isolator.time_history import simulate as plate_run
     from ..rocking.engine import simulate as rock
@@ -72,7 +77,7 @@ def histories(model, iso, motion, rtol: float) -> tuple:
     plate = coupled = None
     if iso is not None:
         plate = plate_run(iso, motion, dt_out=DT_OUT)
-        coupled = simulate_coupled(iso, model, motion, t_end=float(plate.t[-1]), dt_out=DT_OUT, rtol=rtol)
+        coupled = simulate_coupled(iso, iso_model, motion, t_end=float(plate.t[-1]), dt_out=DT_OUT, rtol=rtol)
     return fixed, plate, coupled
 
 

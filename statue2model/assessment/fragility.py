@@ -654,7 +654,7 @@ def _isolated(iso, model, records, gains, samples, study, executor):
 
 def run_fragility(model: RockingModel, records, levels, samples: ParameterSamples, study: FragilityStudy | None = None,
                   isolator=None, executor=None, max_steps: int = 20_000_000,
-                  adaptive: AdaptiveLevels | None = None) -> FragilityResult:
+                  adaptive: AdaptiveLevels | None = None, iso_model: RockingModel | None = None) -> FragilityResult:
     """Run and fit a fragility study (module docstring): ``records`` a list of GroundMotion
     (each scaled so that its IM equals each of ``levels``: m/s^2 for PGA, m/s for PGV, times
     the sample's im_factor), ``samples`` the parameter samples, ``isolator`` an Isolator for
@@ -662,8 +662,10 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     for the fixed base, one after the other on the isolator), or an Executor (SerialExecutor,
     ProcessExecutor, DaskExecutor); the numbers are bit-identical either way. ``adaptive``: an
     AdaptiveLevels budget, the levels added round by round around each curve's median until its
-    spread is identified (module docstring); None runs ``levels`` as given."""
+    spread is identified (module docstring); None runs ``levels`` as given. ``iso_model``: the body on the
+    isolator (None: ``model``; the stack as one body when the device carries the pedestal)."""
     study = FragilityStudy() if study is None else study
+    iso_model = model if iso_model is None else iso_model
     if not isinstance(study, FragilityStudy):
         raise InputError("study must be a FragilityStudy")
     if adaptive is not None and not isinstance(adaptive, AdaptiveLevels):
@@ -693,7 +695,7 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
             stats["integrated_fixed"] += n_int
             stats["wall_fixed_s"] += time.perf_counter() - t
             return {_C(states.FULL_CONTACT, "fixed"): lifts & v, _C(states.OVERTURNING, "fixed"): f}, v
-        ot, cap, ok, up = _isolated(isolator, model, records, gains, samples, study, executor)
+        ot, cap, ok, up = _isolated(isolator, iso_model, records, gains, samples, study, executor)
         stats["runs_isolated"] += R * x.size * S_n
         stats["failed_isolated"] += int((~ok).sum())
         stats["wall_isolated_s"] += time.perf_counter() - t

@@ -207,7 +207,7 @@ class IsolatedRecord:
 
 def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
     """The per-record numbers of one record: ``item`` = (model, iso or None, motion, rtol[, fixed[,
-    support]]); the fixed-base run (unless ``fixed`` is False: the record's run at another friction
+    support[, iso_model]]]); the fixed-base run (unless ``fixed`` is False: the record's run at another friction
     bound of the same isolator, whose fixed base is already run; then None), with its sliding and
     pedestal numbers when ``support`` (assessment/support.py) is given, and, with an isolator, the
     coupled statue-on-isolator run (module level: an executor can map it). With a pedestal that
@@ -218,6 +218,7 @@ def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
 
     model, iso, motion, rtol = item[:4]
     support = item[5] if len(item) > 5 else None
+    iso_model = item[6] if len(item) > 6 and item[6] is not None else model
     fixed = None
     if len(item) < 5 or item[4]:
         hi, lo = motion.extremes()
@@ -236,7 +237,7 @@ def run_record(item: tuple) -> tuple[FixedRecord | None, IsolatedRecord | None]:
                                 if k in st})
     if iso is None:
         return fixed, None
-    c = simulate_coupled(iso, model, motion, rtol=rtol, dt_out=0.05)
+    c = simulate_coupled(iso, iso_model, motion, rtol=rtol, dt_out=0.05)
     isolated = IsolatedRecord(motion.label, float(motion.pga), float(c.u_max), bool(c.capacity_exceeded),
                               c.t_capacity, float(c.acc_abs_max), bool(c.uplift), c.t_uplift,
                               float(c.theta_max_over_delta), int(c.n_impacts), bool(c.overturned), c.outcome)
@@ -499,7 +500,7 @@ def friction_bounds_of(design: dict | None) -> tuple[float, float] | None:
 
 
 def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_band=None,
-             executor=None, mu_bounds=None, support=None) -> LimitStates:
+             executor=None, mu_bounds=None, support=None, iso_model=None, iso_limits=None) -> LimitStates:
     """The limit states of ``model`` (a RockingModel: its alpha-reduced uplift limits are the ones
     used) under ``records`` (the design record set's GroundMotions, at the design level), on a
     fixed base and, with ``iso`` (an Isolator) or ``design`` (the isolator design's dict,
@@ -511,7 +512,9 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     else the isolator's mu alone): every record runs on the isolator at both bounds and each quantity
     is taken at the bound that makes it worse (:func:`_worse`). ``support``: what the statue stands on
     (:class:`statue2model.assessment.support.Support`): adds the sliding row, and with a pedestal the
-    pedestal's rows; None: neither."""
+    pedestal's rows; None: neither. ``iso_model``: the body the isolator carries (None: ``model``; the stack
+    as one body when the device carries the pedestal) and ``iso_limits`` (toward +x, toward -x) m/s^2 what
+    it may feel (None: the contact limits of ``model``)."""
     records, iso, design, band = _check(model, records, iso, design, uplift_band)
     if mu_bounds is None:
         mu_bounds = friction_bounds_of(design)
@@ -521,7 +524,7 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
             raise InputError(f"limit states: mu_bounds must be 0 <= mu_low <= mu_high, got {mu_bounds!r}")
         mu_bounds = (lo, hi)
     isos = [iso] if iso is None or mu_bounds is None else [replace(iso, mu=mu_bounds[0]), replace(iso, mu=mu_bounds[1])]
-    items = [(model, i, rec, float(rtol), k == 0, support if k == 0 else None)
+    items = [(model, i, rec, float(rtol), k == 0, support if k == 0 else None, iso_model)
              for k, i in enumerate(isos) for rec in records]
     if executor is None:
         runs = [run_record(it) for it in items]
@@ -558,7 +561,7 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
     if iso is not None:
         if design is not None and design.get("passed") is False:
             warnings.append("the isolator design does not pass its own required checks")
-        rows += _isolated_rows(isolated, lim, iso, design, statistic,
+        rows += _isolated_rows(isolated, lim if iso_limits is None else tuple(iso_limits), iso, design, statistic,
                                mu_offset=None if mu_bounds is None else mu_bounds[1])
         if mu_bounds is not None:
             rows = [r if r.base != "isolated" else replace(r, details={**r.details, "mu_bounds": list(mu_bounds)})

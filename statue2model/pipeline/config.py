@@ -18,7 +18,7 @@ its unit: ``0.3g`` or ``2.94m/s2``; a bare ``amp=0.3`` is refused.
              pedestal), units, up, density instead of size
 [isolator]   enabled, mu, spectrum, motion, slc_spectrum, grooves, layout, surface, ball_material,
              thickness, side_max, target, fuse_release, segments, mu_low, mu_high (friction bounds),
-             ball_capacity (a load test: N on a 40 mm ball), extra_sets
+             ball_capacity (a load test: N on a 40 mm ball), extra_sets, under (statue | pedestal)
 [isolator.prices]  item = EUR: the device's price table (isolator/prices.py PRICES)
 [building]   floor, storeys, height, period, structure, damping, isolated, floor_spectrum
              (where the object stands: floor 0 = on the ground, the [isolator] spectrum itself;
@@ -216,6 +216,8 @@ class IsolatorConfig:
     # each surface's model (isolator/bearing.py: beech calibrated on the thesis' 73.6 N)
     ball_capacity: float | None = None
     extra_sets: int = 3                 # further record sets (other seeds) the device must hold on
+    under: str = "statue"               # statue | pedestal: what the device carries (with a [pedestal]: "pedestal"
+                                        # carries the stack, designed for its mass and the smaller uplift)
     prices: tuple = ()                  # [isolator.prices] item = EUR (isolator/prices.py), as (item, EUR) pairs
 
 
@@ -307,6 +309,7 @@ _CHOICES = {("scan", "units"): ("auto", "m", "mm", "cm", "in"),
                                      "grid4x4"),
             ("isolator", "surface"): ("auto", "beech", "robinia", "beech_rubber", "hdpe", "pom", "steel_race"),
             ("isolator", "ball_material"): ("auto", "steel", "resin"),
+            ("isolator", "under"): ("statue", "pedestal"),
             ("building", "floor_spectrum"): ("auto", "ec8", "ntc2018", "ntc2018-framed")}
 
 
@@ -810,6 +813,8 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     if sl.allowance is not None and not 0 < sl.allowance <= 10:
         bad(f"[sliding] allowance must be in (0, 10] m, got {sl.allowance}")
     check_pedestal(pd, f"{where}: [pedestal]")
+    if i.under == "pedestal" and pd.size is None and pd.file is None:
+        bad('[isolator] under = "pedestal" needs a [pedestal] (its size and mass, or its file)')
     if i.mu is not None and not 0 <= i.mu < 0.5:
         bad(f"[isolator] mu must be in [0, 0.5), got {i.mu}")
     if i.enabled and (i.spectrum is None) == (i.motion is None):

@@ -112,6 +112,40 @@ class Context:
         return Support(friction, cap, words, stack, Friction(sl.mu_pedestal, sl.kinetic_ratio * sl.mu_pedestal),
                        (floor_cap, floor_cap), floor_words, edge=sl.allowance is None or sl.allowance >= min(edge))
 
+    def iso_model(self):
+        """The body the isolator carries: the statue's model, or with ``[isolator] under = "pedestal"`` the
+        stack as one rigid body (rocking/stack.py StackModel.composite, Housner's model with its eq. 15
+        restitution): the device is designed for its mass and checked against :meth:`iso_limits`."""
+        model = self.model()
+        if self.config.isolator.under != "pedestal":
+            return model
+        from ..rocking.model import RockingModel
+
+        return RockingModel.housner(self.support(model.params).stack.composite,
+                                    mu_static=self.config.sliding.mu_pedestal)
+
+    def iso_limits(self, band=None) -> tuple[float, float]:
+        """(toward +x, toward -x) m/s^2: what the body on the isolator may feel before something lifts: the
+        statue's contact limits (the low end of ``band`` when the contact is uncertain) and, with the pedestal
+        on the device, the stack's too (the smaller of the two on each side)."""
+        from ..assessment.limit_states import contact_limits
+
+        lim = contact_limits(self.model(), band)
+        if self.config.isolator.under != "pedestal":
+            return lim
+        comp = self.iso_model().uplift_limits
+        return (min(lim[0], comp[0]), min(lim[1], comp[1]))
+
+    def iso_min_side(self) -> float:
+        """m: the smallest top plate that carries the pedestal: its base's larger side and a margin each side
+        (isolator/design.py EDGE), so the pedestal stands whole on the plate."""
+        from ..isolator.design import EDGE
+
+        ped = self.support(self.params()).stack.pedestal
+        pd = self.config.pedestal
+        depth = pd.size[1] if pd.size is not None else 2 * ped.b
+        return max(2 * ped.b, depth) + 2 * EDGE
+
     def pedestal(self, direction_deg: float):
         """The [pedestal] as the 2D model's block (rocking/stack.py Pedestal): its box, or a scan of it read as
         a statue's scan is (the same loader, repairs and mass properties) and taken as its equivalent box along
@@ -199,9 +233,10 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     verified by time histories on the run's design record set and ``[isolator] extra_sets`` further sets of
     other seeds, at the collapse level (hazard/levels.py) and with a reserve up to where the statue
     overturns on a fixed base, against the statue's uplift limit (the low end of the base-contact band when
-    the params stage flagged the contact uncertain). Writes design.json, design.txt, bom.csv and, for a
+    the params stage flagged the contact uncertain). With ``[isolator] under = "pedestal"`` the device carries
+    the stack (Context.iso_model: its mass loads the balls) and holds the smaller of the statue's and the
+    stack's uplift limits (Context.iso_limits); the reserve stays the statue's. Writes design.json, design.txt, bom.csv and, for a
     passing design, plates/ (CNC DXF, STL, 3MF, the drawing)."""
-    from ..assessment.limit_states import contact_limits
     from ..hazard.levels import collapse_site
     from ..hazard.motions import parse_spec
     from ..isolator.plates import PlateGeometry, write_plates
@@ -215,10 +250,12 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     rs, _ = _design_set(ctx)
     hz = site(ctx.config)
     band = _uplift_band(ctx)
-    model = ctx.model()
-    a_lim = min(contact_limits(model, band))
+    model = ctx.iso_model()
+    a_lim = min(ctx.iso_limits(band))
     why = ("min over the sides of alpha_side min(a_side, the low end of the uncertain base's uplift band "
            f"{band[0]:.4g}-{band[1]:.4g} m/s^2)" if band is not None else "min(alpha_L a_L, alpha_R a_R)")
+    if c.under == "pedestal":
+        why += " of the statue, and of the stack (statue and pedestal as one body) it carries, the smaller"
     n = len(rs.records)
     info = {"source": "design set", "rules_met": bool(rs.check()["met"]), "band_s": list(rs.band),
             "band_reason": rs.to_dict().get("band_reason"), "seeds": f"1-{n}",
@@ -228,13 +265,14 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
     if c.spectrum:
         slc_hz, slc_why = collapse_site(hz, c.slc_spectrum)
         slc = slc_hz.target
-    res = verify(ctx.params(), records=rs.records, extra_sets=extra, fixed_model=model, design_pga=hz.pga,
+    res = verify(model.params, records=rs.records, extra_sets=extra, fixed_model=ctx.model(), design_pga=hz.pga,
                  rtol=m.rtol, mu=c.mu, mu_low=c.mu_low, mu_high=c.mu_high, a_lim=a_lim, a_lim_why=why,
                  records_info=info, spectrum=hz.target if c.spectrum else None, slc=slc, slc_why=slc_why,
                  motion=parse_spec(c.motion)[0] if c.motion else None, target=c.target, alpha=alpha,
                  n_grooves=c.grooves, layouts=c.layout, surfaces=c.surface, materials=c.ball_material,
                  thickness=c.thickness, side_max=c.side_max, fuse_release=c.fuse_release,
-                 ball_capacity=c.ball_capacity, price_table=dict(c.prices), executor=ctx.executor)
+                 ball_capacity=c.ball_capacity, price_table=dict(c.prices), executor=ctx.executor,
+                 **({"min_side": ctx.iso_min_side()} if c.under == "pedestal" else {}))
     dd = res.to_dict()
     write_json(d / "design.json", dd)
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
@@ -310,25 +348,27 @@ def dynamics_stage(ctx: Context, d: Path) -> dict:
 
     c, rtol, ex = ctx.config.dynamics, ctx.config.model.rtol, ctx.executor
     model, motion = ctx.model(), parse_spec(c.motion)[0]
+    iso_model = ctx.iso_model()
     freqs, amps = linspace_spec(c.freq, "[dynamics] freq"), linspace_spec(c.amp, "[dynamics] amp", accel=True)
     pgas = linspace_spec(c.pga, "[dynamics] pga", accel=True)
     design = ctx.design() if c.isolated else None
     iso = isolator_from_design(design) if design else None
     period = design["T"] if iso is not None else None
-    sp, spi = spectra(model, iso, freqs, amps, c.pulse, rtol, ex)
+    sp, spi = spectra(model, iso, freqs, amps, c.pulse, rtol, ex, iso_model=iso_model)
     for name, result, title in zip(("fixed", "isolated"), (sp, spi), spectrum_titles(c.pulse, sp, spi, iso, period)):
         if result is not None:
             write_json(d / f"spectrum_{name}.json", result.to_dict())
             plot_spectrum(result, d / f"spectrum_{name}.png", title)
-    sw, swi, acc_i = variabilities(model, iso, motion, pgas, rtol, ex)
+    sw, swi, acc_i = variabilities(model, iso, motion, pgas, rtol, ex, iso_model=iso_model)
     write_json(d / "variability.json", variability_dict(sw, swi, acc_i))
     plot_variability_pair(sw, swi, acc_i, d / "variability.png")
     r = DynamicsResults(model, motion, iso, period, c.pulse, freqs, amps, pgas, sp, spi, sw, swi, acc_i,
-                        *histories(model, iso, motion, rtol))
+                        *histories(model, iso, motion, rtol, iso_model=iso_model))
     data = r.data()
     rs, target = _design_set(ctx, d)
     ls = evaluate(model, rs.records, iso=iso, design=design, rtol=rtol, uplift_band=_uplift_band(ctx),
-                  executor=ex, support=ctx.support(model.params))
+                  executor=ex, support=ctx.support(model.params), iso_model=iso_model,
+                  iso_limits=ctx.iso_limits(_uplift_band(ctx)))
     write_json(d / "limit_states.json", ls.to_dict())
     data["limit_states"] = ls.to_dict()
     data.update(design_set_data(rs))
@@ -407,7 +447,8 @@ def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     c = ctx.config.dynamics
     ic = ctx.config.isolator
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
-                      ctx.executor, mu_low=ic.mu_low, mu_high=ic.mu_high, rounds=c.fragility_rounds)
+                      ctx.executor, mu_low=ic.mu_low, mu_high=ic.mu_high, rounds=c.fragility_rounds,
+                      iso_model=ctx.iso_model())
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
     plot_fragility(study.result, d / "fragility.png", design_im=study.pga, slc_im=_slc_pga(ctx))
@@ -511,7 +552,7 @@ STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isol
 assert tuple(STAGES) == STAGE_NAMES, "a stage is named in config.STAGE_NAMES and run here"
 # stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
 DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),
-           "isolator": (("params",), (), ("model", "sliding:mu_statue", "isolator", "building",
+           "isolator": (("params",), (), ("model", "sliding", "pedestal", "isolator", "building",
                                           "dynamics:fragility_records,fragility_duration")),
            "dynamics": (("params",), ("isolator",), ("model", "sliding", "pedestal", "isolator", "building",
                                                       "dynamics")),
