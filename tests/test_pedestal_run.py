@@ -104,3 +104,24 @@ def test_a_pedestal_scan_loads_like_a_statue_scan(tmp_path):
         load_config_text('[pedestal]\nfile = "nowhere.stl"\n', str(tmp_path / "p.toml"), base_dir=tmp_path)
     with pytest.raises(InputError, match="either size .* or file"):
         load_config_text('[pedestal]\nfile = "plinth.stl"\nsize = [1, 1, 1]\nmass = 3\n', "p.toml", base_dir=tmp_path)
+
+
+def test_the_isolator_under_the_pedestal_carries_the_stack(tmp_path):
+    """[isolator] under = "pedestal" (issue [22], item 6): the device is designed for the statue and its pedestal
+    (their mass on the balls), its top plate carries the pedestal's base, and the felt acceleration is held
+    against the smaller of the statue's and the stack's uplift; without a pedestal the key is refused."""
+    from statue2model.errors import InputError
+    from statue2model.pipeline.config import load_config_text
+
+    with pytest.raises(InputError, match='under = "pedestal" needs a \\[pedestal\\]'):
+        load_config_text('[isolator]\nunder = "pedestal"\n', "p.toml")
+    text = ("[prototype]\nenabled = false\n[dynamics]\nfragility = false\n[pedestal]\nsize = [1.3, 1.3, 0.5]\n"
+            "mass = 1500\n")
+    (tmp_path / "p.toml").write_text(text + '[isolator]\nunder = "pedestal"\n')
+    assert main(["run", "--config", str(tmp_path / "p.toml"), "--out", str(tmp_path / "o"),
+                 "--stages", "params,isolator"]) == 0
+    d = json.loads((tmp_path / "o" / "isolator" / "design.json").read_text())
+    statue = json.loads((tmp_path / "o" / "params" / "props.json").read_text())["m"]
+    assert d["carries"]["under"] == "pedestal" and d["carries"]["mass"] == pytest.approx(statue + 1500)
+    assert d["M"] > statue + 1500 and d["side"] >= 1.3
+    assert d["a_lim"] <= min(9.81 * 0.3094 / 0.7316, 9.81 * 0.2026 / 0.7316) + 1e-3   # the statue's own uplift

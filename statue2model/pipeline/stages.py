@@ -274,6 +274,8 @@ def isolator_stage(ctx: Context, d: Path) -> dict:
                  ball_capacity=c.ball_capacity, price_table=dict(c.prices), executor=ctx.executor,
                  **({"min_side": ctx.iso_min_side()} if c.under == "pedestal" else {}))
     dd = res.to_dict()
+    dd["carries"] = {"under": c.under, "mass": model.params.m,
+                     "what": "the statue" if c.under == "statue" else "the statue on its pedestal (one body)"}
     write_json(d / "design.json", dd)
     atomic_write(d / "design.txt", lambda f: f.write_text(res.report() + "\n"))
     if res.passed:
