@@ -95,9 +95,15 @@ class Support:
 
     def run(self, motion) -> SupportRecord:
         """The sliding and pedestal numbers of one record ``motion`` (a GroundMotion of the floor)."""
+        return self.run_detail(motion)[0]
+
+    def run_detail(self, motion) -> tuple[SupportRecord, object | None]:
+        """:meth:`run` and the two-block run behind it (statue2model.rocking.stack.StackResult; None
+        without a pedestal): its histories and peak rotations, for whoever reads more than the record's
+        numbers (crosscheck/stack_classification.py)."""
         if self.stack is None:
             s = simulate_sliding(self.friction, motion)
-            return SupportRecord(s.u_pos, s.u_neg)
+            return SupportRecord(s.u_pos, s.u_neg), None
         from ..rocking.bodies import simulate
 
         r = simulate(self.stack, motion)
@@ -114,14 +120,14 @@ class Support:
         s = simulate_sliding(self.friction, top)
         p = simulate_sliding(self.pedestal_friction, motion)
         return SupportRecord(s.u_pos, s.u_neg, p.u_pos, p.u_neg, bool(ped.uplift), bool(ped.overturned),
-                             float(ped.theta_max_over_delta), statue)
+                             float(ped.theta_max_over_delta), statue), r
 
 
 def edge_distances(b_L: float, b_R: float, x2: float, half_width: float) -> tuple[float, float]:
     """(toward +x, toward -x) m: how far the statue slides before its pivot leaves the pedestal's top:
     its right pivot at x2 + b_R, its left at x2 - b_L, on a top from -half_width to +half_width.
 
-    >>> edge_distances(0.1, 0.1, 0.0, 0.3)
-    (0.2, 0.2)
+    >>> [round(x, 12) for x in edge_distances(0.1, 0.1, 0.0, 0.3)]
+    [0.2, 0.2]
     """
     return (max(half_width - (x2 + b_R), 0.0), max(half_width + (x2 - b_L), 0.0))

@@ -16,6 +16,7 @@ Example
 """
 from __future__ import annotations
 
+import math
 import re
 
 from ..assessment import states
@@ -260,4 +261,70 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
         key: {st: {"status": a.status, "accuracy": a.accuracy.value, "accuracy_lo": a.accuracy.lo,
                    "n": a.accuracy.n, "why": a.why} for st, a in cl.states.items()}
         for key, cl in (("fixed", sc.fixed), ("isolated", sc.isolated)) if cl is not None}
+    return section
+
+
+_BODY_OUTCOME = {"uplift": "uplift", "overturning": "overturning", "sliding": "sliding"}
+
+
+def add_stack_classification(section: dict, sc, note: str | None = None) -> dict:
+    """Add to the stage manifest ``section`` the 2D/3D classification of the statue on its pedestal
+    (crosscheck.stack_classification.StackClassification ``sc``, or None with ``note`` saying why it
+    was not made): a table (one row per body and outcome: both yes / 2D only / 3D only / both no per
+    record group and in all, the agreement with its 95 % interval, the verdict and why), a text on what
+    was run and the rule, the summary line and a warning for every outcome that disagrees. Returns
+    ``section``."""
+    if sc is None:
+        why = plain(note or "")
+        section["text"].append("The 2D/3D classification of the statue on its pedestal was not made: " + why)
+        section["warnings"].append("3D classification of the statue on its pedestal not made: " + why)
+        return section
+    d = sc.to_dict()
+    info = d["info"]
+    groups = list(d["by_group"])
+    rows, disagree = [], []
+    for key, a in d["outcomes"].items():
+        per = "; ".join(f"{g}: {'/'.join(str(x) for x in d['by_group'][g][key])}" for g in groups) if len(groups) > 1 else ""
+        ag = a["agreement"]
+        why = a["why"] or ""
+        if a["runs_differ"]:
+            first = next(r["why"][key] for r in d["runs"] if key in r["why"])
+            why = "; ".join(w for w in (why, f"runs that differ: {a['runs_differ']}; first: {first}") if w)
+        rows.append([a["body"], _BODY_OUTCOME.get(a["outcome"], a["outcome"]),
+                     f"{a['both_yes']}/{a['only_2d']}/{a['only_3d']}/{a['both_no']}", per,
+                     "-" if ag["value"] is None else f"{ag['value']:.2f} [{ag['lo']:.2f}-{ag['hi']:.2f}]",
+                     "yes" if a["shown_95"] else "no", a["verdict"], plain(why)])
+        if a["verdict"] == "disagrees":
+            disagree.append(f"{a['body']} {a['outcome']}: {plain(a['why'])}")
+    scene = info.get("scene_3d", {})
+    up = info.get("uplift_g", {})
+    counted = ", ".join(f"{d['by_group'][g]['n']} {g}" for g in groups)
+    section["text"].append(
+        f"The statue on its pedestal ({scene.get('pedestal', 'pedestal')}, {scene.get('pedestal_mass', 0):g} kg; "
+        f"friction {scene.get('mu_top', 0):g} on its top, {scene.get('mu_floor', 0):g} on the floor): "
+        f"{info['n_counted']} of {info['n_runs']} runs counted ({counted})"
+        ", each run in the 2D models the assessment uses (the two-block rocking model, the single-body model while "
+        "the pedestal stays in full contact, the rigid-plastic sliding of the statue on the top and of the pedestal "
+        "on the floor) and in a 3D contact simulation of the same stack (3D taken as the reference). Per body and "
+        "outcome the table counts the runs where both say yes / only 2D / only 3D / neither. The statue lifts at "
+        f"{min(up.get('statue', [math.nan])):.3f} g, the stack (the pedestal with the statue on it) at "
+        f"{min(up.get('pedestal', [math.nan])):.3f} g. Rule: {plain(d['rule'])}; an outcome that no run (or every "
+        "run) shows in both models is not testable, never counted as agreeing. '95 %' says whether the "
+        "agreement is also shown at 95 % confidence (the accuracy's lower bound >= 0.8, which needs >= 16 "
+        "agreeing runs). The 2D model lets a body either rock or slide, never both; a run where the 3D body "
+        "does both says so in its why.")
+    if note:
+        section["text"].append(plain(note))
+    section["tables"].append({"title": "Statue on its pedestal: 2D model against 3D physics (yes/no per body and outcome)",
+                              "columns": ["body", "outcome", "both yes/2D only/3D only/both no",
+                                          "per record group", "agreement", "95 %", "verdict", "why"],
+                              "rows": rows, "status_column": 6})
+    n_ok = sum(r[6] == "agrees" for r in rows)
+    n_test = sum(not r[6].startswith("not testable") for r in rows)
+    section["summary"]["2D/3D, statue on its pedestal"] = (
+        f"{n_ok} of {n_test} testable outcomes agree ({len(rows) - n_test} not testable)")
+    section["warnings"] += [f"2D/3D classification of the statue on its pedestal disagrees: {m}" for m in disagree]
+    section.setdefault("data", {})["stack_classification"] = {
+        k: {"verdict": a["verdict"], "counts": [a["both_yes"], a["only_2d"], a["only_3d"], a["both_no"]],
+            "agreement": a["agreement"]["value"]} for k, a in d["outcomes"].items()}
     return section
