@@ -61,6 +61,11 @@ for m in (rec, scaled, pulse):
     for iso in (iso_c, iso_b):
         plate(iso, m, dt_out=0.01)
         simulate_coupled(iso, model, m, dt_out=0.01, screen=False)
+from statue2model.rocking.stack import Pedestal, StackModel, simulate_stack, simulate_stack_batch
+stack = StackModel(RockingParams.rectangular_block(b=0.1, h=0.5, m=20.0), Pedestal(0.3, 0.5, 30.0))
+for m in (rec, scaled, pulse):
+    simulate_stack(stack, m, t_end=5.0)
+    simulate_stack_batch([stack], m, scales=[1.0], t_end=5.0)
 isolated_spectrum(iso_c, model, [1.0], np.array([0.3]) * G)
 isolated_variability(iso_b, model, rec, np.array([1.0, 2.0]))
 out = {}

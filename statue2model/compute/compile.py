@@ -2,13 +2,13 @@
 
 What is compiled
 ----------------
-The entry points of the three kernel modules that Python calls (:data:`KERNELS`),
+The entry points of the four kernel modules that Python calls (:data:`KERNELS`),
 each for the one argument-type signature its module declares in ``SIGNATURES``
 (float64 scalars, int64 integers, C-contiguous float64 arrays, read-only motion
 samples: see :func:`statue2model.rocking.kernel.as_samples`). The helpers they
-call are compiled into them. From scratch this takes about 40 s of one core
-(:data:`COLD_SECONDS`); :func:`warm_up` runs the three modules in up to three
-processes at once (about 25 s on 2 cores). Loading them from the cache takes
+call are compiled into them. From scratch this takes about 65 s of one core
+(:data:`COLD_SECONDS`); :func:`warm_up` runs the four modules in up to three
+processes at once (about 35 s on 2 cores). Loading them from the cache takes
 well under a second.
 
 * :func:`ensure_compiled` is called by the Python functions in front of the
@@ -47,8 +47,8 @@ versions, the same CPU and the same bytecode, modification time and size of the
 module's file; otherwise the kernel is compiled again (and announced). Numba
 checks only the function's own file, but the kernels contain code of other modules:
 every kernel that of ``hazard/motion_kernel.py`` (the compiled ground motion), the
-rocking and coupled kernels that of ``rocking/dop853.py`` (the shared DOP853
-machinery), the isolator kernels that of ``rocking/kernel.py`` (and the coupled
+rocking, stack and coupled kernels that of ``rocking/dop853.py`` (the shared DOP853
+machinery), the isolator and stack kernels that of ``rocking/kernel.py`` (and the coupled
 kernel that of ``isolator/kernel.py``): :func:`ensure_compiled` therefore keeps the
 hash of those sources beside each such module's cache (``<module>.depends.json``)
 and empties that cache when they changed (:data:`DEPENDS`).
@@ -75,6 +75,8 @@ KERNELS = (
     ("statue2model.isolator.kernel", "coulomb"),
     ("statue2model.isolator.kernel", "boucwen"),
     ("statue2model.isolator.coupled_kernel", "simulate_kernel"),
+    ("statue2model.rocking.stack_kernel", "simulate_stack_kernel"),
+    ("statue2model.rocking.stack_kernel", "simulate_stack_batch"),
 )
 """(module, function) of every kernel entry point called from Python."""
 
@@ -85,6 +87,8 @@ COLD_SECONDS = {
     "statue2model.isolator.kernel.coulomb": 6.0,
     "statue2model.isolator.kernel.boucwen": 3.0,
     "statue2model.isolator.coupled_kernel.simulate_kernel": 12.0,
+    "statue2model.rocking.stack_kernel.simulate_stack_kernel": 19.0,
+    "statue2model.rocking.stack_kernel.simulate_stack_batch": 6.0,
 }
 """Seconds of one core to compile each entry point from scratch, the helpers it
 brings included (benchmarks/bench_compile.py on the 2-core test machine); the
@@ -98,6 +102,8 @@ DEPENDS = {
     "statue2model.isolator.kernel": ("statue2model.rocking.kernel", "statue2model.hazard.motion_kernel"),
     "statue2model.isolator.coupled_kernel": ("statue2model.rocking.kernel", "statue2model.isolator.kernel",
                                              "statue2model.rocking.dop853", "statue2model.hazard.motion_kernel"),
+    "statue2model.rocking.stack_kernel": ("statue2model.rocking.kernel", "statue2model.rocking.dop853",
+                                          "statue2model.hazard.motion_kernel"),
 }
 """Kernel modules whose compiled code also holds code of these modules (numba does
 not see that: see the module docstring)."""

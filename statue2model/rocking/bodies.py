@@ -20,8 +20,8 @@ batch entry for the fragility study (many runs in one compiled call).
 name        model                                  kernel                                 batch
 ==========  =====================================  =====================================  ==============
 rigid_body  rocking.model.RockingModel             rocking.engine.simulate (numba DOP853)  rocking.batch
-stack       rocking.stack.StackModel               rocking.stack.simulate_stack (scipy     -
-            (a statue on a pedestal)               DOP853 with events)
+stack       rocking.stack.StackModel               rocking.stack.simulate_stack (numba     -
+            (a statue on a pedestal)               DOP853 with events; scipy reference)
 ==========  =====================================  =====================================  ==============
 
 Example

@@ -117,6 +117,17 @@ history (t, theta1, theta2, pattern, and the horizontal absolute acceleration of
 top under the statue's centre of mass, ``top_acc``: the input of the sliding of the statue,
 :meth:`StackResult.top_motion`; impulses at impacts are not in it).
 
+Two implementations
+-------------------
+:func:`simulate_stack` runs the compiled kernel (:mod:`statue2model.rocking.stack_kernel`, numba
+DOP853 with the events on its dense output; ``method="compiled"``, the default) or the scipy one below
+(``method="scipy"``: solve_ivp restarted at every event and record sample, the reference, 100-200 times
+slower). Both give the whole StackResult (history, ``top_acc`` and impacts included) and agree to the
+integration tolerance where the response is not chaotic (tests/test_stack_kernel.py). The scipy path
+checks the events' signs at the ends of its steps only; the kernel at 1/8 of each step, so it also sees
+a contact that crosses theta = 0 and comes back within one step (a pedestal rocking by microradians).
+:func:`simulate_stack_batch` runs many (model, motion scale) rows at once in numba's threads.
+
 Example
 -------
 >>> from statue2model.geometry.rocking_params import RockingParams
@@ -253,6 +264,26 @@ class StackModel:
         c = self.composite
         object.__setattr__(self, "e_floor", _e_pair("e_floor", self.e_floor, (c.e_L, c.e_R)))
         object.__setattr__(self, "e_top", _e_pair("e_top", self.e_top, (s.e_L, s.e_R)))
+
+    def kernel_vector(self, rest_tol: float = 1e-9) -> np.ndarray:
+        """The model vector of the compiled kernel (:mod:`statue2model.rocking.stack_kernel`, indices
+        ``B1`` ... ``ACC_TOL``), the numbers of the scipy path's mechanics (``_Mech``)."""
+        from . import stack_kernel as SK
+
+        me = _Mech(self)
+        c, s = self.composite, self.statue
+        P = np.zeros(SK.N_P)
+        P[SK.B1], P[SK.H1], P[SK.M1], P[SK.I1] = me.b1, me.h1, me.m1, me.I1
+        P[SK.M2], P[SK.I2], P[SK.H2], P[SK.BL2], P[SK.BR2] = me.m2, me.I2, me.h2, me.bL2, me.bR2
+        P[SK.X2], P[SK.GR] = me.x2, me.g
+        P[SK.D1P], P[SK.D1N], P[SK.D2P], P[SK.D2N] = me.delta1[1], me.delta1[-1], me.delta2[1], me.delta2[-1]
+        P[SK.P1], P[SK.P2] = me.p1, me.p2
+        P[SK.E1P], P[SK.E1N], P[SK.E2P], P[SK.E2N] = me.e1[1], me.e1[-1], me.e2[1], me.e2[-1]
+        P[SK.BAR1], P[SK.BAR2] = me.barrier[1], me.barrier[2]
+        P[SK.LS_UP], P[SK.LS_DN], P[SK.LP_UP], P[SK.LP_DN] = s.a_L, s.a_R, c.a_L, c.a_R
+        P[SK.REST_TOL] = float(rest_tol)
+        P[SK.ACC_TOL] = 1e-9 * me.g / min(me.h1, me.h2)
+        return P
 
     @property
     def composite(self) -> RockingParams:
@@ -811,14 +842,23 @@ class _Run:
 
 def simulate_stack(model: StackModel, motion: GroundMotion, t_end: float | None = None, rtol: float = 1e-9, *,
                    theta0=(0.0, 0.0), omega0=(0.0, 0.0), dt_out: float | None = None, rest_tol: float = 1e-9,
-                   max_events: int = MAX_EVENTS) -> StackResult:
+                   max_events: int = MAX_EVENTS, method: str = "compiled") -> StackResult:
     """Integrate the two-block model under ``motion`` from (theta0, omega0) = ((theta1, theta2),
     (theta1', theta2')) at t = 0 (rad, rad/s; theta2 relative to the pedestal).
 
     ``t_end`` (s) defaults to the end of the motion + engine.FREE_TIME; the run stops earlier at
     the first overturning, or once the stack is at rest after the motion. ``rtol``: the
     integrator's relative tolerance (DOP853). ``dt_out``: the history's step (default the record's
-    dt, 5 ms for other motions). ``max_events`` ends a run that chatters (the outcome says so)."""
+    dt, 5 ms for other motions). ``max_events`` ends a run that chatters (the outcome says so).
+
+    ``method``: "compiled" (the default: the numba kernel of :mod:`statue2model.rocking.stack_kernel`,
+    about 100 times faster) or "scipy" (solve_ivp's DOP853 with events, restarted at every event and
+    record sample: the reference). Both give the whole StackResult, history and impacts included;
+    they agree to the integration tolerance where the motion is not chaotic (tests/test_stack_kernel.py).
+    ``stats`` differ: the compiled path counts steps ("n_steps", "n_rejected", "n_rhs"), the scipy
+    path right-hand sides and segments."""
+    if method not in ("compiled", "scipy"):
+        raise InputError(f"method must be 'compiled' or 'scipy', got {method!r}")
     if not isinstance(model, StackModel):
         raise InputError("model must be a StackModel")
     if not isinstance(motion, GroundMotion):
@@ -842,13 +882,17 @@ def simulate_stack(model: StackModel, motion: GroundMotion, t_end: float | None 
     if not (math.isfinite(dt_out) and dt_out > 0):
         raise InputError(f"dt_out must be a positive time step, got {dt_out}")
     grid = np.arange(int(math.floor(t_end / dt_out + 1e-9)) + 1) * dt_out
-    run = _Run(model, motion, t_end, rtol, rest_tol, max_events, grid)
-    me = run.mech
+    if not (math.isfinite(rest_tol) and rest_tol >= 0):
+        raise InputError(f"rest_tol must be a non-negative number, got {rest_tol}")
+    me = _Mech(model)
     s1, s2 = _side(th[0], om[0]), _side(th[1], om[1])
     for i, s, v in ((1, s1, th[0]), (2, s2, th[1])):
         d = (me.delta1 if i == 1 else me.delta2)[s] if s else 1.0
         if s and s * v >= d:
             raise InputError(f"initial rotation theta{i} = {v} rad is at or beyond the overturning angle {d:.4g} rad")
+    if method == "compiled":
+        return _simulate_compiled(model, motion, t_end, rtol, th, om, grid, rest_tol, int(max_events))
+    run = _Run(model, motion, t_end, rtol, rest_tol, max_events, grid)
     y = [th[0], th[1], om[0], om[1]]
     t = 0.0
     pat = run.choose(t, y, (s1, s2))
@@ -970,3 +1014,136 @@ def _result(model, motion, run, t_final, t_rest, truncated) -> StackResult:
                        t=run.grid[:n].copy(), theta1=o["theta1"][:n].copy(), theta2=o["theta2"][:n].copy(),
                        omega1=o["omega1"][:n].copy(), omega2=o["omega2"][:n].copy(), pattern=o["pattern"][:n].copy(),
                        top_acc=o["top_acc"][:n].copy(), stats=stats)
+
+
+# -- the compiled path ----------------------------------------------------------------------
+MAX_STEPS = 20_000_000
+"""The compiled kernel's guard on steps (accepted + rejected) of one run."""
+_IMPACT_CAP = 4096
+
+
+def _outcome(S, SK, truncated: bool) -> str:
+    out = SK.OUTCOMES[int(S[SK.S_OUTCOME])]
+    return out + " (stopped: too many events)" if truncated else out
+
+
+def _simulate_compiled(model, motion, t_end, rtol, th, om, grid, rest_tol, max_events) -> StackResult:
+    from ..compute.compile import ensure_compiled
+    from . import stack_kernel as SK
+
+    ensure_compiled()
+    P = model.kernel_vector(rest_tol)
+    kind, M, smp = motion.kernel_args()
+    y0 = np.array([th[0], th[1], om[0], om[1]], dtype=float)
+    dt_out = float(grid[1] - grid[0]) if grid.size > 1 else float(t_end)
+    out = np.zeros((grid.size, 6))
+    S = np.zeros(SK.N_S)
+    cap = _IMPACT_CAP
+    while True:
+        imp = np.zeros((cap, 6))
+        n = SK.simulate_stack_kernel(P, int(kind), M, smp, y0, float(t_end), float(rtol), int(max_events),
+                                     int(MAX_STEPS), dt_out, out, imp, S)
+        n_imp = int(S[SK.S_N_IMP1] + S[SK.S_N_IMP2])
+        if n_imp <= cap:
+            break
+        cap = n_imp                      # more impacts than rows: once more with room for all
+    if S[SK.S_STATUS] != SK.STATUS_OK:
+        why = "too many steps" if S[SK.S_STATUS] == SK.STATUS_MAX_STEPS else "stalled"
+        raise RuntimeError(f"stack solver failed after t = {S[SK.S_T_FINAL]:.6g} s ({why})")
+    return _result_from_stats(model, motion, float(t_end), S, SK, dt_out, grid[:n], out[:n], imp[:n_imp])
+
+
+def _result_from_stats(model, motion, t_end, S, SK, dt_out, t, out, imp) -> StackResult:
+    c, s = model.composite, model.statue
+
+    def opt(x):
+        return None if not math.isfinite(x) else float(x)
+
+    def body(qr, ql, tmod, up, n_imp, ot, t_ot):
+        return BodyResult(theta_max=float(max(S[qr], S[ql])), theta_max_over_delta=float(S[tmod]),
+                          uplift_time=opt(S[up]), n_impacts=int(S[n_imp]), overturned=bool(S[ot] > 0),
+                          overturn_time=opt(S[t_ot]))
+
+    statue = body(SK.S_QMAX2_R, SK.S_QMAX2_L, SK.S_TMOD2, SK.S_T_UPLIFT2, SK.S_N_IMP2, SK.S_OVERTURNED2,
+                  SK.S_T_OVERTURN2)
+    pedestal = body(SK.S_QMAX1_R, SK.S_QMAX1_L, SK.S_TMOD1, SK.S_T_UPLIFT1, SK.S_N_IMP1, SK.S_OVERTURNED1,
+                    SK.S_T_OVERTURN1)
+    del c, s
+    truncated = bool(S[SK.S_TRUNCATED] > 0)
+    impacts = tuple(Impact(float(r[0]), int(r[1]), "L" if r[2] < 0 else "R", float(r[3]), float(r[4]), float(r[5]))
+                    for r in imp)
+    stats = {"n_steps": int(S[SK.S_N_STEPS]), "n_rejected": int(S[SK.S_N_REJECT]), "n_rhs": int(S[SK.S_N_RHS]),
+             "n_events": int(S[SK.S_N_EVENTS]), "t_final": float(S[SK.S_T_FINAL]), "truncated": truncated,
+             "method": "compiled"}
+    return StackResult(model=model, motion=motion, statue=statue, pedestal=pedestal,
+                       outcome=_outcome(S, SK, truncated),
+                       pattern_times={k: float(S[SK.S_PT_REST + i]) for i, k in enumerate(PATTERNS)}, t_end=t_end,
+                       t_rest=opt(S[SK.S_T_REST]), impacts=impacts, dt_out=dt_out, t=np.array(t, dtype=float),
+                       theta1=out[:, 0].copy(), theta2=out[:, 1].copy(), omega1=out[:, 2].copy(),
+                       omega2=out[:, 3].copy(), pattern=out[:, 4].astype(int), top_acc=out[:, 5].copy(), stats=stats)
+
+
+def simulate_stack_batch(models, motion: GroundMotion, scales=None, t_end: float | None = None, rtol: float = 1e-9,
+                         *, rest_tol: float = 1e-9, max_events: int = MAX_EVENTS, theta0=(0.0, 0.0),
+                         omega0=(0.0, 0.0)) -> np.ndarray:
+    """Many runs of the compiled two-block model in one call (numba threads), statistics only.
+
+    Row i: the model ``models[i]`` (a StackModel, or its :meth:`StackModel.kernel_vector` row: ``models``
+    may be a list of models or an (n, N_P) array of vectors) under ``motion`` with its accelerations
+    times ``scales[i]`` (default 1; a record's samples are shared by every row, the scale is the gain of
+    the kernel's motion vector). Returns the statistics matrix (n, N_S) of
+    :mod:`statue2model.rocking.stack_kernel` (indices ``S_*``; outcome codes ``OUTCOMES``). A row is
+    the computation of :func:`simulate_stack` (method "compiled") of that model, to the bit, under
+    ``motion.scaled(scales[i])`` for a pulse (the same amplitude) and under the record itself for a
+    scale of 1; a record with another scale differs from ``simulate_stack`` of the scaled record by the
+    rounding of the scaled samples only (here the gain multiplies each sample inside the kernel).
+
+    >>> from statue2model.geometry.rocking_params import RockingParams
+    >>> from statue2model.hazard import motions
+    >>> from statue2model.rocking import stack_kernel as SK
+    >>> model = StackModel(RockingParams.rectangular_block(0.1, 0.5, 200.0), Pedestal(0.3, 0.5, 300.0))
+    >>> S = simulate_stack_batch([model, model], motions.sine_pulse(9.81, 2.0), scales=[0.25, 0.3])
+    >>> [SK.OUTCOMES[int(k)] for k in S[:, SK.S_OUTCOME]]
+    ['statue rocks', 'statue overturns']
+    """
+    from ..compute.compile import ensure_compiled
+    from .batch import _threading_layer
+    from . import stack_kernel as SK
+    from .kernel import suffix_extremes
+
+    if not isinstance(motion, GroundMotion):
+        raise InputError("motion must be a GroundMotion")
+    if isinstance(models, np.ndarray) and models.ndim == 2:
+        if models.shape[1] != SK.N_P:
+            raise InputError(f"model vectors must have {SK.N_P} columns, got {models.shape[1]}")
+        Pm = np.array(models, dtype=float)             # a writable C copy: the kernel's one signature
+    else:
+        models = list(models)
+        if not all(isinstance(m, StackModel) for m in models):
+            raise InputError("models must be StackModels or an (n, N_P) array of their kernel vectors")
+        Pm = np.array([m.kernel_vector(rest_tol) for m in models], dtype=float).reshape(len(models), SK.N_P)
+    n = Pm.shape[0]
+    scales = np.array(np.broadcast_to(1.0 if scales is None else np.asarray(scales, dtype=float), (n,)))   # writable
+    if not np.all(np.isfinite(scales)):
+        raise InputError("scales must be finite numbers")
+    if not (1e-13 <= rtol <= 1e-3):
+        raise InputError(f"rtol must lie in [1e-13, 1e-3], got {rtol}")
+    t_end = float(motion.end + FREE_TIME if t_end is None else t_end)
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"t_end must be a positive time in s, got {t_end}")
+    y0 = np.array([*theta0, *omega0], dtype=float)
+    if y0.shape != (4,) or not np.all(np.isfinite(y0)):
+        raise InputError("theta0 and omega0 must be pairs of finite numbers (pedestal, statue)")
+    ensure_compiled()
+    _threading_layer()
+    kind, M, smp = motion.kernel_args()
+    M = np.array(M, dtype=float)
+    hi, lo = suffix_extremes(smp)
+    S = np.zeros((n, SK.N_S))
+    if n:
+        SK.simulate_stack_batch(Pm, scales, int(kind), M, smp, hi, lo, y0, t_end, float(rtol), int(max_events),
+                                int(MAX_STEPS), S)
+    bad = S[:, SK.S_STATUS] != SK.STATUS_OK
+    if np.any(bad):
+        raise RuntimeError(f"stack solver did not finish {int(bad.sum())} of {n} runs")
+    return S
