@@ -716,7 +716,7 @@ class _Run:
         return pat
 
     # impacts
-    def impact(self, t, y, pat, i):
+    def impact(self, t, y, pat, i, depth: int = 0):
         me = self.mech
         y = list(y)
         y[i - 1] = 0.0
@@ -768,6 +768,14 @@ class _Run:
         if wp == 0.0 or (c > 0.0 and wp * wp / (2.0 * c) < self.rest_tol * delta):
             y_new[1 + i] = 0.0
             new[i - 1] = 0
+        # the other contact, open but at its pivot's closing point (|theta_j| within the impact event's offset),
+        # now driven into it by this impact: it impacts at once (its event would start on the wrong side and
+        # never fire: the body would then rock about a pivot it has passed)
+        j = 2 if i == 1 else 1
+        sj = new[j - 1]
+        if sj and depth == 0 and sj * y_new[j - 1] <= IMPACT_EPS * (me.delta1 if j == 1 else me.delta2)[sj] \
+                and sj * y_new[j + 1] < 0.0:
+            return self.impact(t, y_new, tuple(new), j, depth=1)
         return y_new, tuple(new)
 
     # one integrated segment

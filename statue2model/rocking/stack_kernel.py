@@ -811,20 +811,33 @@ def _simulate(P, kind, M, samples, s_hi, s_lo, y0, t_end, rtol, max_events, max_
         if k_ev == 0 or k_ev == 2:
             ci = 1 if k_ev == 0 else 2
             s_old = s1 if ci == 1 else s2
-            n1, n2, e_old, e_new, w_old = _impact(y, s1, s2, ci, a, P, B, Bn, Dv, vold)
-            if n_imp < cap_imp:
-                imp[n_imp, 0] = t
-                imp[n_imp, 1] = ci
-                imp[n_imp, 2] = -1.0 if s_old > 0 else 1.0
-                imp[n_imp, 3] = w_old
-                imp[n_imp, 4] = e_old
-                imp[n_imp, 5] = e_new
-            n_imp += 1
-            if ci == 1:
-                n_i1 += 1
-            else:
-                n_i2 += 1
-            s1, s2 = _choose(y, n1, n2, a, 0, 0, P, A)
+            for rep in range(2):
+                n1, n2, e_old, e_new, w_old = _impact(y, s1, s2, ci, a, P, B, Bn, Dv, vold)
+                if n_imp < cap_imp:
+                    imp[n_imp, 0] = t
+                    imp[n_imp, 1] = ci
+                    imp[n_imp, 2] = -1.0 if s_old > 0 else 1.0
+                    imp[n_imp, 3] = w_old
+                    imp[n_imp, 4] = e_old
+                    imp[n_imp, 5] = e_new
+                n_imp += 1
+                if ci == 1:
+                    n_i1 += 1
+                else:
+                    n_i2 += 1
+                s1, s2 = n1, n2
+                # the other contact, open but at its closing point, driven into it by this impact: it
+                # impacts at once (stack.py _Run.impact: its event would start on the wrong side)
+                cj = 2 if ci == 1 else 1
+                sj = s2 if cj == 2 else s1
+                if rep == 1 or sj == 0:
+                    break
+                dj = _delta1(sj, P) if cj == 1 else _delta2(sj, P)
+                if not (sj * y[cj - 1] <= IMPACT_EPS * dj and sj * y[cj + 1] < 0.0):
+                    break
+                ci = cj
+                s_old = sj
+            s1, s2 = _choose(y, s1, s2, a, 0, 0, P, A)
         else:
             ci = 1 if k_ev < 6 else 2
             side = 1 if (k_ev == 4 or k_ev == 6) else -1
