@@ -33,6 +33,8 @@ def test_the_default_scan_on_a_pedestal_gets_the_stack_rows(tmp_path):
         assert math.isfinite(r["demand"]) and math.isfinite(r["capacity"]) and r["capacity"] > 0, r
         assert 0 <= r["n_exceeding"] <= ls["n_records"] and len(r["per_record"]) == ls["n_records"]
     assert "pedestal top's edge" in rows["fixed", "sliding"]["details"]["capacity_source"]
+    # the scan's base is 0.633 m across: on a 0.6 m top it overhangs, and the run says so
+    assert any("overhangs the pedestal's top by" in w for w in ls["warnings"])
     # the pedestal (0.6 m wide, 1 m tall, lighter than the statue) lifts: the stack is slender
     assert all(r["ped_uplift"] for r in ls["fixed_records"])
     n_ped = rows["fixed", "pedestal_overturning"]["n_exceeding"]

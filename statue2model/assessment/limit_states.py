@@ -552,6 +552,7 @@ def evaluate(model, records, iso=None, design=None, rtol: float = 1e-7, uplift_b
                         "rocking numbers are those of a base that cannot slide")
     rows = _fixed_rows(fixed, lim, band, statistic)
     if support is not None:
+        warnings += list(support.notes)
         rows += _support_rows(fixed, support, statistic)
         rows.sort(key=lambda r: LIMIT_STATES.index(r.name))
         n_st = sum(r.from_stack for r in fixed)

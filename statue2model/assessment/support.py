@@ -68,7 +68,8 @@ class Support:
     pedestal top's edge", "the default floor allowance"); ``stack``: the two-block model
     (statue2model.rocking.stack.StackModel) with a pedestal, else None; ``pedestal_friction`` and
     ``pedestal_capacity`` / ``pedestal_capacity_source``: the pedestal's on the floor; ``edge``: the
-    statue's capacity is the pedestal top's edge (sliding past it drops the statue off)."""
+    statue's capacity is the pedestal top's edge (sliding past it drops the statue off); ``notes``: what the
+    limit states should say of the support (one line each: an overhanging base)."""
 
     friction: Friction
     capacity: tuple[float, float]
@@ -78,6 +79,7 @@ class Support:
     pedestal_capacity: tuple[float, float] | None = None
     pedestal_capacity_source: str = ""
     edge: bool = False
+    notes: tuple = ()
 
     def __post_init__(self):
         for name in ("capacity", "pedestal_capacity"):

@@ -110,8 +110,31 @@ class Context:
         else:
             cap = tuple(min(e, sl.allowance) for e in edge)
             words = f"the smaller of the pedestal top's edge and the allowance {sl.allowance:g} m"
+        notes = ()
+        over = self.overhang(p.direction_deg, x2, pedestal)
+        if over > 1e-3:
+            notes = (f"the statue's base overhangs the pedestal's top by {over * 1000:.0f} mm (across the excitation "
+                     "direction, or along it where its pivots are not its base's extremes): the 2D model stands it on "
+                     "its pivots along the direction only; give a larger pedestal or check [pedestal] position",)
         return Support(friction, cap, words, stack, Friction(sl.mu_pedestal, sl.kinetic_ratio * sl.mu_pedestal),
-                       (floor_cap, floor_cap), floor_words, edge=sl.allowance is None or sl.allowance >= min(edge))
+                       (floor_cap, floor_cap), floor_words, edge=sl.allowance is None or sl.allowance >= min(edge),
+                       notes=notes)
+
+    def overhang(self, direction_deg: float, x2: float, pedestal) -> float:
+        """m: how far the statue's base (its footprint's contact hull) passes the pedestal's top in any
+        direction: the hull about the centre of mass, turned so the excitation runs along x, with G at
+        (x2, [pedestal] position y) on a top of the pedestal's width and depth; 0 when it stands whole."""
+        import numpy as np
+
+        body = self.load_body()
+        pd = self.config.pedestal
+        a = np.radians(direction_deg)
+        xy = np.asarray(body.footprint.hull, dtype=float) - np.asarray(body.mass.com, dtype=float)[:2]
+        u = xy[:, 0] * np.cos(a) + xy[:, 1] * np.sin(a)
+        v = -xy[:, 0] * np.sin(a) + xy[:, 1] * np.cos(a)
+        depth = pd.size[1] if pd.size is not None else 2 * pedestal.b
+        out = max(float(np.max(np.abs(x2 + u))) - pedestal.b, float(np.max(np.abs(pd.position[1] + v))) - depth / 2)
+        return max(out, 0.0)
 
     def iso_model(self):
         """The body the isolator carries: the statue's model, or with ``[isolator] under = "pedestal"`` the
