@@ -654,7 +654,8 @@ def _isolated(iso, model, records, gains, samples, study, executor):
 
 def run_fragility(model: RockingModel, records, levels, samples: ParameterSamples, study: FragilityStudy | None = None,
                   isolator=None, executor=None, max_steps: int = 20_000_000,
-                  adaptive: AdaptiveLevels | None = None, iso_model: RockingModel | None = None) -> FragilityResult:
+                  adaptive: AdaptiveLevels | None = None, iso_model: RockingModel | None = None,
+                  support=None) -> FragilityResult:
     """Run and fit a fragility study (module docstring): ``records`` a list of GroundMotion
     (each scaled so that its IM equals each of ``levels``: m/s^2 for PGA, m/s for PGV, times
     the sample's im_factor), ``samples`` the parameter samples, ``isolator`` an Isolator for
@@ -663,7 +664,9 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     ProcessExecutor, DaskExecutor); the numbers are bit-identical either way. ``adaptive``: an
     AdaptiveLevels budget, the levels added round by round around each curve's median until its
     spread is identified (module docstring); None runs ``levels`` as given. ``iso_model``: the body on the
-    isolator (None: ``model``; the stack as one body when the device carries the pedestal)."""
+    isolator (None: ``model``; the stack as one body when the device carries the pedestal). ``support``:
+    what the statue stands on (assessment/support.py Support): adds the curves of its sliding and, with a
+    pedestal, of the pedestal's sliding and overturning (:func:`_support_fails`)."""
     study = FragilityStudy() if study is None else study
     iso_model = model if iso_model is None else iso_model
     if not isinstance(study, FragilityStudy):
@@ -693,8 +696,13 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
             f, v, n_int, lifts = _fixed(model, records, gains, samples, study, executor, max_steps)
             stats["runs_fixed"] += R * x.size * S_n
             stats["integrated_fixed"] += n_int
+            out = {_C(states.FULL_CONTACT, "fixed"): lifts & v, _C(states.OVERTURNING, "fixed"): f}
+            if support is not None:
+                sup = _support_fails(support, records, gains, S_n, executor)
+                out.update({k: a & v for k, a in sup.items()})
+                stats["runs_support"] = stats.get("runs_support", 0) + R * x.size
             stats["wall_fixed_s"] += time.perf_counter() - t
-            return {_C(states.FULL_CONTACT, "fixed"): lifts & v, _C(states.OVERTURNING, "fixed"): f}, v
+            return out, v
         ot, cap, ok, up = _isolated(isolator, iso_model, records, gains, samples, study, executor)
         stats["runs_isolated"] += R * x.size * S_n
         stats["failed_isolated"] += int((~ok).sum())
@@ -756,6 +764,38 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     stats["wall_s"] = time.perf_counter() - t0
     return FragilityResult(study.im, lv, [r.label for r in records], ims, samples, study, fails, valid, curves,
                            ratio, unit, model, isolator, stats, ran, log)
+
+
+def support_record(item: tuple):
+    """One (record, level) of the support's curves: ``item`` = (support, motion) -> its SupportRecord (module
+    level: an executor can map it)."""
+    support, motion = item
+    return support.run(motion)
+
+
+def _support_fails(support, records, gains, S_n, executor) -> dict:
+    """{curve: (R, S, L) bool} of the statue's support at each record's scale ``gains`` (R, L): the statue
+    slides beyond its capacity toward either side (on a pedestal, past the top's edge: it falls off), and with a
+    pedestal the pedestal slides beyond its allowance or overturns (assessment/support.py; one run per record
+    and level, the same for every parameter sample: the friction and the pedestal are not sampled)."""
+    R, L = gains.shape
+    items = [(support, rec.scaled(float(gains[r, j]))) for r, rec in enumerate(records) for j in range(L)]
+    if executor is None:
+        runs = [support_record(it) for it in items]
+    else:
+        runs = executor.map(support_record, items, desc=f"fragility: support, {len(items)} runs")
+    cap, pcap = support.capacity, support.pedestal_capacity
+    keys = [_C(states.SLIDING, "fixed")]
+    if support.stack is not None:
+        keys += [_C(states.PEDESTAL_SLIDING, "fixed"), _C(states.PEDESTAL_OVERTURNING, "fixed")]
+    out = {k: np.zeros((R, S_n, L), dtype=bool) for k in keys}
+    for n, sr in enumerate(runs):
+        r, j = divmod(n, L)
+        out[keys[0]][r, :, j] = sr.slide_pos >= cap[0] or sr.slide_neg >= cap[1]
+        if support.stack is not None:
+            out[keys[1]][r, :, j] = sr.ped_slide_pos >= pcap[0] or sr.ped_slide_neg >= pcap[1]
+            out[keys[2]][r, :, j] = sr.ped_overturned
+    return out
 
 
 def uplift_thresholds(model, records, samples, ims) -> np.ndarray:

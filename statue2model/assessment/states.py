@@ -12,11 +12,11 @@ identifiers of its own.
 identifier      title                        bases            fragility curve (fragility.json ``curves``)
 ==============  ===========================  ===============  ==========================================
 full_contact    full contact (no uplift)     fixed, isolated  full_contact_fixed, full_contact_isolated
-sliding         sliding on its support       fixed            -
+sliding         sliding on its support       fixed            sliding_fixed
 rocking         rocking without overturning  fixed, isolated  -
 overturning     overturning                  fixed, isolated  overturning_fixed, overturning_isolated
-pedestal_...    the pedestal sliding, and    fixed            -
-                the pedestal (with the
+pedestal_...    the pedestal sliding, and    fixed            pedestal_sliding_fixed,
+                the pedestal (with the                        pedestal_overturning_fixed
                 statue) overturning
 capacity        isolator travel capacity     isolated         capacity_isolated
 bearing         ball load on the grooves     isolated         -
@@ -65,16 +65,18 @@ REGISTRY: tuple[LimitState, ...] = (
     LimitState("full_contact", "full contact (no uplift)", BASES,
                {"fixed": "full_contact_fixed", "isolated": "full_contact_isolated"},
                "full contact lost (uplift)", True, "lifts off", "uplift"),
-    LimitState("sliding", "sliding on its support", ("fixed",), exceeded_words="slides beyond its allowance",
-               noun="sliding"),
+    LimitState("sliding", "sliding on its support", ("fixed",), {"fixed": "sliding_fixed"},
+               "sliding beyond its allowance", exceeded_words="slides beyond its allowance", noun="sliding"),
     LimitState("rocking", "rocking without overturning", BASES, exceeded_words="rocks to its limit",
                noun="rocking to its limit"),
     LimitState("overturning", "overturning", BASES,
                {"fixed": "overturning_fixed", "isolated": "overturning_isolated"},
                "overturning", True, "overturns", "overturning"),
     LimitState("pedestal_sliding", "the pedestal sliding on the floor", ("fixed",),
+               {"fixed": "pedestal_sliding_fixed"}, "the pedestal sliding beyond its allowance",
                exceeded_words="slides on its pedestal's base beyond the allowance", noun="pedestal sliding"),
     LimitState("pedestal_overturning", "the pedestal overturning (with the statue)", ("fixed",),
+               {"fixed": "pedestal_overturning_fixed"}, "the pedestal overturning",
                exceeded_words="overturns with its pedestal", noun="pedestal overturning"),
     LimitState("capacity", "isolator travel capacity", ("isolated",), {"isolated": "capacity_isolated"},
                "isolator capacity exceeded", True, "reaches the capacity", "capacity exceeded"),
@@ -98,9 +100,16 @@ CURVE_LABELS = {
     OVERTURNING_ALONE_ISOLATED: "overturning alone on the isolator",
     "capacity_isolated": "isolator capacity exceeded",
     "overturning_isolated": "overturning on the isolator (overturned or capacity exceeded)",
+    "sliding_fixed": "sliding beyond its allowance (or off the pedestal's top)",
+    "pedestal_sliding_fixed": "the pedestal sliding beyond its allowance",
+    "pedestal_overturning_fixed": "the pedestal overturning with the statue",
 }
 """Every fragility curve key (the limit states' and the component) and its label."""
-CURVES_FIXED = ("full_contact_fixed", "overturning_fixed")
+CURVES_FIXED = ("full_contact_fixed", "overturning_fixed", "sliding_fixed", "pedestal_sliding_fixed",
+                "pedestal_overturning_fixed")
+CURVES_SUPPORT = CURVES_FIXED[2:]
+"""The fixed-base curves of the statue's support (its sliding; the pedestal's sliding and overturning): a study
+has them when it is given the support (assessment/support.py; the pedestal's only with a pedestal)."""
 CURVES_ISOLATED = ("full_contact_isolated", OVERTURNING_ALONE_ISOLATED, "capacity_isolated", "overturning_isolated")
 STATE_OF_CURVE = {c: (s.id, b) for s in REGISTRY for b, c in s.curves.items()}
 STATE_OF_CURVE[OVERTURNING_ALONE_ISOLATED] = (OVERTURNING, "isolated")

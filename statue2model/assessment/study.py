@@ -247,12 +247,13 @@ def study_design(model: RockingModel, n: int, mu: float | None = None, mu_low: f
 
 def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: float, executor=None,
               mu_low: float | None = None, mu_high: float | None = None, rounds: int = 3,
-              iso_model=None) -> StudyRun:
+              iso_model=None, support=None) -> StudyRun:
     """Run the study of the module docstring on the records ``rs`` matched to ``target``: the
     parameter samples of :func:`study_design` (``n_samples`` of them; the isolator's
     friction at ``mu_low`` and ``mu_high``, None: mu times Table 25's spread), the coarse levels of
     ``levels_text`` and up to ``rounds`` rounds of adaptive levels (0: the coarse levels only),
-    on a fixed base and on ``iso`` (or None), carrying ``iso_model`` (None: ``model``)."""
+    on a fixed base and on ``iso`` (or None), carrying ``iso_model`` (None: ``model``); ``support``: the
+    statue's support, for the curves of sliding (and of the pedestal's sliding and overturning)."""
     from ..rocking.sampling import describe
     from .fragility import AdaptiveLevels, FragilityStudy, run_fragility
 
@@ -266,7 +267,7 @@ def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: fl
     study = FragilityStudy(im="pga", rtol=rtol, n_boot=200, seed=0)
     adaptive = AdaptiveLevels(rounds=int(rounds), max_added=ADAPTIVE_MAX_ADDED) if rounds else None
     res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor, adaptive=adaptive,
-                        iso_model=iso_model)
+                        iso_model=iso_model, support=support)
     return StudyRun(target, rs, met, res.levels, samples, varied, study, res, iso is not None)
 
 

@@ -474,7 +474,7 @@ def _fragility_study(ctx: Context, d: Path, model, iso, rs, target):
     ic = ctx.config.isolator
     study = run_study(model, iso, target, rs, c.fragility_levels, c.fragility_samples, ctx.config.model.rtol,
                       ctx.executor, mu_low=ic.mu_low, mu_high=ic.mu_high, rounds=c.fragility_rounds,
-                      iso_model=ctx.iso_model())
+                      iso_model=ctx.iso_model(), support=ctx.support(model.params))
     study.result.write_json(d / "fragility.json")
     study.result.write_csv(d / "fragility.csv")
     plot_fragility(study.result, d / "fragility.png", design_im=study.pga, slc_im=_slc_pga(ctx))
