@@ -63,6 +63,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..assessment import states
 from ..errors import InputError
 from ..quantities import G
 from .classification import ACCURACY_MIN, PR_MIN, REFERENCE, Rate, agreement, confusion, rate
@@ -84,11 +85,13 @@ QUIET_RATIO = 0.6
 """... and when it is above: this many times it: the pedestal stays on the floor (a record's peak below
 the static uplift acceleration cannot lift it from rest)."""
 BODIES = ("statue", "pedestal")
-WHATS = ("uplift", "overturning", "sliding")
+WHATS = ("uplift", states.OVERTURNING, states.SLIDING)
+"""What is classified of each body: its lift-off, and the limit states' overturning and sliding (the
+pedestal's rows are pedestal_overturning and pedestal_sliding: assessment/states.py)."""
 OUTCOMES = tuple(f"{b}_{w}" for b in BODIES for w in WHATS)
 """The classified outcomes, body_what."""
-_KEY = {"uplift": "uplift", "overturning": "overturned", "sliding": "slides"}
-_VERB = {"uplift": "lifts off", "overturning": "overturns"}
+_KEY = {"uplift": "uplift", states.OVERTURNING: "overturned", states.SLIDING: "slides"}
+_VERB = {"uplift": "lifts off", states.OVERTURNING: "overturns"}
 _ON = {"statue": "the pedestal's top", "pedestal": "the floor"}
 
 

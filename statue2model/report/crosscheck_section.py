@@ -264,9 +264,6 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
     return section
 
 
-_BODY_OUTCOME = {"uplift": "uplift", "overturning": "overturning", "sliding": "sliding"}
-
-
 def add_stack_classification(section: dict, sc, note: str | None = None) -> dict:
     """Add to the stage manifest ``section`` the 2D/3D classification of the statue on its pedestal
     (crosscheck.stack_classification.StackClassification ``sc``, or None with ``note`` saying why it
@@ -290,7 +287,7 @@ def add_stack_classification(section: dict, sc, note: str | None = None) -> dict
         if a["runs_differ"]:
             first = next(r["why"][key] for r in d["runs"] if key in r["why"])
             why = "; ".join(w for w in (why, f"runs that differ: {a['runs_differ']}; first: {first}") if w)
-        rows.append([a["body"], _BODY_OUTCOME.get(a["outcome"], a["outcome"]),
+        rows.append([a["body"], a["outcome"],
                      f"{a['both_yes']}/{a['only_2d']}/{a['only_3d']}/{a['both_no']}", per,
                      "-" if ag["value"] is None else f"{ag['value']:.2f} [{ag['lo']:.2f}-{ag['hi']:.2f}]",
                      "yes" if a["shown_95"] else "no", a["verdict"], plain(why)])
