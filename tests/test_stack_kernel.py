@@ -10,7 +10,6 @@ under a record may cross theta1 = 0 and come back inside one scipy step (an impa
 misses). The cases here are chosen where neither misses one (the peaks then agree to ~1e-9)."""
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
@@ -21,7 +20,7 @@ from statue2model.hazard import motions
 from statue2model.quantities import G
 from statue2model.rocking import RockingModel, simulate
 from statue2model.rocking import stack_kernel as SK
-from statue2model.rocking.stack import Pedestal, StackModel, free_energy, simulate_stack, simulate_stack_batch
+from statue2model.rocking.stack import Pedestal, StackModel, simulate_stack, simulate_stack_batch
 
 STATUE = RockingParams.rectangular_block(b=0.1, h=0.5, m=200.0)        # a_L = a_R = 0.2 g
 HEAVY = Pedestal(b=50.0, h=0.5, m=1e6)                                 # cannot move
@@ -115,26 +114,13 @@ def test_a_record_under_which_a_slender_pedestal_lifts():
     assert np.array_equal(rc.pattern[:n], rs.pattern[:n])
 
 
-def test_energy_is_constant_between_impacts_and_never_grows_at_one():
+def test_free_motion_of_both_blocks_as_the_reference():
+    """The both-rock free motion of tests/test_stack.py's energy test (run there by both integrators): the
+    compiled kernel gives the scipy reference's peaks, impacts and outcome."""
     model = StackModel(RockingParams.rectangular_block(b=0.15, h=0.6, m=200.0), Pedestal(0.3, 0.6, 300.0))
     r = simulate_stack(model, motions.free(), theta0=(0.03, 0.08), dt_out=1e-3, rtol=1e-10)
-    assert r.pattern_times["both"] > 0.5 and r.pattern_times["statue"] > 1.0
-    assert r.statue.uplift and r.pedestal.uplift and not (r.statue.overturned or r.pedestal.overturned)
-    E = np.array([free_energy(model, s) for s in zip(r.theta1, r.theta2, r.omega1, r.omega2)])
-    E0 = E[0]
-    edges = [0.0] + [i.t for i in r.impacts] + [math.inf]
-    checked = 0
-    for a, b in zip(edges[:-1], edges[1:]):
-        seg = E[(r.t > a) & (r.t < b)]
-        if seg.size > 2 and seg.max() > 1e-3 * E0:
-            assert (seg.max() - seg.min()) / E0 < 1e-6
-            checked += 1
-    assert checked > 20
-    assert all(i.energy_after <= i.energy_before * (1 + 1e-12) for i in r.impacts)
-    assert {i.contact for i in r.impacts} == {1, 2}
-    assert r.t_rest is not None and abs(E[-1]) < 1e-9 * E0
-    # the same run by scipy
     rs = simulate_stack(model, motions.free(), theta0=(0.03, 0.08), dt_out=1e-3, rtol=1e-10, method="scipy")
+    assert {i.contact for i in r.impacts} == {1, 2}
     _same(r, rs)
 
 
