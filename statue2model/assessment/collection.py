@@ -1,9 +1,9 @@
 """A museum's collection in one assessment: one row per object, ranked by risk.
 
 Built from what each scan of a collection run returns (the pipeline's scan task): for an
-assessed object ``{"scan", "out", "report", "status": {stage: status}, "warnings": [{stage,
+assessed object ``{"scan", "folder", "out", "report", "status": {stage: status}, "warnings": [{stage,
 text}], "data": {stage: manifest data}, "verdict": run.json's verdict}``, for a refused scan
-``{"scan", "error"}``. Plain functions on dicts:
+``{"scan", "folder", "error"}`` (``folder``: the object's folder name, optional). Plain functions on dicts:
 
     object_row(result, folder)  one object's row (see :func:`object_row` for every key)
     rank(rows)                  the rows most urgent first, by :data:`RANKING_RULE`, with "rank" 1..n
@@ -279,7 +279,8 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     """One object's row from its scan task's ``result`` (module docstring); ``folder``: the
     collection's output folder, which ``link`` is relative to (default: ``<out name>/report.html``).
 
-    Keys: ``object`` (the scan's name without suffix), ``scan``; ``assessed`` (bool) and ``reason``
+    Keys: ``object`` (the object's folder in the collection, ``folder``: the scan's name without
+    suffix, or its whole name where that would clash, see pipeline.run.object_folders), ``scan``; ``assessed`` (bool) and ``reason``
     (why not: the refused scan's error, or the params stage's status; "" when assessed);
     ``recommendation`` (run.json's verdict["recommendation"], the reasoning, verbatim; "" for a refused
     scan), ``code`` and ``headline`` (the verdict's recommendation code and headline; "" without) and
@@ -304,6 +305,7 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
         raise TypeError(f"a scan result is a dict, not {type(result).__name__}")
     scan = str(result.get("scan") or "?")
     name = scan.rsplit(".", 1)[0] if "." in scan.lstrip(".") else scan     # as Path.stem, "/" kept as text
+    name = str(result.get("folder") or name)      # its output folder's: the whole file name where stems clash
     row = {"object": name, "scan": scan, "assessed": False, "reason": "", "recommendation": "", "code": "",
            "headline": "",
            "status": NOT_ASSESSED, "state": NOT_ASSESSED, "basis": "", "link": _link(result, folder),

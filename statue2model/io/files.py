@@ -536,9 +536,12 @@ class OutputDir:
 
     def clean(self) -> list[Path]:
         """Remove the leftovers of interrupted writes of listed names (hidden partial,
-        replaced and temporary files); anything else is kept."""
+        replaced and temporary files); anything else is kept, a listed name too (an object's
+        folder named like a leftover, from its scan's name)."""
         removed = []
         for p in self.path.iterdir():
+            if p.name in self.entries:        # a listed name is never a leftover, whatever it looks like
+                continue
             if p.name.startswith(STAGING_PREFIX) and p.is_dir() and not p.is_symlink() and _stale_staging(p.name):
                 shutil.rmtree(p, ignore_errors=True)
                 removed.append(p)

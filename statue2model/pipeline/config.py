@@ -78,7 +78,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import sys
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
@@ -86,13 +85,9 @@ import numpy as np
 
 from .. import quantities as Q
 from ..quantities import G
-from ..errors import InputError
+from ..errors import InputError, quoted
+from ..io.tomlfile import parse_toml
 from ..quantities import scale_text
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 AUTO = "auto"
 
@@ -416,7 +411,7 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
         if nullable:
             return None
         shown = f'"{scale_text(default)}"' if key == "scale" else _show(default)
-        raise InputError(f"{name} = {value!r}: needs a value (default {shown})")
+        raise InputError(f"{name} = {quoted(value)}: needs a value (default {shown})")
     try:
         # bool is an int in Python: without this, board = true would read as a 1 m board
         if not isinstance(default, bool) and (isinstance(value, bool) or isinstance(value, (list, tuple))
@@ -478,9 +473,9 @@ def _convert(sec: str, key: str, value, default, where: str, nullable: bool = Fa
             v = float(value)
     except (ValueError, TypeError, InputError) as exc:
         msg = str(exc).split(": ")[-1] if isinstance(exc, InputError) else str(exc)
-        raise InputError(f"{name} = {value!r}: {msg}") from None
+        raise InputError(f"{name} = {quoted(value)}: {msg}") from None
     if not math.isfinite(v):
-        raise InputError(f"{name} = {value!r}: must be finite")
+        raise InputError(f"{name} = {quoted(value)}: must be finite")
     return v
 
 
@@ -510,7 +505,7 @@ def _label(text: str) -> str:
 
 def _check_name(kind: str, name: str, where: str) -> None:
     if not name or not name.isprintable() or len(name) > _MAX_NAME or name != name.strip():
-        raise InputError(f"{where}: {kind} {name!r} must be 1 to {_MAX_NAME} printable characters, without "
+        raise InputError(f"{where}: {kind} {quoted(name)} must be 1 to {_MAX_NAME} printable characters, without "
                          "leading or trailing spaces")
 
 
@@ -523,7 +518,7 @@ def _building_keys(table, shown: str, where: str) -> tuple:
         if key not in defaults:
             near = difflib.get_close_matches(key, _ROOM_KEYS, 1)
             hint = f" (did you mean '{near[0]}'?)" if near else f" (the keys of [building]: {', '.join(_ROOM_KEYS)})"
-            raise InputError(f"{where}: unknown key '{key}' in [{shown}]{hint}")
+            raise InputError(f"{where}: unknown key {quoted(key)} in [{shown}]{hint}")
         out.append((key, _convert("building", key, value, defaults[key], where, nullable[key], shown=shown)))
     return tuple(sorted(out, key=lambda kv: kv[0]))
 
@@ -539,7 +534,7 @@ def _pedestal_keys(table, shown: str, where: str) -> tuple:
     out = {}
     for key, value in table.items():
         if key not in defaults:
-            raise InputError(f"{where}: unknown key '{key}' in [{shown}] pedestal (the keys of [pedestal]: "
+            raise InputError(f"{where}: unknown key {quoted(key)} in [{shown}] pedestal (the keys of [pedestal]: "
                              f"{', '.join(defaults)})")
         out[key] = _convert("pedestal", key, value, defaults[key], where, key != "position", shown=f"{shown} pedestal")
         if key == "file" and out[key] is not None and not Path(out[key]).is_absolute():
@@ -558,7 +553,7 @@ def check_pedestal(pd: PedestalConfig, where: str) -> None:
         if pd.size is not None:
             bad("give either size (a box) or file (a scan of the pedestal), not both")
         if not Path(pd.file).is_file():
-            bad(f"file {pd.file!r:.200} is not a readable file")
+            bad(f"file {quoted(pd.file)} is not a readable file")
         if not 100 <= pd.density <= 20000:
             bad(f"density must be in 100..20000 kg/m^3, got {pd.density}")
         if pd.mass is not None and not 0.1 <= pd.mass <= 1e6:
@@ -590,7 +585,7 @@ def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tup
         for name, table in rooms.items():
             _check_name("room name", name, where)
             if not isinstance(table, dict):
-                raise InputError(f"{where}: [rooms] {_label(name)} = {table!r}: a room is a table "
+                raise InputError(f"{where}: [rooms] {_label(name)} = {quoted(table)}: a room is a table "
                                  f"[rooms.{_label(name)}] of [building] keys (floor = 2, ...)")
             room_rows.append((name, _building_keys(table, f"rooms.{_label(name)}", where)))
     if objects is not None:
@@ -611,7 +606,7 @@ def parse_rooms(rooms, objects, where: str = "project file") -> tuple[tuple, tup
             elif isinstance(value, str):
                 object_rows.append((key, value))
             else:
-                raise InputError(f"{where}: [objects] {_label(key)} = {value!r}: give a room name "
+                raise InputError(f"{where}: [objects] {_label(key)} = {quoted(value)}: give a room name "
                                  "(\"gallery_2\") or [building] keys ({ floor = 1 })")
     return tuple(sorted(room_rows)), tuple(sorted(object_rows, key=lambda row: row[0]))   # file order is no meaning
 
@@ -631,7 +626,7 @@ def parse_values(values, where: str = "project file") -> tuple:
                              "not a path")
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0) \
                 or value > 1e15:
-            raise InputError(f"{where}: [values] {_label(key)} = {str(value)[:40]!s}: give a number > 0 (a price, an "
+            raise InputError(f"{where}: [values] {_label(key)} = {quoted(value)}: give a number > 0 (a price, an "
                              "insured value or an importance; at most 1e15)")
         rows.append((key, float(value)))
     return tuple(sorted(rows))
@@ -646,7 +641,7 @@ def check_rooms(cfg: ProjectConfig, where: str = "project file") -> None:
             near = difflib.get_close_matches(value, names, 1)
             hint = (f" (did you mean '{near[0]}'?)" if near else
                     f" (rooms: {', '.join(names)})" if names else " (the file defines no [rooms.NAME])")
-            raise InputError(f"{where}: [objects] {_label(key)} = {value!r}: unknown room{hint}")
+            raise InputError(f"{where}: [objects] {_label(key)} = {quoted(value)}: unknown room{hint}")
     shown = [(f"rooms.{_label(n)}", k) for n, k in cfg.rooms]
     shown += [(f"objects.{_label(n)}", tuple(kv for kv in v if kv[0] != "pedestal"))
               for n, v in cfg.objects if not isinstance(v, str)]
@@ -661,10 +656,7 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
     """Parse TOML text (unknown sections or keys are errors, with a suggestion);
     relative paths of ``file:`` motions are taken from ``base_dir`` (default: the
     current folder) and stored absolute."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{where} is not valid TOML: {exc}") from None
+    data = parse_toml(text, where)
     kw = dict(zip(("rooms", "objects"), parse_rooms(data.pop("rooms", None), data.pop("objects", None), where)))
     kw["values"] = parse_values(data.pop("values", None), where)
     for sec, table in data.items():
@@ -672,9 +664,9 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
             known = [*SECTIONS, "rooms", "objects", "values"]
             near = difflib.get_close_matches(sec, known, 1)
             hint = f" (did you mean [{near[0]}]?)" if near else f" (sections: {', '.join(known)})"
-            raise InputError(f"{where}: unknown section [{sec}]{hint}")
+            raise InputError(f"{where}: unknown section [{quoted(sec, bare=True)}]{hint}")
         if not isinstance(table, dict):
-            raise InputError(f"{where}: {sec} must be a [section]")
+            raise InputError(f"{where}: {quoted(sec, bare=True)} must be a [section]")
         cls = SECTIONS[sec]
         defaults = {f.name: f.default for f in fields(cls)}
         nullable = {f.name: "None" in str(f.type) for f in fields(cls)}
@@ -686,7 +678,7 @@ def load_config_text(text: str, where: str = "project file", base_dir: Path | No
             if key not in defaults:
                 near = difflib.get_close_matches(key, defaults, 1)
                 hint = f" (did you mean '{near[0]}'?)" if near else ""
-                raise InputError(f"{where}: unknown key '{key}' in [{sec}]{hint}")
+                raise InputError(f"{where}: unknown key {quoted(key)} in [{sec}]{hint}")
             values[key] = _convert(sec, key, value, defaults[key], where, nullable[key])
         for key in ("motion",):
             if key in values:
@@ -823,7 +815,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         try:
             return fn(spec)
         except InputError as exc:
-            raise InputError(f"{where}: {name} = {spec!r}: {exc}") from None
+            raise InputError(f"{where}: {name} = {quoted(spec)}: {exc}") from None
 
     if i.enabled and i.spectrum:
         named(parse_spectrum, "[isolator] spectrum", i.spectrum)
@@ -912,7 +904,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
         motion, theta0 = named(parse_spec, name, spec)
         full_scale(name, motion)
         if motion.kind == "none" or theta0 != 0 or not motion.pga > 0:
-            bad(f"{name} must be a ground motion (not zero), got {spec!r}")
+            bad(f"{name} must be a ground motion (not zero), got {quoted(spec)}")
         _check_sizes(name, motion, d, freqs, amps, pgas, where)
     if c.iterations < 1 or not c.pulse_freq > 0:
         bad("[crosscheck] iterations must be >= 1 and pulse_freq > 0 Hz")
@@ -932,7 +924,7 @@ def validate(cfg: ProjectConfig, where: str = "project file") -> None:
     try:
         stage_list(r.stages)
     except InputError as exc:
-        bad(f"[run] stages = {r.stages!r}: {exc}")
+        bad(f"[run] stages = {quoted(r.stages)}: {exc}")
 
 
 STAGE_NAMES = ("params", "prototype", "isolator", "dynamics", "crosscheck")
@@ -943,7 +935,7 @@ def check_stage_names(names) -> list[str]:
     """``names`` as a list, or an :class:`InputError` naming the unknown ones and the known."""
     bad = [n for n in names if n not in STAGE_NAMES]
     if bad:
-        raise InputError(f"unknown stage(s) {', '.join(bad)}; stages are {', '.join(STAGE_NAMES)}")
+        raise InputError(f"unknown stage(s) {quoted(', '.join(bad), bare=True)}; stages are {', '.join(STAGE_NAMES)}")
     return list(names)
 
 
