@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..compute.interrupts import checked_import, interrupt_checkpoint
 from ..errors import InputError
 from .gltf import read_gltf
 
@@ -72,10 +73,12 @@ def _check_file(path: Path) -> None:
 
 
 def _load_trimesh(path: Path):
-    import trimesh
-
+    # trimesh catches BaseException around its optional imports and in its loaders: a Ctrl-C
+    # landing there would be dropped and the command go on; the checkpoint raises it again
+    trimesh = checked_import("trimesh")
     try:
-        loaded = trimesh.load(str(path), process=False)
+        with interrupt_checkpoint():
+            loaded = trimesh.load(str(path), process=False)
     except Exception as exc:  # trimesh raises many kinds on corrupt files
         raise InputError(f"cannot read {path.name}: {exc}".splitlines()[0]) from None
     if isinstance(loaded, trimesh.Scene):
