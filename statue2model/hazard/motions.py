@@ -504,7 +504,9 @@ def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Pat
     t, u = motion.sampled(dt)
     head = (FROUDE_HEADER.format(lam=motion.froude_scale) + " (times / sqrt(lambda), accelerations unchanged)\n"
             if motion.froude_scale != 1.0 else "")
-    text = head + "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
+    from ..io.csvsafe import csv_text, num_cell
+
+    text = head + csv_text(("time_s", "acc_m_s2"), ((num_cell(a, ".9g"), num_cell(b, ".9g")) for a, b in zip(t, u)))
     return atomic_write(path, lambda p: p.write_text(text))
 
 
