@@ -29,14 +29,20 @@ def test_counts_and_wilson_rates_by_hand():
 
 
 def test_verdict_needs_enough_runs_and_says_undefined():
-    # all 16 agree, none positive: accuracy lower bound 16 / (16 + 1.96^2) = 0.8064 >= 0.8, P and R undefined
+    # all 16 agree, none positive: accuracy lower bound 16 / (16 + 1.96^2) = 0.8064 >= 0.8, P and R undefined;
+    # but no run says yes in either model: the check could not fail -> not testable, never met (issue [25])
     a = cl.agreement([False] * 16, [False] * 16, "full_contact")
-    assert a.accuracy.lo == pytest.approx(16 / (16 + 1.959964**2), abs=1e-5) and a.status == "met"
+    assert a.accuracy.lo == pytest.approx(16 / (16 + 1.959964**2), abs=1e-5) and a.status == "not testable"
     assert a.precision.value is None and a.precision.why == "undefined: the 2D model says yes in no run"
     assert a.recall.value is None and "3D scene says yes in no run" in a.recall.why
-    assert "judged on accuracy alone" in a.why
-    # 15 runs in full agreement: 0.796 < 0.8 -> not shown (too few runs), never a pass by default
-    b = cl.agreement([True] * 15, [True] * 15, "full_contact")
+    assert a.why.startswith("not testable: no positive case in 16 runs") and not a.met
+    # every run yes in both: no negative case, not testable either
+    assert cl.agreement([True] * 20, [True] * 20, "overturning").status == "not testable"
+    # one positive run (2D and 3D agree on it) among 19 negatives: testable, and met on accuracy
+    c = cl.agreement([True] + [False] * 19, [True] + [False] * 19, "full_contact")
+    assert c.status == "missed" and "recall 1/1" in c.why          # one positive cannot show recall >= 0.5
+    # 15 runs with both kinds of case in full agreement: 0.796 < 0.8 -> not shown (too few runs)
+    b = cl.agreement([True] * 8 + [False] * 7, [True] * 8 + [False] * 7, "full_contact")
     assert b.status == "missed" and "too few runs" in b.why
     # 2D never says yes where 3D does 8 times in 16: recall 0/8, [0, 0.324] < 0.5 -> disagreement shown
     c = cl.agreement([True] * 8 + [False] * 8, [False] * 16, "overturning")
@@ -89,7 +95,8 @@ def test_wrong_alpha_fails_uplift_against_a_stand_in(block, recs):
 
     kw = dict(levels=(0.16 * 9.81, 0.19 * 9.81), executor=SerialExecutor(), run_3d=_stand_in_3d, free_time=1.0)
     right = cl.classify_ensemble(block, user_model(block), recs, **kw)
-    assert right.states["full_contact"].status == "met" and right.states["full_contact"].tn == 16
+    # nothing lifts in either model below g b / h: agreement there could not fail (issue [25])
+    assert right.states["full_contact"].status == "not testable" and right.states["full_contact"].tn == 16
     # alpha 0.6: starts to lift at 0.12 g (then rolls over its 14 mrad transition), so most runs at 0.16-0.19 g
     # lift in 2D, none in the stand-in (below g b / h nothing can lift)
     wrong = cl.classify_ensemble(block, RockingModel.imperfect(block.params, 0.6, 0.6), recs, **kw)

@@ -360,3 +360,17 @@ def test_a_headline_never_passes_forty_words():
         assert words(h) <= MAX_WORDS, (code, words(h), h)
     iso = headline(Code.ISOLATE, Facts(n=7, k_lift=6, cost=9011.0, travel_margin=0.22))
     assert "about 9011 EUR" in iso and "22 % travel to spare" in iso                # fits: every detail kept
+
+
+def test_a_classification_that_cannot_fail_is_not_said_to_agree():
+    """Issue [25] item 2: on the isolator no run lifts or overturns in either model; the verdict's line says
+    'not testable' with the reason, and does not count it among the limit states that agree."""
+    from statue2model.assessment.verdict import crosscheck_line
+    from statue2model.crosscheck.classification import agreement
+
+    none = agreement([False] * 70, [False] * 70, "overturning")
+    cls = {"isolated": {"overturning": {"status": none.status, "accuracy": none.accuracy.value,
+                                        "accuracy_lo": none.accuracy.lo, "n": 70, "why": none.why}}}
+    c = crosscheck_line(cls)
+    assert c["met"] == [] and c["untested"] and "agrees" not in c["line"].split(";")[0].replace("no limit state agrees", "")
+    assert "not testable on" in c["line"] and "no positive case in 70 runs" in c["line"]

@@ -527,12 +527,15 @@ def crosscheck_line(cls: dict | None) -> dict | None:
     """
     if not cls:
         return None
-    met, missed, parts_met, parts_missed = [], [], [], []
+    met, missed, parts_met, parts_missed, untested = [], [], [], [], []
     for base, by_state in cls.items():
         for st, a in (by_state or {}).items():
+            name = f"{_BASE.get(base, base)} {_STATE.get(st, st)}"
+            if a.get("status") == "not testable":
+                untested.append(f"{name} ({a.get('n', 0)} runs: {a.get('why') or 'no positive or no negative case'})")
+                continue
             if a.get("status") not in ("met", "missed"):
                 continue
-            name = f"{_BASE.get(base, base)} {_STATE.get(st, st)}"
             size = (f"accuracy {_n(a.get('accuracy'))}, lower bound {_n(a.get('accuracy_lo'))}, "
                     f"{a.get('n', 0)} runs")
             if a["status"] == "met":
@@ -541,13 +544,15 @@ def crosscheck_line(cls: dict | None) -> dict | None:
             else:
                 missed.append(name)
                 parts_missed.append(f"{name} ({size}: {a.get('why') or 'agreement not shown'})")
-    if not (met or missed):
+    if not (met or missed or untested):
         return None
     line = "3D cross-check over the design records: "
     line += ("the 2D model agrees with the 3D physics on " + ", ".join(parts_met)) if met else "no limit state agrees"
     if missed:
         line += "; NOT shown on " + "; ".join(parts_missed) + ": the 2D answer there is not confirmed by 3D"
-    return {"line": line + ".", "met": met, "missed": missed}
+    if untested:
+        line += "; not testable on " + "; ".join(untested)
+    return {"line": line + ".", "met": met, "missed": missed, "untested": untested}
 
 
 def _curve_text(c: dict) -> str:

@@ -21,6 +21,8 @@ The verdict per limit state (:func:`agreement`), met only when the runs SHOW agr
     (0.5: the 2D model is right more often than wrong about the positives it predicts and about the
     positives there are).
 
+A limit state with no positive case in either model (no run says yes), or no negative one, is
+"not testable" with that reason, never met: such runs agree whatever the 2D model does.
 Anything else is missed, and the reason says whether disagreement is shown (an upper bound below
 its threshold) or agreement is only not shown (too few runs: with all n runs agreeing the accuracy's
 lower bound is n / (n + 1.96^2), >= 0.8 only from n = 16; a precision or recall needs >= 4
@@ -73,8 +75,9 @@ Example
 >>> a = agreement(truth, pred, "overturning")
 >>> round(a.accuracy.value, 4), round(a.accuracy.lo, 4), a.status
 (0.6667, 0.3, 'missed')
->>> agreement([False] * 20, [False] * 20, "full_contact").precision.why
-'undefined: the 2D model says yes in no run'
+>>> a = agreement([False] * 20, [False] * 20, "full_contact")
+>>> a.status, a.precision.why
+('not testable', 'undefined: the 2D model says yes in no run')
 """
 from __future__ import annotations
 
@@ -154,7 +157,7 @@ def confusion(truth, pred) -> dict:
 @dataclass(frozen=True)
 class Agreement:
     """The 2D-3D classification agreement of one limit state: counts, the three rates, the verdict
-    (status 'met' / 'missed' / 'not applicable', ``why`` says which bound misses and whether
+    (status 'met' / 'missed' / 'not testable' / 'not applicable', ``why`` says which bound misses and whether
     disagreement is shown or only agreement not shown) and the rule it applied."""
 
     state: str
@@ -179,6 +182,11 @@ class Agreement:
                 "tn": self.tn, "accuracy": self.accuracy.to_dict(), "precision": self.precision.to_dict(),
                 "recall": self.recall.to_dict(), "status": self.status, "met": self.met, "why": self.why,
                 "rule": self.rule, "runs_differ": list(self.runs_differ)}
+
+
+NOT_TESTABLE = "not testable"
+"""The status of a limit state whose runs hold no positive case (or no negative one) in either model: every
+run agrees whatever the model does, so the check could not fail (issue [25])."""
 
 
 def rule_text(accuracy_min: float = ACCURACY_MIN, pr_min: float = PR_MIN) -> str:
@@ -214,6 +222,13 @@ def agreement(truth, pred, state: str, accuracy_min: float = ACCURACY_MIN, pr_mi
     if n == 0:
         return Agreement(state, **c, accuracy=acc, precision=prec, recall=rec, status="not applicable",
                          why="not applicable: no run left to count", rule=rule)
+    positives, negatives = c["tp"] + c["fp"] + c["fn"], c["tn"] + c["fp"] + c["fn"]
+    if positives == 0 or negatives == 0:
+        word, every = ("positive", "no") if positives == 0 else ("negative", "yes")
+        return Agreement(state, **c, accuracy=acc, precision=prec, recall=rec, status=NOT_TESTABLE,
+                         why=f"not testable: no {word} case in {n} runs (both models say {every} in every run), so "
+                             f"agreement there cannot fail and says nothing of the 2D model's "
+                             f"{'recall and precision' if positives == 0 else 'specificity'}", rule=rule)
     why = [w for w in (_judge(acc, accuracy_min), _judge(prec, pr_min), _judge(rec, pr_min)) if w]
     status = "missed" if why else "met"
     if prec.value is None and rec.value is None:

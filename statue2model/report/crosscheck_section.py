@@ -253,8 +253,11 @@ def add_classification(section: dict, sc, note: str | None = None) -> dict:
                               "rows": rows, "status_column": 8})
     n_met = sum(r[8] == "pass" for r in rows)
     n_app = sum(r[8] in ("pass", "fail") for r in rows)
-    section["summary"]["2D/3D over the design records"] = (f"{n_met} of {n_app} applicable limit states agree"
-                                                          + (f" (missed: {len(missed)})" if missed else ""))
+    n_untested = sum(r[8] == "not testable" for r in rows)
+    section["summary"]["2D/3D over the design records"] = (f"{n_met} of {n_app} testable limit states agree"
+                                                          + (f" (missed: {len(missed)})" if missed else "")
+                                                          + (f"; {n_untested} not testable (no positive or no "
+                                                             "negative case)" if n_untested else ""))
     section["warnings"] += [f"2D/3D classification over the design records missed: {m}" for m in missed]
     data = section.setdefault("data", {})
     data["classification"] = {
