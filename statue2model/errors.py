@@ -34,3 +34,34 @@ def missing_extra(extra: str, what: str, exc: BaseException | None = None) -> Mi
     return MissingExtra(
         f"{what} needs the [{extra}] extra ({EXTRAS[extra]}), which is not installed{why}: run "
         f"'bash .ci/install --extras {extra}' in the statue2model checkout, or 'pip install \"statue2model[{extra}]\"'")
+
+
+QUOTED_CHARS = 60
+"""Characters of a user's value quoted in a message (:func:`quoted`): the rest is cut, its length said."""
+
+
+def quoted(value, limit: int = QUOTED_CHARS, *, bare: bool = False) -> str:
+    """A user's value as an error message quotes it: its ``repr``, cut to about ``limit``
+    characters with its length said, so a message stays one short line whatever the input
+    (a 50 MB string, a list of a million items, a deeply nested array). Every message that
+    echoes a value read from the user's input goes through this. ``bare``: a string without
+    quotes when it is printable (a name shown as ``[section]``).
+
+    >>> quoted("mm"), quoted(0.5), quoted([1, 2])
+    ("'mm'", '0.5', '[1, 2]')
+    >>> quoted("x" * 1000)
+    "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx'... (1000 characters)"
+    >>> quoted(list(range(10**6)))
+    '[0, 1, 2, 3, 4, 5, ...] (1000000 items)'
+    """
+    if isinstance(value, str):
+        head = value[:limit]
+        text = head if bare and head.isprintable() else repr(head)
+        return text if len(value) <= limit else f"{text}... ({len(value)} characters)"
+    import reprlib
+
+    r = reprlib.Repr()              # bounded: never builds the whole text of a huge or deep value
+    r.maxstring = r.maxother = limit
+    text = r.repr(value)
+    size = f" ({len(value)} items)" if isinstance(value, (list, tuple, dict, set)) and "..." in text else ""
+    return (text if len(text) <= limit else text[:limit] + "...") + size

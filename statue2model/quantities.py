@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 
-from .errors import InputError
+from .errors import InputError, quoted
 
 G = 9.81
 """m/s^2 per g of an acceleration written '0.3g', of the model's gravity and of the reports."""
@@ -67,13 +67,13 @@ def positive(name: str, value) -> float:
     11.5
     """
     if isinstance(value, bool):
-        raise InputError(f"{name} must be a positive number, got {value!r}")
+        raise InputError(f"{name} must be a positive number, got {quoted(value)}")
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a positive number, got {value!r}") from None
+        raise InputError(f"{name} must be a positive number, got {quoted(value)}") from None
     if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+        raise InputError(f"{name} must be a positive finite number, got {quoted(value)}")
     return v
 
 
@@ -82,9 +82,9 @@ def positive_float(text) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"not a number: {text!r}") from None
+        raise InputError(f"not a number: {quoted(text)}") from None
     if not (math.isfinite(value) and value > 0):
-        raise InputError(f"must be a positive finite number, got {text}")
+        raise InputError(f"must be a positive finite number, got {quoted(text, bare=True)}")
     return value
 
 
@@ -93,9 +93,9 @@ def finite_float(text) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"not a number: {text!r}") from None
+        raise InputError(f"not a number: {quoted(text)}") from None
     if not math.isfinite(value):
-        raise InputError(f"must be a finite number, got {text}")
+        raise InputError(f"must be a finite number, got {quoted(text, bare=True)}")
     return value
 
 
@@ -105,7 +105,7 @@ def _split_unit(text: str, default: str) -> tuple[str, float]:
         if t.endswith(unit):
             return t[: -len(unit)].strip(), PER_METRE[unit]
     if t and (t[-1].isalpha()):
-        raise InputError(f"unknown length unit in {text!r} (use mm, cm, m or in)")
+        raise InputError(f"unknown length unit in {quoted(text)} (use mm, cm, m or in)")
     return t, PER_METRE[default]
 
 
@@ -116,9 +116,9 @@ def length(text: str) -> float:
     try:
         value = float(number)
     except ValueError:
-        raise InputError(f"not a length: {text!r} (e.g. 9mm)") from None
+        raise InputError(f"not a length: {quoted(text)} (e.g. 9mm)") from None
     if not (math.isfinite(value) and value >= 0):
-        raise InputError(f"must be a non-negative finite length, got {text}")
+        raise InputError(f"must be a non-negative finite length, got {quoted(text, bare=True)}")
     return value / per_metre
 
 
@@ -130,9 +130,9 @@ def sheet_size(text: str) -> tuple[float, float]:
     try:
         w, h = (float(p) for p in parts)
     except ValueError:
-        raise InputError(f"not a sheet size: {text!r} (e.g. 2500x1250mm)") from None
+        raise InputError(f"not a sheet size: {quoted(text)} (e.g. 2500x1250mm)") from None
     if not all(math.isfinite(v) and v > 0 for v in (w, h)):
-        raise InputError(f"sheet sides must be positive, got {text}")
+        raise InputError(f"sheet sides must be positive, got {quoted(text, bare=True)}")
     return w / per_metre, h / per_metre
 
 
@@ -150,13 +150,13 @@ def scale_ratio(text: str | float) -> float:
             ratio = float(t)
             lam = None if math.isfinite(ratio) and ratio > 1 else 1.0 / ratio
     except (ValueError, ZeroDivisionError):
-        raise InputError(f"not a scale: {text!r} (e.g. 1:2)") from None
+        raise InputError(f"not a scale: {quoted(text)} (e.g. 1:2)") from None
     if lam is None:
         raise InputError(
             f"scale {ratio:g} is ambiguous: write 1:{ratio:g} (prototype "
             f"{'half' if ratio == 2 else f'1/{ratio:g} of'} the size) or {1 / ratio:.4g}")
     if not (math.isfinite(lam) and lam > 0):
-        raise InputError(f"not a scale: {text!r} (e.g. 1:2)")
+        raise InputError(f"not a scale: {quoted(text)} (e.g. 1:2)")
     return lam
 
 
@@ -185,9 +185,10 @@ def parse_accel(text: str, what: str = "acceleration", key: str | None = None, g
     try:
         value = float(s) * (1.0 if factor is None else factor)
     except ValueError:
-        raise InputError(f"{what} must be a number with a unit (0.3g or 2.94m/s2), got {text!r}") from None
+        raise InputError(f"{what} must be a number with a unit (0.3g or 2.94m/s2), got {quoted(text)}") from None
     if not math.isfinite(value):
-        raise InputError(f"{what} must be finite, got {text!r}")
+        raise InputError(f"{what} must be finite, got {quoted(text)}")
+    raw = quoted(raw, bare=True)       # as the messages below show it
     if factor is None and value != 0:
         name = f"{key}=" if key else ""
         head = f"{name}{raw}" if key else f"{what}: {raw}"

@@ -44,7 +44,7 @@ def params(tmp_path):
 def test_one_table_of_ranges_is_consistent():
     for key, r in PLAUSIBLE.items():
         assert r.hard_low <= r.low < r.high <= r.hard_high, key
-        assert r.unit in ("m", "kg", "kg/m^3", "m/s^2", "s", "N"), key
+        assert r.unit in ("m", "kg", "kg/m^3", "m/s^2", "s", "N", "-", "%", "Hz", "rad", "m/s"), key
         assert all(k > 0 for _, k in r.typed), key
     # the scan's unit detection reads the same numbers (one place)
     assert PLAUSIBLE_SIZE == (PLAUSIBLE["height"].low, PLAUSIBLE["height"].high)

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import InputError
+from ..io.tomlfile import parse_toml
 from ..hazard.lab import LabFormat
 
 MAX_TESTS = 100_000
@@ -112,17 +113,14 @@ def _bool01(value: str, what: str) -> bool:
 
 def load_campaign(path) -> Campaign:
     """The campaign file at ``path`` (module docstring), its tests read and checked; one-line InputErrors."""
-    import tomllib
-
     path = Path(path)
     if not path.is_file():
         raise InputError(f"campaign file not found: {path}")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read campaign file {path}: {exc}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"campaign file {path} is not valid TOML: {exc}") from None
+    data = parse_toml(text, f"campaign file {path}")
     folder = path.resolve().parent
     where = f"campaign {path.name}"
     unknown = set(data) - {"name", "tests", "specimen", "motion"}

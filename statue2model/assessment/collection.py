@@ -1,9 +1,9 @@
 """A museum's collection in one assessment: one row per object, ranked by risk.
 
 Built from what each scan of a collection run returns (the pipeline's scan task): for an
-assessed object ``{"scan", "out", "report", "status": {stage: status}, "warnings": [{stage,
+assessed object ``{"scan", "folder", "out", "report", "status": {stage: status}, "warnings": [{stage,
 text}], "data": {stage: manifest data}, "verdict": run.json's verdict}``, for a refused scan
-``{"scan", "error"}``. Plain functions on dicts:
+``{"scan", "folder", "error"}`` (``folder``: the object's folder name, optional). Plain functions on dicts:
 
     object_row(result, folder)  one object's row (see :func:`object_row` for every key)
     rank(rows)                  the rows most urgent first, by :data:`RANKING_RULE`, with "rank" 1..n
@@ -60,7 +60,7 @@ from pathlib import Path, PurePosixPath
 
 from ..quantities import G  # m/s^2
 from . import states
-from .recommendation import Code, info, status_of
+from .recommendation import DEVICE_COUNTED, Code, info, status_of
 from .verdict import finite_number as _finite
 
 NOT_ASSESSED = "not assessed"
@@ -199,24 +199,51 @@ NO_DEVICE = {"friction": "it lifts below the balls' own rolling resistance (rest
 """The device column's words for the kind of reason no design passes (isolator.design.what_would_pass)."""
 
 
+DEVICE_TEXT = {"optional": "optional: no isolator needed by the code's check, single design records lift it",
+               "rejected": "does not protect at the design level: do not build it",
+               "none in range": "none: no isolator in range protects it",
+               "not needed": "not needed: it stays in full contact",
+               "not applicable": "not applicable: an isolator is not the remedy (restrain or anchor it)",
+               "design": "not designed: run the isolator stage"}
+"""The device column's words for the roles (recommendation.DEVICE_ROLES) where the designed device does not count."""
+NOT_APPLICABLE_WHY = {Code.SLIDES.value: "not applicable: it slides, it does not lift (restrain it)",
+                      Code.PEDESTAL_OVERTURNS.value: "not applicable: its pedestal overturns (anchor or widen the "
+                                                     "pedestal; an isolator under the statue does not hold it)"}
+
+
 def _device(verdict: dict, data: dict, code: str = "") -> dict:
     """The row's device columns (:func:`object_row`) of the verdict's isolator and the recommendation
-    ``code``: a body that slides and does not lift needs none (no plates, no cost): a restraint."""
+    ``code``: what the designed device is to the object is the code's (recommendation.CodeInfo.device):
+    only a device the code counts (DEVICE_COUNTED: build it, or analyse it first) shows as passing and
+    has its ``cost`` (EUR) and plates counted; for the others (not needed, optional, rejected, not
+    applicable: it slides, its pedestal overturns) the column says so and ``cost`` is None. Without a code
+    (an old run.json) the design's own state decides."""
     iso = verdict.get("isolated") or {}
+    role = info(code).device if code else None
     if not iso:
         why = "the isolator stage did not run" if not data.get("isolator") else "no design"
         return {"device_state": "not designed", "device": f"none: {why}", "R": None, "r": None,
-                "n_grooves": None, "T": None, "device_note": ""}
+                "n_grooves": None, "T": None, "cost": None, "device_note": ""}
     R, r, T = _finite(iso.get("R")), _finite(iso.get("r")), _finite(iso.get("T"))
     n = iso.get("n_grooves") if isinstance(iso.get("n_grooves"), int) else None
-    if code == Code.SLIDES.value:
-        return {"device_state": "not applicable", "device": "not applicable: it slides, it does not lift (restrain it)", "R": R,
-                "r": r, "n_grooves": n, "T": T, "device_note": str(iso.get("what_would_pass") or "")}
     geo = (f"R {R:.2f} m" if R is not None else "R -") + (f", r {r * 1000:.1f} mm" if r is not None else "") \
         + (f", {n} grooves" if n is not None else "") + (f", T {T:.2f} s" if T is not None else "")
+    cost = _finite(iso.get("cost"))
+    out = {"R": R, "r": r, "n_grooves": n, "T": T, "cost": None, "device_note": str(iso.get("what_would_pass") or "")}
+    # a device rejected for the ball load alone stays "conditional" (what its grooves must carry), and where no
+    # device is in range the design's reason is said
+    keep = (role == "none in range" and not iso.get("passed")) or (role == "rejected" and iso.get("conditional"))
+    if role is not None and role not in DEVICE_COUNTED and not keep:
+        text = NOT_APPLICABLE_WHY.get(code) or DEVICE_TEXT[role]
+        if role in ("optional", "rejected"):
+            text = f"{geo}: {text}" + (f" (about {cost:.0f} EUR if built)" if cost and role == "optional" else "")
+        return {**out, "device_state": "none" if role == "none in range" else role, "device": text}
     if iso.get("passed"):
-        cost = _finite(iso.get("cost"))
-        state, text = "passed", f"{geo}: passes" + (f", about {cost:.0f} EUR" if cost else "")
+        state = "passed"
+        text = f"{geo}: passes" + (f", about {cost:.0f} EUR" if cost else "")
+        if role == "analyse":
+            text += " (not yet analysed over the design records)"
+        out["cost"] = cost
     elif iso.get("conditional"):
         state = "conditional"
         b = _row(verdict.get("limit_states"), "bearing", "isolated") or {}
@@ -225,12 +252,9 @@ def _device(verdict: dict, data: dict, code: str = "") -> dict:
             f" (grooves must carry {need:.0f} N per ball, {given:.0f} N given)" if None not in (need, given) else "")
     else:
         state = "none"
-        reason = str(iso.get("reason") or "no design in range passes")
         text = "none: " + NO_DEVICE.get(iso.get("reason_key"), "no design in range passes")
-        note = reason
-        return {"device_state": state, "device": text, "R": R, "r": r, "n_grooves": n, "T": T, "device_note": note}
-    return {"device_state": state, "device": text, "R": R, "r": r, "n_grooves": n, "T": T,
-            "device_note": str(iso.get("what_would_pass") or "")}
+        out["device_note"] = str(iso.get("reason") or "no design in range passes")
+    return {**out, "device_state": state, "device": text}
 
 
 def _doubts(verdict: dict, data: dict) -> list[str]:
@@ -279,7 +303,8 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     """One object's row from its scan task's ``result`` (module docstring); ``folder``: the
     collection's output folder, which ``link`` is relative to (default: ``<out name>/report.html``).
 
-    Keys: ``object`` (the scan's name without suffix), ``scan``; ``assessed`` (bool) and ``reason``
+    Keys: ``object`` (the object's folder in the collection, ``folder``: the scan's name without
+    suffix, or its whole name where that would clash, see pipeline.run.object_folders), ``scan``; ``assessed`` (bool) and ``reason``
     (why not: the refused scan's error, or the params stage's status; "" when assessed);
     ``recommendation`` (run.json's verdict["recommendation"], the reasoning, verbatim; "" for a refused
     scan), ``code`` and ``headline`` (the verdict's recommendation code and headline; "" without) and
@@ -292,9 +317,11 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
     probability at the design PGA and its band, :func:`p_band`); ``design_pga`` (m/s^2: the PGA
     the probabilities are read at); ``uplift_g`` (the weakest uplift acceleration, g) and
     ``weakest_deg`` (its direction, deg); ``m`` (kg), ``h``, ``b_L``, ``b_R`` (m); ``device_state``
-    (passed, conditional, none, not designed), ``device`` (one line: R, r, grooves, T and the state,
-    or none with the reason), ``device_note`` (the isolator's "what would pass", else ""), ``R``,
-    ``r`` (m), ``n_grooves``, ``T`` (s); ``sheets`` (the prototype's sheet count); ``doubts`` (short
+    (passed, conditional, none, not designed, or the code's device role where the designed device is not
+    the object's protection: optional, rejected, not needed, not applicable, design; :func:`_device`),
+    ``device`` (one line: R, r, grooves, T and the state, or none with the reason), ``device_note`` (the
+    isolator's "what would pass", else ""), ``R``, ``r`` (m), ``n_grooves``, ``T`` (s), ``cost`` (EUR, the
+    device's price where it is counted: device_state passed, else None); ``sheets`` (the prototype's sheet count); ``doubts`` (short
     texts: uncertain base contact, guessed units, the 3D cross-check's unconfirmed limit states,
     advisory checks not met); ``warnings`` (their count); ``link`` (report.html relative to
     ``folder``, posix; None without a report). Every number is a
@@ -304,6 +331,7 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
         raise TypeError(f"a scan result is a dict, not {type(result).__name__}")
     scan = str(result.get("scan") or "?")
     name = scan.rsplit(".", 1)[0] if "." in scan.lstrip(".") else scan     # as Path.stem, "/" kept as text
+    name = str(result.get("folder") or name)      # its output folder's: the whole file name where stems clash
     row = {"object": name, "scan": scan, "assessed": False, "reason": "", "recommendation": "", "code": "",
            "headline": "",
            "status": NOT_ASSESSED, "state": NOT_ASSESSED, "basis": "", "link": _link(result, folder),
@@ -311,7 +339,7 @@ def object_row(result: dict, folder: str | os.PathLike | None = None) -> dict:
            "governing_isolated": None, "governing_isolated_ratio": None, "governing_isolated_text": "",
            "design_pga": None, "uplift_g": None, "weakest_deg": None, "m": None, "h": None, "b_L": None,
            "b_R": None, "device_state": "not designed", "device": "", "device_note": "", "R": None, "r": None,
-           "n_grooves": None, "T": None, "sheets": None, "doubts": [], "warnings": len(result.get("warnings") or ())}
+           "n_grooves": None, "T": None, "cost": None, "sheets": None, "doubts": [], "warnings": len(result.get("warnings") or ())}
     for key, _, _ in FRAGILITY_KEYS:
         row.update({f"p_{key}": None, f"p_{key}_lo": None, f"p_{key}_hi": None})
     if "error" in result:
@@ -445,9 +473,12 @@ def summary(rows: list[dict]) -> dict:
     """The collection's counts: ``objects``, ``assessed``, ``not_assessed``, ``needing_protection``
     (:func:`needs_protection`), ``to_consider`` (no isolator needed by the codes' mean, but single
     design records lift the object: the verdict's warning), ``devices_passed`` and
-    ``devices_conditional`` (designs that pass; that pass but for the ball load), ``no_device`` (needing
-    protection with no device passing or conditional), ``prototype_sheets`` (all prototypes' sheets),
-    ``isolator_plates`` (2 per passing device: only those have their plates written).
+    ``devices_conditional`` (designs that pass; that pass but for the ball load; only devices the object's
+    code counts, recommendation.DEVICE_COUNTED: never one of an object that slides, needs none or whose
+    device does not protect), ``no_device`` (needing protection with no device passing or conditional,
+    where an isolator is the remedy: not one that slides or whose pedestal overturns), ``prototype_sheets``
+    (all prototypes' sheets), ``isolator_plates`` (2 per passing device) and ``devices_cost`` (EUR, the
+    passing devices' prices summed; those without a price add nothing).
 
     >>> summary([{"assessed": True, "code": "ISOLATE", "device_state": "passed", "sheets": 2},
     ...          {"assessed": False}])["isolator_plates"]
@@ -455,15 +486,17 @@ def summary(rows: list[dict]) -> dict:
     """
     assessed = [r for r in rows if r.get("assessed")]
     need = [r for r in assessed if needs_protection(r)]
-    passed = sum(r.get("device_state") == "passed" for r in assessed)
+    passing = [r for r in assessed if r.get("device_state") == "passed"]
+    passed = len(passing)
     return {"objects": len(rows), "assessed": len(assessed), "not_assessed": len(rows) - len(assessed),
             "needing_protection": len(need),
             "to_consider": sum(to_consider(r) for r in assessed),
             "devices_passed": passed,
             "devices_conditional": sum(r.get("device_state") == "conditional" for r in assessed),
-            "no_device": sum(r.get("device_state") not in ("passed", "conditional") for r in need),
+            "no_device": sum(r.get("device_state") not in ("passed", "conditional", "not applicable") for r in need),
             "prototype_sheets": sum(r.get("sheets") or 0 for r in assessed),
-            "isolator_plates": 2 * passed}
+            "isolator_plates": 2 * passed,
+            "devices_cost": float(sum(_finite(r.get("cost")) or 0.0 for r in passing))}
 
 
 CSV_COLUMNS = (
@@ -494,6 +527,7 @@ CSV_COLUMNS = (
     ("m", "mass [kg]"), ("h", "h [m]"), ("b_L", "b_L [m]"), ("b_R", "b_R [m]"),
     ("device_state", "isolator"), ("device", "isolator device"), ("R", "isolator R [m]"),
     ("r", "isolator ball r [m]"), ("n_grooves", "isolator grooves"), ("T", "isolator T [s]"),
+    ("cost", "isolator cost [EUR]"),
     ("sheets", "prototype sheets"), ("doubts", "doubts"), ("warnings", "warnings"), ("link", "report"),
 )
 """(row key, CSV header with its unit) of collection.csv, in order."""

@@ -60,29 +60,51 @@ class Code(str, enum.Enum):
         return self.value
 
 
+DEVICE_ROLES = {
+    "build": "the designed isolator is the protection: build it",
+    "analyse": "the designed isolator is the protection once analysed over the design records",
+    "design": "an isolator is the protection, none was designed yet",
+    "optional": "no isolator needed by the code's check; the designed one is an option to consider",
+    "rejected": "the designed isolator does not protect: do not build it",
+    "none in range": "no isolator in the tool's range protects it",
+    "not needed": "no isolator needed",
+    "not applicable": "an isolator is not the remedy (it slides, or its pedestal overturns): restrain or anchor it",
+}
+"""What the designed isolator is to an object of each code (:attr:`CodeInfo.device`): the collection shows a
+device as passing, and counts its plates and price, only for the roles of :data:`DEVICE_COUNTED`."""
+DEVICE_COUNTED = ("build", "analyse")
+
+
 @dataclass(frozen=True)
 class CodeInfo:
     """What a code means: ``status`` (ok, warn, fail: the report's colour), ``needs_protection``
     (the collection counts it among the objects to protect), ``to_consider`` (a warning to consider
-    protection while the code's check holds), ``action`` (the first words of the headline)."""
+    protection while the code's check holds), ``action`` (the first words of the headline), ``device``
+    (what the designed isolator is to the object: a key of :data:`DEVICE_ROLES`)."""
 
     status: str
     needs_protection: bool
     to_consider: bool
     action: str
+    device: str
+
+    @property
+    def device_counts(self) -> bool:
+        """The designed isolator is the object's protection: shown as passing, its plates and price counted."""
+        return self.device in DEVICE_COUNTED
 
 
 CODES: dict[Code, CodeInfo] = {
-    Code.NO_ISOLATOR: CodeInfo("ok", False, False, "No isolator needed"),
-    Code.NO_ISOLATOR_BUT_RECORDS_LIFT: CodeInfo("warn", False, True, "Consider isolating it"),
-    Code.ISOLATE: CodeInfo("ok", True, False, "Isolate it"),
-    Code.DEVICE_DOES_NOT_PROTECT: CodeInfo("fail", True, False, "Do not build the designed isolator"),
-    Code.NO_DEVICE_IN_RANGE: CodeInfo("fail", True, False, "No isolator of this kind protects it"),
-    Code.RUN_ISOLATOR_STAGE: CodeInfo("warn", True, False, "Design an isolator"),
-    Code.RUN_ISOLATED_DYNAMICS: CodeInfo("warn", True, False, "Analyse the designed isolator"),
-    Code.SLIDES: CodeInfo("warn", True, False, "Restrain it against sliding"),
-    Code.PEDESTAL_OVERTURNS: CodeInfo("fail", True, False, "Anchor or widen its pedestal"),
-    Code.NO_VERDICT: CodeInfo("warn", False, False, "No verdict"),
+    Code.NO_ISOLATOR: CodeInfo("ok", False, False, "No isolator needed", "not needed"),
+    Code.NO_ISOLATOR_BUT_RECORDS_LIFT: CodeInfo("warn", False, True, "Consider isolating it", "optional"),
+    Code.ISOLATE: CodeInfo("ok", True, False, "Isolate it", "build"),
+    Code.DEVICE_DOES_NOT_PROTECT: CodeInfo("fail", True, False, "Do not build the designed isolator", "rejected"),
+    Code.NO_DEVICE_IN_RANGE: CodeInfo("fail", True, False, "No isolator of this kind protects it", "none in range"),
+    Code.RUN_ISOLATOR_STAGE: CodeInfo("warn", True, False, "Design an isolator", "design"),
+    Code.RUN_ISOLATED_DYNAMICS: CodeInfo("warn", True, False, "Analyse the designed isolator", "analyse"),
+    Code.SLIDES: CodeInfo("warn", True, False, "Restrain it against sliding", "not applicable"),
+    Code.PEDESTAL_OVERTURNS: CodeInfo("fail", True, False, "Anchor or widen its pedestal", "not applicable"),
+    Code.NO_VERDICT: CodeInfo("warn", False, False, "No verdict", "not needed"),
 }
 STATUSES = ("ok", "warn", "fail")
 

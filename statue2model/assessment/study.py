@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 
 from ..quantities import G  # m/s^2: the g every report prints
-from ..errors import InputError
+from ..errors import InputError, quoted
 from ..isolator.friction import friction_bounds
 from ..rocking.model import RockingModel
 from ..rocking.sampling import (
@@ -89,10 +89,10 @@ def fragility_levels(text: str, what: str = "[dynamics] fragility_levels") -> np
 
     lv = linspace_spec(text, what, accel=True)
     if lv.size < 3 or np.any(lv <= 0):
-        raise InputError(f"{what} needs at least 3 PGAs > 0, got {text!r}")
+        raise InputError(f"{what} needs at least 3 PGAs > 0, got {quoted(text)}")
     if np.any(np.diff(lv) <= 0):
         raise InputError(f"{what} must increase from START to STOP (each level above the one before), "
-                         f"got {text!r}")
+                         f"got {quoted(text)}")
     return lv
 
 

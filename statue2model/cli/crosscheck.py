@@ -17,7 +17,7 @@ from __future__ import annotations
 
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float, scan_or_params
+from .argtypes import finite_float, plausible, positive_float, scan_or_params
 
 
 
@@ -51,7 +51,7 @@ def add_parsers(sub) -> None:
                    "docs/crosscheck.md, Speed)")
     p.add_argument("--segments", type=int, default=128, metavar="N",
                    help="groove tessellation of the CNC mesh, with --grid 0 (default 128)")
-    p.add_argument("--pulse-freq", type=positive_float, default=1.5, metavar="HZ",
+    p.add_argument("--pulse-freq", type=plausible("pulse_frequency", option="--pulse-freq"), default=1.5, metavar="HZ",
                    help="frequency of the one-sine pulses (default 1.5)")
     p.add_argument("--quick", action="store_true", help="shorter runs")
     p.add_argument("--imperfect", action="store_true", help="also the imperfect model in 3D: a convex base, "

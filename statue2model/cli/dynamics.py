@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float, scale_ratio
+from .argtypes import finite_float, plausible, positive_float, scale_ratio
 
 SPEC_HELP = ("ground motion: free:theta0=RAD | cosine:amp=A,freq=HZ | sine:amp=A,freq=HZ | rect:amp=A,dur=S | "
              "sines:amp=A,freq=HZ,cycles=N | file:path=P[,dt=S][,pga=A][,scale=1:N][,units=g] | "
@@ -39,7 +39,7 @@ def _model_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--e-L", metavar="E", help="restitution landing on the left edge: a number in [0, 1] or the JSON "
                    "of `statue2model identify` (its fitted curve); default: angular momentum, eq. 15")
     g.add_argument("--e-R", metavar="E", help="restitution landing on the right edge (as --e-L)")
-    g.add_argument("--mu-static", type=positive_float, default=None, metavar="MU",
+    g.add_argument("--mu-static", type=plausible("static_friction", option="--mu-static"), default=None, metavar="MU",
                    help="static friction coefficient of the base on its support (default 0.7, a typical value "
                         "for stone on stone): a body whose uplift needs more than MU g slides before it rocks, "
                         "and its rocking outcome above MU g is not applicable")

@@ -20,7 +20,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
-from .argtypes import finite_float, positive_float, scan_or_params
+from .argtypes import finite_float, plausible, positive_float, scan_or_params
 
 
 
@@ -55,12 +55,12 @@ def add_parsers(sub) -> None:
     p.add_argument("--direction", type=finite_float, metavar="DEG", help="excitation direction of a scan "
                    "(default: weakest)")
     g = p.add_argument_group("model (default: Housner; imperfect with --alpha-L/--alpha-R)")
-    g.add_argument("--alpha-L", type=finite_float, metavar="A")
-    g.add_argument("--alpha-R", type=finite_float, metavar="A")
+    g.add_argument("--alpha-L", type=plausible("alpha", finite_float, "--alpha-L"), metavar="A")
+    g.add_argument("--alpha-R", type=plausible("alpha", finite_float, "--alpha-R"), metavar="A")
     g.add_argument("--theta-L", type=positive_float, metavar="RAD", help="default 0.07 delta_L")
     g.add_argument("--theta-R", type=positive_float, metavar="RAD", help="default 0.07 delta_R")
-    g.add_argument("--e", type=finite_float, metavar="E", help="e_L = e_R (default: eq. 15)")
-    g.add_argument("--mu-static", type=positive_float, metavar="MU", help="static friction (default 0.7)")
+    g.add_argument("--e", type=plausible("restitution", finite_float, "--e"), metavar="E", help="e_L = e_R (default: eq. 15)")
+    g.add_argument("--mu-static", type=plausible("static_friction", option="--mu-static"), metavar="MU", help="static friction (default 0.7)")
     g.add_argument("--rtol", type=positive_float, default=1e-7, metavar="TOL", help="solver tolerance (default 1e-7)")
     x = p.add_argument_group("parallel runs (default: the threads of this process)").add_mutually_exclusive_group()
     x.add_argument("--workers", type=int, metavar="N", help="run on N local worker processes, one core each")

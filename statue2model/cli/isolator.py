@@ -45,23 +45,23 @@ def add_parsers(sub) -> None:
     d.add_argument("--slc-spectrum", metavar="SPEC",
                    help="the site's spectrum at the collapse level (SLC) for the device's checks; default: the design "
                         "spectrum x 1.2 on EC8 (EN 1998-1 10.3(2)), scaled by the return periods on NTC")
-    d.add_argument("--mu", type=finite_float,
+    d.add_argument("--mu", type=plausible("rolling_friction", finite_float, "--mu"),
                    help="rolling friction coefficient for every candidate (default: each ball/surface pair's law, "
                         "Tables 19, 25)")
     d.add_argument("--surface", choices=_SURFACES, help="groove surface (default: the cheapest that passes)")
     d.add_argument("--layout", choices=_LAYOUTS, help="ball layout (default: the cheapest that passes)")
     d.add_argument("--grooves", type=int, metavar="N", help="number of balls: 3, 4, 5, 6, 8, 9, 12 or 16")
     d.add_argument("--ball-material", choices=("steel", "resin"))
-    d.add_argument("--target", type=_accel, metavar="A",
+    d.add_argument("--target", type=plausible("plate_acceleration", _accel, "--target"), metavar="A",
                    help="stricter limit for the plate acceleration, with a unit: 0.03g or 0.29m/s2")
-    d.add_argument("--alpha", type=finite_float, metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
-    d.add_argument("--alpha-L", type=finite_float, metavar="A")
-    d.add_argument("--alpha-R", type=finite_float, metavar="A")
-    d.add_argument("--thickness", type=length, metavar="T",
+    d.add_argument("--alpha", type=plausible("alpha", finite_float, "--alpha"), metavar="A", help="alpha_L = alpha_R = A: reduced uplift limits")
+    d.add_argument("--alpha-L", type=plausible("alpha", finite_float, "--alpha-L"), metavar="A")
+    d.add_argument("--alpha-R", type=plausible("alpha", finite_float, "--alpha-R"), metavar="A")
+    d.add_argument("--thickness", type=plausible("plate_thickness", length, "--thickness"), metavar="T",
                    help="wooden board thickness (30mm, 0.03m; a bare number is mm; default: 20, 30, 40 or 50 mm; "
                         "boards are stacked where a groove needs more)")
-    d.add_argument("--side-max", type=length, metavar="S", help="largest plate side (default 1.5 m, the CNC bed)")
-    d.add_argument("--fuse-release", type=_accel, metavar="A",
+    d.add_argument("--side-max", type=plausible("plate_side", length, "--side-max"), metavar="S", help="largest plate side (default 1.5 m, the CNC bed)")
+    d.add_argument("--fuse-release", type=plausible("fuse_release", _accel, "--fuse-release"), metavar="A",
                    help="add a release mechanism (fuse) that lets go at A, with a unit: 0.075g or 0.736m/s2")
     d.add_argument("--ball-capacity", type=plausible("ball_capacity", positive_float, "--ball-capacity"), metavar="N",
                    help="a load test of the groove surface: N carried on a 40 mm ball with the allowed dent "
@@ -89,19 +89,19 @@ def add_parsers(sub) -> None:
     s.add_argument("--r", type=plausible("ball_radius", option="--r"), metavar="M", help="ball radius, m")
     s.add_argument("--mass", type=plausible("supported_mass", option="--mass"), metavar="KG",
                    help="supported mass M = top plate + statue, kg")
-    s.add_argument("--mu", type=finite_float)
+    s.add_argument("--mu", type=plausible("rolling_friction", finite_float, "--mu"), metavar="MU")
     s.add_argument("--capacity", type=plausible("capacity", length, "--capacity"), metavar="M",
                    help="largest plate displacement before a ball leaves its groove (150mm, 0.15m; a bare "
                         "number is mm; default: the design's with --design, else not checked)")
     s.add_argument("--end-stop", choices=["stop", "impact"], default="stop",
                    help="at the capacity: stop the run (default) or rebound on a rigid end stop")
-    s.add_argument("--e-stop", type=finite_float, default=0.5, metavar="E",
+    s.add_argument("--e-stop", type=plausible("restitution", finite_float, "--e-stop"), default=0.5, metavar="E",
                    help="restitution of the end stop with --end-stop impact (default 0.5, assumed)")
     s.add_argument("--model", choices=["coulomb", "boucwen"], default="coulomb")
     s.add_argument("--q", type=positive_float, default=30.0, help="Bouc-Wen k_i / k (30 without rubber, 5 with)")
     s.add_argument("--n", type=int, choices=[1, 2], default=1, help="Bouc-Wen exponent")
     s.add_argument("--statue", metavar="PARAMS.json", help="the statue on the plate: plate + statue coupled (uplift, rocking, efficiency)")
-    s.add_argument("--alpha", type=finite_float, metavar="A", help="the statue's alpha_L = alpha_R (imperfect model)")
+    s.add_argument("--alpha", type=plausible("alpha", finite_float, "--alpha"), metavar="A", help="the statue's alpha_L = alpha_R (imperfect model)")
     s.add_argument("--motion", required=True, metavar="SPEC", help="as for `rock`, plus free:u0=M[,v0=M/S]")
     s.add_argument("--t-end", type=positive_float, metavar="S")
     s.add_argument("--dt-out", type=positive_float, default=0.005, metavar="S")
@@ -117,7 +117,7 @@ def add_parsers(sub) -> None:
     i.add_argument("record", metavar="RECORD.csv")
     i.add_argument("--units", choices=["m", "mm"], default="m", help="displacement unit of the record")
     i.add_argument("--T", type=positive_float, metavar="S", help="period for eq. 51 (default: measured)")
-    i.add_argument("--mass", type=positive_float, metavar="KG", help="supported mass, for the table value")
+    i.add_argument("--mass", type=plausible("supported_mass", option="--mass"), metavar="KG", help="supported mass, for the table value")
     i.add_argument("--table", choices=["19-steel", "19-resin", "19-resin-rubber", "25"],
                    help="measured friction table (Table 19: three grooves; Table 25: four grooves)")
     i.add_argument("--json", metavar="OUT", required=True)
@@ -332,14 +332,12 @@ def _capacity_line(res) -> str:
 
 
 def _write_history(path: Path, res) -> Path:
-    """t, u, v, a_abs, z every dt_out, SI units: readable by `isolator identify`."""
-    import numpy as np
-
+    """t, u, v, a_abs, z every dt_out, SI units: readable by `isolator identify`; a run stopped at the
+    capacity ends with its last finite sample and a '# stopped: ...' line (IsolatorResult.history_csv)."""
     from ..io.files import atomic_write
 
-    data = np.column_stack([res.t, res.u, res.v, res.acc_abs, res.z])
-    return atomic_write(path, lambda p: np.savetxt(p, data, delimiter=",", fmt="%.10g",
-                                                    header="t_s,u_m,v_m_s,a_abs_m_s2,z", comments=""))
+    text = res.history_csv()
+    return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8", newline=""))
 
 
 _TABLES = {"19-steel": "steel_r0.0095", "19-resin": "resin_r0.0183", "19-resin-rubber": "resin_r0.0183_rubber"}

@@ -10,6 +10,7 @@ folder another statue2model command is writing is refused at once (its lock).
 """
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -65,6 +66,8 @@ def _cmd_run(args) -> int:
     from ..pipeline.config import stage_list
 
     cfg = load_config(args.config)
+    for w in cfg.warnings:          # unusual values of the project file (config.RANGES), as the options' warnings
+        print(f"statue2model: warning: {w}", file=sys.stderr)
     target = Path(args.mesh) if args.mesh else default_scan()
     if not target.exists():
         raise InputError(f"scan or folder not found: {target}")
@@ -131,7 +134,8 @@ def _collection_table(data) -> str:
         lines.append(f"\n{s.get('objects', 0)} objects: {s.get('needing_protection', 0)} need protection, "
                      f"{s.get('not_assessed', 0)} not assessed; {s.get('devices_passed', 0)} isolators pass, "
                      f"{s.get('devices_conditional', 0)} conditional on the ball load; "
-                     f"{s.get('prototype_sheets', 0)} prototype sheets, {s.get('isolator_plates', 0)} isolator plates")
+                     f"{s.get('prototype_sheets', 0)} prototype sheets, {s.get('isolator_plates', 0)} isolator plates"
+                     + (f" (about {s['devices_cost']:.0f} EUR)" if s.get("devices_cost") else ""))
     return "\n".join(lines)
 
 

@@ -48,6 +48,7 @@ from urllib.parse import unquote
 import numpy as np
 
 from ..errors import InputError
+from ..io.inputs import open_input
 
 DRACO = "KHR_draco_mesh_compression"
 QUANTIZATION = "KHR_mesh_quantization"
@@ -88,7 +89,7 @@ def read_gltf(path: Path) -> GltfGeometry:
         raise InputError(f"cannot read {path.name}: not a GLB file (it does not start with 'glTF')")
     try:
         tree = json.loads(data.decode("utf-8-sig"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
         raise InputError(f"cannot read {path.name}: not glTF JSON ({exc})".splitlines()[0]) from None
     return _geometry(tree, None, path.name, path.parent)
 
@@ -113,7 +114,7 @@ def parse_glb(data: bytes, *, name: str = "scan.glb", folder: Path | None = None
         raise InputError(f"cannot read {name}: the GLB has no JSON chunk first")
     try:
         tree = json.loads(chunks[0][1].decode("utf-8-sig"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
         raise InputError(f"cannot read {name}: bad JSON in the GLB ({exc})".splitlines()[0]) from None
     binary = next((c for k, c in chunks[1:] if k == _BIN_CHUNK), None)
     return _geometry(tree, binary, name, folder)
@@ -199,9 +200,10 @@ class _Reader:
         target = (folder / rel).resolve()
         if folder not in target.parents:
             raise InputError(f"{self.name} points to the buffer '{uri}' outside its folder: refused")
-        if not target.is_file():
+        if not target.exists():
             raise InputError(f"{self.name} needs the buffer file '{uri}', which is missing beside it")
-        return target.read_bytes()
+        with open_input(target, f"{self.name}'s buffer file") as f:    # a regular file only (never a FIFO)
+            return f.read()
 
     def view(self, i: int) -> tuple[bytes, int, int | None]:
         """(buffer bytes, start offset, byteStride) of bufferView ``i`` (bounds checked)."""

@@ -22,7 +22,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..compute.interrupts import checked_import, interrupt_checkpoint
 from ..errors import InputError
+from ..io.inputs import input_problem, open_input
 from .gltf import read_gltf
 
 if TYPE_CHECKING:
@@ -59,10 +61,11 @@ class RawScan:
 
 
 def _check_file(path: Path) -> None:
-    if not path.exists():
+    problem = input_problem(path)
+    if problem == "not found":
         raise InputError(f"file not found: {path}")
-    if not path.is_file():
-        raise InputError(f"not a file: {path}")
+    if problem is not None:
+        raise InputError(f"{path}: {problem}")
     if path.stat().st_size == 0:
         raise InputError(f"file is empty: {path}")
     suffix = path.suffix.lower()
@@ -71,11 +74,30 @@ def _check_file(path: Path) -> None:
         raise InputError(f"unsupported file type '{suffix or path.name}': use one of {known}")
 
 
-def _load_trimesh(path: Path):
-    import trimesh
+class _NoFiles:
+    """A trimesh resolver that opens nothing: a scan's references to other files (an OBJ's
+    ``mtllib``, a PLY's texture) name paths statue2model does not trust or need (materials and
+    textures play no part in the geometry), so they are never resolved."""
 
+    def get(self, name):
+        raise OSError(f"statue2model does not open files a scan refers to ({name})")
+
+    __getitem__ = get
+
+    def keys(self):
+        return []
+
+
+def _load_trimesh(path: Path):
+    # trimesh catches BaseException around its optional imports and in its loaders: a Ctrl-C
+    # landing there would be dropped and the command go on; the checkpoint raises it again
+    trimesh = checked_import("trimesh")
     try:
-        loaded = trimesh.load(str(path), process=False)
+        with open_input(path, "scan") as f, interrupt_checkpoint():   # a regular file only: never blocks on a FIFO
+            loaded = trimesh.load(f, file_type=path.suffix.lower().lstrip("."), resolver=_NoFiles(),
+                                  skip_materials=True, process=False)
+    except InputError:
+        raise
     except Exception as exc:  # trimesh raises many kinds on corrupt files
         raise InputError(f"cannot read {path.name}: {exc}".splitlines()[0]) from None
     if isinstance(loaded, trimesh.Scene):

@@ -104,6 +104,48 @@ PLAUSIBLE: dict[str, Plausible] = {
     # ground motions: the largest recorded PGA is about 4 g; 100 g is no ground motion
     "acceleration": Plausible("ground acceleration", "m/s^2", 0.0, 5 * G, 0.0, A_MAX, _ACC_TYPOS),
     "time_step": Plausible("record's time step", "s", 1e-4, 0.05, 1e-6, 1.0, (("ms", 1e-3),)),
+    # --- the project file's other physical keys (pipeline/config.py RANGES names each key's row) ---
+    # the isolator: rolling friction of balls in grooves (the thesis: 0.004-0.02, Tables 19, 25); 0.5 is sliding
+    "rolling_friction": Plausible("rolling friction coefficient", "-", 0.001, 0.05, 0.0, 0.5),
+    "plate_side": Plausible("largest plate side (the CNC bed)", "m", 1.0, 2.5, 0.3, 3.0, _LENGTH_TYPOS),
+    "plate_acceleration": Plausible("plate acceleration limit", "m/s^2", 0.01 * G, 0.5 * G, 1e-3 * G, 5 * G,
+                                    _ACC_TYPOS),
+    "fuse_release": Plausible("fuse release acceleration", "m/s^2", 0.02 * G, 0.3 * G, 1e-3 * G, 2 * G, _ACC_TYPOS),
+    # friction of the statue on its support, the pedestal on the floor (stone, marble, bronze on wood or stone
+    # 0.3-0.7; Monaco et al. 2020, Kafali et al. 2007: MU_SOURCES)
+    "static_friction": Plausible("static friction coefficient", "-", 0.3, 0.7, 0.05, 2.0),
+    "kinetic_ratio": Plausible("ratio mu_k / mu_s", "-", 0.6, 0.9, 0.01, 1.0),
+    "allowance": Plausible("sliding allowance", "m", 0.005, 0.3, 1e-4, 10.0, _LENGTH_TYPOS),
+    "pedestal_side": Plausible("pedestal side or height", "m", 0.2, 3.0, 0.01, 20.0, _LENGTH_TYPOS),
+    "pedestal_mass": Plausible("pedestal mass", "kg", 5.0, 20e3, 0.1, 1e6, _MASS_TYPOS),
+    # the building (EN 1998-1 4.3.3.2.2; a storey is 2-10 m: a museum hall's is at most about 6 m)
+    "building_height": Plausible("building height (foundation to roof)", "m", 3.0, 60.0, 2.0, 1000.0, _LENGTH_TYPOS),
+    "storeys": Plausible("number of storeys", "-", 1.0, 20.0, 1.0, 200.0),
+    "storey_height": Plausible("storey height (building height / storeys)", "m", 2.5, 6.0, 2.0, 10.0),
+    "building_period": Plausible("building period T1", "s", 0.05, 2.0, 0.01, 10.0, (("ms", 1e-3),)),
+    "building_damping": Plausible("building damping", "%", 2.0, 10.0, 0.1, 50.0),
+    # the 2D rocking model
+    "alpha": Plausible("reduced uplift acceleration ratio alpha", "-", 0.5, 1.0, 1e-3, 1.0),
+    "restitution": Plausible("coefficient of restitution", "-", 0.5, 1.0, 0.0, 1.0),
+    "transition_rotation": Plausible("rolling-transition rotation", "rad", 1e-4, 0.05, 1e-7, 0.5),
+    "pulse_frequency": Plausible("pulse frequency", "Hz", 0.1, 20.0, 1e-3, 100.0),
+    # the prototype (the possible ranges are fabrication/spec.py SliceSpec's, so a file fails at load)
+    "board": Plausible("board thickness", "m", 0.003, 0.025, 0.001, 0.1, _LENGTH_TYPOS),
+    "glue": Plausible("glue film thickness", "m", 0.0, 0.001, 0.0, 0.005, _LENGTH_TYPOS),
+    "tool": Plausible("cutter diameter", "m", 0.001, 0.012, 1e-4, 0.05, _LENGTH_TYPOS),
+    "rod": Plausible("alignment rod diameter", "m", 0.003, 0.02, 5e-4, 0.1, _LENGTH_TYPOS),
+    "clearance": Plausible("hole clearance", "m", 0.0, 0.001, 0.0, 0.005, _LENGTH_TYPOS),
+    "wall": Plausible("minimum wall", "m", 0.002, 0.03, 0.0, 0.1, _LENGTH_TYPOS),
+    "margin": Plausible("nesting margin", "m", 0.0, 0.02, 0.0, 0.1, _LENGTH_TYPOS),
+    "edge": Plausible("sheet edge margin", "m", 0.0, 0.05, 0.0, 0.2, _LENGTH_TYPOS),
+    "tolerance": Plausible("outline tolerance", "m", 1e-6, 5e-4, 1e-7, 0.001, _LENGTH_TYPOS),
+    "sheet_side": Plausible("sheet side", "m", 0.5, 3.1, 0.05, 10.0, _LENGTH_TYPOS),
+    "feed": Plausible("cutting feed", "m/s", 0.005, 0.2, 1e-5, 2.0, (("mm/min", 1.0 / 60000.0),)),
+    "pass_depth": Plausible("depth per pass", "m", 0.001, 0.025, 1e-4, 0.1, _LENGTH_TYPOS),
+    "board_density": Plausible("board density", "kg/m^3", 300.0, 1000.0, 50.0, 3000.0),
+    "glue_density": Plausible("glue density", "kg/m^3", 900.0, 1500.0, 0.0, 3000.0),
+    "rod_density": Plausible("rod density (0: the rods are pulled out)", "kg/m^3", 0.0, 9000.0, 0.0, 25000.0),
+    "grid": Plausible("groove lattice spacing (0: the CNC mesh)", "m", 0.0, 0.01, 0.0, 0.05, _LENGTH_TYPOS),
 }
 """quantity -> its :class:`Plausible` range: the one table of :func:`check_plausible`.
 (Prototype boards, tools and sheets have their ranges in :class:`~statue2model.fabrication.spec.SliceSpec`;
@@ -214,14 +256,15 @@ def check_plausible(quantity: str, value: float, name: str | None = None) -> str
     r = PLAUSIBLE[quantity]
     name = quantity if name is None else name
     v = float(value)
-    shown = f"{name} = {_num(v)} {r.unit}" if name else f"{_num(v)} {r.unit}"
+    unit = "" if r.unit == "-" else f" {r.unit}"             # a ratio or a count has no unit
+    shown = f"{name} = {_num(v)}{unit}" if name else f"{_num(v)}{unit}"
     if not np.isfinite(v):
         raise InputError(f"{shown}: not a finite number")
     mag = abs(v) if quantity == "acceleration" else v
     if not r.hard_low <= mag <= r.hard_high:
         span = f"{_num(r.hard_low)} to " if r.hard_low > 0 else "at most "
-        hint = _meant(r, v) or f" (possible: {span}{_num(r.hard_high)} {r.unit})"
+        hint = _meant(r, v) or f" (possible: {span}{_num(r.hard_high)}{unit})"
         raise InputError(f"{shown} is implausible for {_a(r.what)}{hint}")
     if not r.low <= mag <= r.high:
-        return f"{shown} is unusual for {_a(r.what)} ({_num(r.low)} to {_num(r.high)} {r.unit}){_meant(r, v)}"
+        return f"{shown} is unusual for {_a(r.what)} ({_num(r.low)} to {_num(r.high)}{unit}){_meant(r, v)}"
     return None

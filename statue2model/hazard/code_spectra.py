@@ -46,7 +46,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, quoted
 
 from ..quantities import G_STANDARD as G  # m/s^2 (standard gravity)
 
@@ -89,10 +89,10 @@ def _finite(name: str, value, positive: bool = True) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
+        raise InputError(f"{name} must be a number, got {quoted(value)}") from None
     if not math.isfinite(v) or (positive and v <= 0) or (not positive and v < 0):
         kind = "positive" if positive else "non-negative"
-        raise InputError(f"{name} must be a {kind} finite number, got {value!r}")
+        raise InputError(f"{name} must be a {kind} finite number, got {quoted(value)}")
     return v
 
 
@@ -168,10 +168,10 @@ def _periods(T) -> np.ndarray:
     try:
         arr = np.asarray(T, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"periods must be numbers, got {T!r}") from None
+        raise InputError(f"periods must be numbers, got {quoted(T)}") from None
     bad = ~np.isfinite(arr) | (arr < 0)
     if np.any(bad):
-        raise InputError(f"periods must be finite and >= 0 s, got {float(arr[bad].flat[0])!r}")
+        raise InputError(f"periods must be finite and >= 0 s, got {quoted(float(arr[bad].flat[0]))}")
     return arr
 
 
@@ -181,10 +181,10 @@ def ec8(a_g: float, ground: str = "A", spectrum_type: int = 1, xi: float = 5.0) 
     a_g = _finite("design ground acceleration a_g (m/s^2)", a_g)
     key = str(ground).strip().upper()
     if key not in EC8_TABLE[1]:
-        raise InputError(f"EC8 ground type {ground!r} is not one of A, B, C, D, E "
+        raise InputError(f"EC8 ground type {quoted(ground)} is not one of A, B, C, D, E "
                          f"(S1 and S2 need special studies)")
     if isinstance(spectrum_type, bool) or spectrum_type not in (1, 2):
-        raise InputError(f"EC8 spectrum type must be 1 or 2, got {spectrum_type!r}")
+        raise InputError(f"EC8 spectrum type must be 1 or 2, got {quoted(spectrum_type)}")
     S, T_B, T_C, T_D = EC8_TABLE[int(spectrum_type)][key]
     return ElasticSpectrum(f"EC8-{int(spectrum_type)}", a_g, S, damping_correction(xi), 2.5,
                            T_B, T_C, T_D, float(xi))
@@ -198,7 +198,7 @@ def ntc_soil(soil: str, a_g: float, F0: float, Tc_star: float) -> tuple[float, f
     """
     key = str(soil).strip().upper()
     if key not in NTC_SOIL:
-        raise InputError(f"NTC subsoil category {soil!r} is not one of A, B, C, D, E "
+        raise InputError(f"NTC subsoil category {quoted(soil)} is not one of A, B, C, D, E "
                          f"(other sites need a specific local response analysis)")
     a_g = _finite("a_g (m/s^2)", a_g)
     F0 = _finite("F0", F0)
@@ -221,12 +221,12 @@ def ntc2018(a_g: float, F0: float, Tc_star: float, soil: str = "A", topography: 
     if limit_state is not None:
         limit_state = str(limit_state).strip().upper()
         if limit_state not in NTC_LIMIT_STATES:
-            raise InputError(f"NTC limit state {limit_state!r} is not one of {', '.join(NTC_LIMIT_STATES)}")
+            raise InputError(f"NTC limit state {quoted(limit_state)} is not one of {', '.join(NTC_LIMIT_STATES)}")
     a_g = _finite("design ground acceleration a_g (m/s^2)", a_g)
     S_S, C_C = ntc_soil(soil, a_g, F0, Tc_star)
     topo = str(topography).strip().upper()
     if topo not in NTC_TOPOGRAPHY:
-        raise InputError(f"NTC topographic category {topography!r} is not one of T1, T2, T3, T4")
+        raise InputError(f"NTC topographic category {quoted(topography)} is not one of T1, T2, T3, T4")
     T_C = C_C * float(Tc_star)
     return ElasticSpectrum("NTC2018", a_g, S_S * NTC_TOPOGRAPHY[topo], damping_correction(xi), float(F0),
                            T_C / 3.0, T_C, 4.0 * a_g / G + 1.6, float(xi), limit_state)
@@ -238,7 +238,7 @@ def _accel(key: str, text: str) -> float:
 
     value = parse_accel(text, f"spectrum: {key}", key=key, g=G)
     if not value > 0:
-        raise InputError(f"spectrum: {key} must be a positive finite acceleration, got {text!r}")
+        raise InputError(f"spectrum: {key} must be a positive finite acceleration, got {quoted(text)}")
     return value
 
 
@@ -246,9 +246,9 @@ def _number(key: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"spectrum: {key} must be a number, got {text!r}") from None
+        raise InputError(f"spectrum: {key} must be a number, got {quoted(text)}") from None
     if not math.isfinite(value):
-        raise InputError(f"spectrum: {key} must be finite, got {text!r}")
+        raise InputError(f"spectrum: {key} must be finite, got {quoted(text)}")
     return value
 
 
@@ -265,35 +265,35 @@ def parse_spectrum(text: str) -> ElasticSpectrum:
     'SLA'
     """
     if not isinstance(text, str):
-        raise InputError(f"spectrum must be a string like 'ec8:ag=0.25g,ground=C', got {text!r}")
+        raise InputError(f"spectrum must be a string like 'ec8:ag=0.25g,ground=C', got {quoted(text)}")
     code, sep, rest = text.partition(":")
     code = code.strip().lower()
     if code not in _KEYS:
-        raise InputError(f"unknown spectrum code {code!r} in {text!r} (use ec8 or ntc2018)")
+        raise InputError(f"unknown spectrum code {quoted(code)} in {quoted(text)} (use ec8 or ntc2018)")
     if not sep or not rest.strip():
-        raise InputError(f"spectrum {text!r} has no parameters (e.g. {code}:ag=0.25g)")
+        raise InputError(f"spectrum {quoted(text)} has no parameters (e.g. {code}:ag=0.25g)")
     required, optional = _KEYS[code]
     values: dict[str, str] = {}
     for item in rest.split(","):
         key, eq, value = item.partition("=")
         key, value = key.strip().lower(), value.strip()
         if not eq or not key or not value:
-            raise InputError(f"spectrum: {item.strip()!r} is not of the form key=value")
+            raise InputError(f"spectrum: {quoted(item.strip())} is not of the form key=value")
         if key not in required | optional:
-            raise InputError(f"spectrum: unknown key {key!r} for {code} "
+            raise InputError(f"spectrum: unknown key {quoted(key)} for {code} "
                              f"(use {', '.join(sorted(required | optional))})")
         if key in values:
-            raise InputError(f"spectrum: key {key!r} is given twice")
+            raise InputError(f"spectrum: key {quoted(key)} is given twice")
         values[key] = value
     missing = sorted(required - values.keys())
     if missing:
-        raise InputError(f"spectrum {text!r} lacks {', '.join(missing)}")
+        raise InputError(f"spectrum {quoted(text)} lacks {', '.join(missing)}")
     a_g = _accel("ag", values["ag"])
     xi = _number("xi", values.get("xi", "5"))
     if code == "ec8":
         kind = values.get("type", "1")
         if kind not in ("1", "2"):
-            raise InputError(f"spectrum: type must be 1 or 2, got {kind!r}")
+            raise InputError(f"spectrum: type must be 1 or 2, got {quoted(kind)}")
         return ec8(a_g, values.get("ground", "A"), int(kind), xi)
     return ntc2018(a_g, _number("F0", values["f0"]), _number("Tc", values["tc"]),
                    values.get("soil", "A"), values.get("topo", "T1"), xi, values.get("ls"))

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, quoted
 from ..quantities import A_MAX, G, G_STANDARD, parse_accel, scale_ratio
 from . import motion_kernel as MK
 
@@ -56,7 +56,7 @@ def check_dt(dt: float, where: str) -> None:
     from ..geometry.units import check_plausible
 
     if not (math.isfinite(dt) and dt > 0):
-        raise InputError(f"{where} = {dt!r}: the time step must be a positive number of seconds")
+        raise InputError(f"{where} = {quoted(dt)}: the time step must be a positive number of seconds")
     check_plausible("time_step", dt, where)
 
 
@@ -163,7 +163,7 @@ class GroundMotion:
             raise InputError(f"target PGA must be a positive finite acceleration, got {pga}")
         check_acc(pga, "target PGA")
         if self.pga == 0:
-            raise InputError(f"motion {self.label!r} is zero everywhere: it cannot be scaled to a PGA")
+            raise InputError(f"motion {quoted(self.label)} is zero everywhere: it cannot be scaled to a PGA")
         return self.scaled(pga / self.pga)
 
     def froude(self, lam: float) -> "GroundMotion":
@@ -293,7 +293,7 @@ def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 0.3 
     check_acc(pga, "synthetic record: pga")
     check_dt(dt, "synthetic record: dt")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError(f"synthetic record: seed must be a non-negative integer, got {seed!r}")
+        raise InputError(f"synthetic record: seed must be a non-negative integer, got {quoted(seed)}")
     from ..compute.budget import check_history, num
 
     # the noise, its filtered copy, t, the envelope and the baseline: about 8 arrays of n samples
@@ -338,7 +338,7 @@ def _read_at2(path: Path) -> GroundMotion:
     elif m_old:  # NGA-West1: "  3000    .01000    NPTS, DT"
         npts_s, dt_s = m_old.group(1), m_old.group(2)
     else:
-        raise InputError(f"{path}: cannot read NPTS and DT from header line {head + 1}: {lines[head].strip()!r}")
+        raise InputError(f"{path}: cannot read NPTS and DT from header line {head + 1}: {quoted(lines[head].strip())}")
     npts, dt = int(npts_s), float(dt_s.replace("D", "E").replace("d", "e"))
     check_dt(dt, f"{path}: line {head + 1}: DT")
     values, where = [], []
@@ -347,7 +347,7 @@ def _read_at2(path: Path) -> GroundMotion:
             try:
                 values.append(float(tok.replace("D", "E").replace("d", "e")))
             except ValueError:
-                raise InputError(f"{path}: line {j}: {tok!r} is not a number") from None
+                raise InputError(f"{path}: line {j}: {quoted(tok)} is not a number") from None
             where.append(j)
     if len(values) != npts:
         raise InputError(f"{path}: header says NPTS={npts} but the file holds {len(values)} values")
@@ -396,7 +396,7 @@ def _read_csv_samples(path: Path, dt: float | None, units: str, components: int 
             rows.append([float(c) for c in row])
         except ValueError:
             if rows:
-                raise InputError(f"{path}: line {j}: not a number: {line!r}") from None
+                raise InputError(f"{path}: line {j}: not a number: {quoted(line)}") from None
             continue  # a header line before the data
         line_no.append(j)
     if not rows:
@@ -467,7 +467,7 @@ def read_record_components(path, dt: float | None = None, units: str | None = No
     if isinstance(units, str):
         units = units.strip().lower()
     if units not in (None, "g", "m/s2"):
-        raise InputError(f"motion units must be g or m/s2, got {units!r}")
+        raise InputError(f"motion units must be g or m/s2, got {quoted(units)}")
     if path.stat().st_size == 0:
         raise InputError(f"motion file is empty: {path}")
     if path.suffix.lower() == ".at2":
@@ -504,7 +504,9 @@ def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Pat
     t, u = motion.sampled(dt)
     head = (FROUDE_HEADER.format(lam=motion.froude_scale) + " (times / sqrt(lambda), accelerations unchanged)\n"
             if motion.froude_scale != 1.0 else "")
-    text = head + "time_s,acc_m_s2\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, u))
+    from ..io.csvsafe import csv_text, num_cell
+
+    text = head + csv_text(("time_s", "acc_m_s2"), ((num_cell(a, ".9g"), num_cell(b, ".9g")) for a, b in zip(t, u)))
     return atomic_write(path, lambda p: p.write_text(text))
 
 
@@ -522,7 +524,7 @@ def table_displacement(motion: GroundMotion, dt: float | None = None):
         zero = np.zeros_like(t)
         return t, zero, zero.copy(), zero.copy()
     if len(t) < 3:
-        raise InputError(f"motion {motion.label!r} is too short to drive a table: it needs at least 3 samples")
+        raise InputError(f"motion {quoted(motion.label)} is too short to drive a table: it needs at least 3 samples")
     h = np.diff(t)
 
     def integrate(x):
@@ -548,9 +550,9 @@ def _num(key: str, text: str, positive: bool = False) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"motion spec: {key} must be a number, got {text!r}") from None
+        raise InputError(f"motion spec: {key} must be a number, got {quoted(text)}") from None
     if not math.isfinite(value) or (positive and value <= 0):
-        raise InputError(f"motion spec: {key} must be a {'positive ' if positive else ''}finite number, got {text!r}")
+        raise InputError(f"motion spec: {key} must be a {'positive ' if positive else ''}finite number, got {quoted(text)}")
     return value
 
 
@@ -558,9 +560,9 @@ def _seed(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise InputError(f"motion spec: seed must be a non-negative integer, got {text!r}") from None
+        raise InputError(f"motion spec: seed must be a non-negative integer, got {quoted(text)}") from None
     if value < 0:
-        raise InputError(f"motion spec: seed must be a non-negative integer, got {text!r}")
+        raise InputError(f"motion spec: seed must be a non-negative integer, got {quoted(text)}")
     return value
 
 
@@ -602,26 +604,26 @@ def parse_spec_components(spec: str, base_dir=None, components: int = 2) -> tupl
         kind, rest = spec, ""
     kind = kind.strip().lower()
     if kind not in _SPEC_KEYS:
-        raise InputError(f"unknown motion kind {kind!r} in {spec!r}; use one of {', '.join(_SPEC_KEYS)}")
+        raise InputError(f"unknown motion kind {quoted(kind)} in {quoted(spec)}; use one of {', '.join(_SPEC_KEYS)}")
     args: dict[str, str] = {}
     for part in filter(None, (p.strip() for p in rest.split(","))):
         key, eq, value = part.partition("=")
         if not eq:
-            raise InputError(f"motion spec {spec!r}: expected key=value, got {part!r}")
+            raise InputError(f"motion spec {quoted(spec)}: expected key=value, got {quoted(part)}")
         key = key.strip().lower()
         if key in args:
-            raise InputError(f"motion spec {spec!r}: {key} given twice")
+            raise InputError(f"motion spec {quoted(spec)}: {quoted(key)} given twice")
         args[key] = value.strip()
     need, optional = _SPEC_KEYS[kind]
     missing = need - set(args)
     if missing:
-        raise InputError(f"motion spec {spec!r}: missing {', '.join(sorted(missing))}")
+        raise InputError(f"motion spec {quoted(spec)}: missing {', '.join(sorted(missing))}")
     extra = set(args) - need - optional
     if extra:
-        raise InputError(f"motion spec {spec!r}: unknown key(s) {', '.join(sorted(extra))}")
+        raise InputError(f"motion spec {quoted(spec)}: unknown key(s) {quoted(', '.join(sorted(extra)), bare=True)}")
     start = _num("start", args["start"]) if "start" in args else 0.0
     if start < 0:
-        raise InputError(f"motion spec {spec!r}: start must be >= 0")
+        raise InputError(f"motion spec {quoted(spec)}: start must be >= 0")
     if kind == "free":
         theta0 = _num("theta0", args["theta0"])
         return (free(),), theta0

@@ -15,6 +15,8 @@ Example
 ("'=1+2", "'@SUM(1+1)", -1.5, '-0.25', '')
 >>> safe_cell(float("nan")), safe_cell(float("-inf"))
 ('', '')
+>>> num_cell(0.1 + 0.2, ".6g"), num_cell(float("nan")), num_cell(float("inf"))
+('0.3', '', '')
 >>> path = write_csv(pathlib.Path(tempfile.mkdtemp()) / "t.csv", ["scan", "h [m]"], [["a,b", 1.25]])
 >>> list(csv.reader(io.StringIO(path.read_text())))
 [['scan', 'h [m]'], ['a,b', '1.25']]
@@ -54,6 +56,15 @@ def safe_cell(value: Any) -> Any:
     return text
 
 
+def num_cell(value: Any, spec: str = ".10g") -> str:
+    """A number formatted with ``spec`` for a CSV cell, or "" (an empty cell) when it is None or not
+    finite: the writers of time histories format their numbers with it, so none writes nan or inf."""
+    if value is None:
+        return ""
+    x = float(value)
+    return format(x, spec) if math.isfinite(x) else ""
+
+
 def csv_text(header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> str:
     """The CSV text (header line, then one line per row, ``\\n`` line ends) with every cell
     passed through :func:`safe_cell`; a row of another length than the header is an error."""
@@ -75,4 +86,4 @@ def write_csv(path: str | os.PathLike, header: Sequence[Any], rows: Iterable[Seq
     return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8", newline=""))
 
 
-__all__ = ["TRIGGERS", "csv_text", "safe_cell", "write_csv"]
+__all__ = ["TRIGGERS", "csv_text", "num_cell", "safe_cell", "write_csv"]

@@ -202,9 +202,11 @@ class CoupledResult(ID.CapacityTracked):
                                self.capacity_hits, self.end_stop, self.end_stop_restitution),
             "solver": self.stats,
         }
-        if history:
-            d["history"] = {k: getattr(self, k).tolist() for k in
-                            ("t", "u", "v", "acc_abs", "z", "theta", "theta_dot", "phase")}
+        if history:     # up to the last finite sample: a stop (capacity, overturning) leaves nan after it
+            keys = ("t", "u", "v", "acc_abs", "z", "theta", "theta_dot", "phase")
+            n = ID.finite_length(*(getattr(self, k) for k in keys))
+            d["history"] = {k: getattr(self, k)[:n].tolist() for k in keys}
+            d["history_stopped"] = None if n == len(self.t) else self.outcome   # why it ends early
         return d
 
 

@@ -17,7 +17,8 @@ so a plate whose a_abs stays inside the statue's limits needs no 2-DOF run.
 Capacity: the run watches |u_o| against ``iso.capacity`` (the largest displacement
 before a ball leaves its groove or the top plate tips). ``end_stop="stop"`` (default):
 the run ends when |u_o| passes it, with the outcome "isolator capacity exceeded" (a
-failure, as bad as overturning; samples after it are nan). ``end_stop="impact"``: the
+failure, as bad as overturning; the kernel leaves the samples after it nan, and every file of a
+history ends with the last finite sample and a line saying why: :meth:`IsolatorResult.history_csv`). ``end_stop="impact"``: the
 top plate hits a rigid end stop there, u_o' -> -e u_o' with e = END_STOP_RESTITUTION
 (0.5, an assumption: timber or steel stop, no measurement), and the run goes on; the
 capacity is still reported as reached (first time, displacement, number of hits).
@@ -74,6 +75,33 @@ def capacity_dict(capacity: float, exceeded: bool, t_cap, u_cap, n_hits: int, en
     return {"capacity": capacity if math.isfinite(capacity) else None, "capacity_exceeded": bool(exceeded),
             "t_capacity": t_cap, "u_at_capacity": u_cap, "capacity_hits": int(n_hits), "end_stop": end_stop,
             "end_stop_restitution": e_stop if end_stop == "impact" else None}
+
+
+HISTORY_HEADER = ("t_s", "u_m", "v_m_s", "a_abs_m_s2", "z")
+"""The columns of :meth:`IsolatorResult.history_csv` (SI units; z: the Bouc-Wen variable)."""
+STOPPED_PREFIX = "# stopped: "
+"""How a history file says its run ended early (a comment line after its last finite sample;
+readers of histories, :func:`statue2model.rocking.identify.read_time_series`, skip it)."""
+
+
+def finite_length(*arrays) -> int:
+    """The number of leading samples at which every one of ``arrays`` is finite: a run that stopped
+    (capacity, overturning) leaves nan after its stop, and a history is written up to there.
+
+    >>> finite_length(np.array([0.0, 1.0, np.nan, 2.0]), np.zeros(4))
+    2
+    """
+    ok = np.logical_and.reduce([np.isfinite(np.asarray(a, dtype=float)) for a in arrays])
+    return int(ok.size if ok.all() else np.argmin(ok))
+
+
+def stop_line(outcome: str, t_stop, u_stop, n_kept: int, n_all: int) -> str:
+    """The comment line that ends a stopped history: why, when, where, and what was left out."""
+    where = f" at t = {t_stop:.6g} s" if t_stop is not None and math.isfinite(t_stop) else ""
+    if u_stop is not None and math.isfinite(u_stop):
+        where += f" (u = {u_stop:.6g} m)"
+    return (f"{STOPPED_PREFIX}{outcome}{where}; the history ends with its last finite sample "
+            f"({n_kept} of {n_all} samples; none after the stop)")
 
 
 class CapacityTracked:
@@ -133,6 +161,20 @@ class IsolatorResult(CapacityTracked):
     def efficiency(self) -> float:
         """Peak absolute acceleration isolated / fixed (the fixed statue feels the ground): Table 26."""
         return self.acc_abs_max / self.pga if self.pga > 0 else float("nan")
+
+    def history_csv(self) -> str:
+        """t, u, v, a_abs, z every dt_out (:data:`HISTORY_HEADER`, SI units), readable by `isolator identify`:
+        a run that stopped at the capacity ends with its last finite sample and a comment line saying why
+        (:func:`stop_line`); no cell is ever nan or inf."""
+        from ..io.csvsafe import csv_text, num_cell
+
+        cols = (self.t, self.u, self.v, self.acc_abs, self.z)
+        n = finite_length(*cols)
+        text = csv_text(HISTORY_HEADER, ([num_cell(x) for x in row] for row in zip(*(c[:n] for c in cols))))
+        if n < len(self.t):
+            why = self.outcome if self.capacity_exceeded else "non-finite state"
+            text += stop_line(why, self.t_capacity, self.u_at_capacity, n, len(self.t)) + "\n"
+        return text
 
     def to_dict(self) -> dict:
         return {

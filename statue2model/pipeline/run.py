@@ -34,6 +34,7 @@ Example
 """
 from __future__ import annotations
 
+import errno
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,8 +42,9 @@ from pathlib import Path
 from ..version import __version__
 from ..quantities import G
 from ..io.csvsafe import write_csv
-from ..errors import InputError
-from ..io.files import atomic_write, open_output, write_json
+from ..errors import InputError, OutputError, quoted
+from ..io.files import LOCK_NAME, MANIFEST_NAME, atomic_write, open_output, output_error, write_json
+from ..io.inputs import check_input
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, check_stage_names, motion_files, stage_list
 from .stages import DEPENDS, STAGES, Context, enabled
@@ -121,9 +123,7 @@ def run_project(mesh: str | Path, out: str | Path, config: ProjectConfig | None 
     other files too, which are never touched (see files.open_output). One run per folder
     at a time (a lock)."""
     cfg = ProjectConfig() if config is None else config
-    mesh = Path(mesh)
-    if not mesh.is_file():
-        raise InputError(f"scan not found: {mesh}")
+    mesh = check_input(mesh, "scan")           # a regular file: not a dangling link, a loop, a FIFO
     cfg = config_for(cfg, mesh.name)            # [objects]: this scan's room (single scans and collections)
     asked = check_stage_names(stages) if stages else [n for n in stage_list(cfg.run.stages) if enabled(n, cfg)]
     off = [n for n in asked if not enabled(n, cfg)]
@@ -280,25 +280,81 @@ def shell_arg(value) -> str:
 
 # --- a folder of scans ----------------------------------------------------------------------------
 def scans_in(folder: str | Path) -> list[Path]:
-    """The scans in a folder (by suffix), sorted by name; an error if there is none."""
+    """The scans in a folder (by suffix), sorted by name; an error if there is none. Every
+    entry with a scan's suffix that is not a folder counts: one that cannot be read (a
+    dangling symbolic link, a link loop, a FIFO) is then refused with its reason, a row of
+    the collection as any unreadable scan, never left out unsaid."""
     folder = Path(folder)
-    scans = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in SCAN_SUFFIXES)
+    scans = sorted(p for p in folder.iterdir() if p.suffix.lower() in SCAN_SUFFIXES and not p.is_dir())
     if not scans:
         raise InputError(f"no scans ({', '.join(SCAN_SUFFIXES)}) in folder {folder}")
     return scans
 
 
+COLLECTION_FILES = ("config.toml", "collection.json", "collection.csv", "collection.html")
+"""What a collection writes beside its objects' folders."""
+_RESERVED = frozenset(n.casefold() for n in (*COLLECTION_FILES, *RUN_FILES, "run.json", MANIFEST_NAME, LOCK_NAME))
+
+
+def object_folders(scans) -> list[str]:
+    """The output folder name of each scan of a collection (file names or paths), in their order:
+    the scan's name without its suffix (``girl.ply`` -> ``girl``) when that name is the scan's
+    alone, else its whole file name (``a.stl`` and ``a.ply`` -> ``a.stl``, ``a.ply``;
+    ``collection.html.stl`` -> ``collection.html.stl``). Never one of the collection's own files
+    (collection.html, config.toml, ...: none ends with a scan's suffix) and never another scan's
+    folder, also where names differ only in case: a stem is used only when no other scan's stem
+    equals it in any case, it is not a name of the run's own, and it does not itself end with a
+    scan's suffix (which only whole file names do). A function of the folder's scan names alone,
+    so a resumed collection finds its objects' folders again.
+
+    >>> object_folders(["girl.ply", "a.stl", "a.ply", "collection.html.stl", "b.stl.stl", "B.stl"])
+    ['girl', 'a.stl', 'a.ply', 'collection.html.stl', 'b.stl.stl', 'B']
+    """
+    names = [Path(s).name for s in scans]
+    stems = [Path(n).stem for n in names]
+    count: dict[str, int] = {}
+    for st in stems:
+        count[st.casefold()] = count.get(st.casefold(), 0) + 1
+    out = []
+    for name, st in zip(names, stems):
+        key = st.casefold()
+        own = count[key] == 1 and key not in _RESERVED and not key.endswith(SCAN_SUFFIXES)
+        out.append(st if own else name)
+    folded = [n.casefold() for n in out]
+    clash = sorted({n for n, f in zip(out, folded) if folded.count(f) > 1})
+    if clash:                # whole file names that differ only in case: one folder on some file systems
+        raise InputError(f"scans {', '.join(quoted(n) for n in clash)} differ only in case: their output "
+                         "folders would be one on a case-insensitive file system; rename one")
+    return out
+
+
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS})
+"""errno of an ``OSError`` that is a failure to write (disk full, quota, file too large, read-only
+file system), whoever raised it: the run's, never one scan's (a library writing directly)."""
+
+
 def _scan_task(task) -> dict:
-    """One scan of a collection (module level: runs in worker processes or on Dask workers)."""
+    """One scan of a collection (module level: runs in worker processes or on Dask workers). Its
+    own errors (a bad scan, a bug) are its row's; an output that cannot be written (disk full,
+    quota, read-only: :class:`~statue2model.errors.OutputError`) ends the whole run, exit 3: the
+    next scan would fail the same way, and the scan is not to blame."""
     mesh, out, cfg, stages, force, *rest = task
     try:
         res = run_project(mesh, out, cfg, stages=stages, force=force, executor=None, report=True,
                           say=lambda m: None, reuse=bool(rest and rest[0]))
+    except OutputError:
+        raise
+    except OSError as exc:
+        if exc.errno in WRITE_ERRNOS:
+            raise output_error(exc, exc.filename if exc.filename is not None else out) from None
+        return {"scan": Path(mesh).name, "folder": Path(out).name,
+                "error": f"internal error ({type(exc).__name__}: {exc})", "internal": True}
     except InputError as exc:
-        return {"scan": Path(mesh).name, "error": str(exc)}
+        return {"scan": Path(mesh).name, "folder": Path(out).name, "error": str(exc)}
     except Exception as exc:        # one object's internal error must not cost the others their assessment
-        return {"scan": Path(mesh).name, "error": f"internal error ({type(exc).__name__}: {exc})", "internal": True}
-    return {"scan": Path(mesh).name, "out": str(res.out), "report": str(res.report) if res.report else None,
+        return {"scan": Path(mesh).name, "folder": Path(out).name,
+                "error": f"internal error ({type(exc).__name__}: {exc})", "internal": True}
+    return {"scan": Path(mesh).name, "folder": Path(out).name, "out": str(res.out), "report": str(res.report) if res.report else None,
             "status": {k: v["status"] for k, v in res.stages.items()}, "warnings": res.warnings,
             "data": {k: v.get("data", {}) for k, v in res.stages.items()}, "verdict": res.verdict}
 
@@ -324,29 +380,27 @@ def run_collection(folder: str | Path, out: str | Path, config: ProjectConfig | 
     cached stages and report), OUT/collection.json and collection.csv. OUT is opened
     as in :func:`run_project` (manifest, lock, ``reuse``)."""
     scans = scans_in(folder)
-    names = [s.stem for s in scans]
-    if len(set(names)) != len(names):
-        raise InputError(f"two scans in {folder} share a name ({', '.join(names)}); rename one")
+    names = object_folders(scans)          # each scan's own folder, none of the collection's files
     # two rooms for one scan stop the run before any work; a pattern that places nothing is a warning
     room_warnings = check_scans(ProjectConfig() if config is None else config, [s.name for s in scans])
     def older(f: Path) -> list[str]:          # a collection written before output manifests
         subs = [n for n in names if (f / n).is_dir() and older_run(f / n)]
-        return subs + [n for n in ("collection.json", "collection.csv", "collection.html", "config.toml")
-                       if subs and (f / n).is_file()]
+        return subs + [n for n in COLLECTION_FILES if subs and (f / n).is_file()]
 
     with open_output(out, "collection", reuse=reuse, command="run", adopt=older) as od:
         od.clean()
-        od.claim([*names, "config.toml", "collection.json", "collection.csv", "collection.html"])
+        od.claim([*names, *COLLECTION_FILES])
         return _run_collection(folder, Path(out), config, scans, stages=stages, force=force, executor=executor,
-                               say=say, reuse=reuse, room_warnings=room_warnings)
+                               say=say, reuse=reuse, room_warnings=room_warnings, folders=names)
 
 
 def _run_collection(folder, out: Path, config, scans, *, stages, force, executor, say, reuse,
-                    room_warnings=()) -> dict:
+                    room_warnings=(), folders=None) -> dict:
     cfg = ProjectConfig() if config is None else config
     for w in room_warnings:
         say(f"warning: {w}")
-    tasks = [(s, out / s.stem, config_for(cfg, s.name), stages, force, reuse) for s in scans]
+    folders = object_folders(scans) if folders is None else folders
+    tasks = [(s, out / f, config_for(cfg, s.name), stages, force, reuse) for s, f in zip(scans, folders)]
     say(f"{len(scans)} scans in {folder} on {executor.describe() if executor is not None else 'this process'}")
     t0 = time.perf_counter()
     rows = executor.map(_scan_task, tasks, desc="scans") if executor is not None else [_scan_task(t) for t in tasks]

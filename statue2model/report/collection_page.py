@@ -263,12 +263,17 @@ SUMMARY_LABELS = (("objects", "objects"), ("assessed", "assessed"), ("not_assess
                   ("devices_conditional", "isolators conditional on the ball load"),
                   ("no_device", "need protection, no device in range"),
                   ("prototype_sheets", "prototype sheets to cut"),
-                  ("isolator_plates", "isolator plates to cut (2 per passing device)"))
+                  ("isolator_plates", "isolator plates to cut (2 per passing device)"),
+                  ("devices_cost", "EUR: the passing devices' prices"))
 
 
 def render_collection_page(rows: list[dict], summary: dict, *, title: str, config_text: str | None = None) -> str:
     """The page as a string (see :func:`write_collection_page`)."""
-    summ = "".join(f'<div class="tile" id="sum-{key}"><span class="n">{_esc(summary.get(key, 0))}</span> '
+    def count(key):
+        v = summary.get(key, 0)
+        return f"{v:.0f}" if isinstance(v, float) else v
+
+    summ = "".join(f'<div class="tile" id="sum-{key}"><span class="n">{_esc(count(key))}</span> '
                    f'<span class="what">{_esc(label)}</span></div>' for key, label in SUMMARY_LABELS if key in summary)
     boxes = "".join(f'<label><input type="checkbox" class="status-filter" id="status-{_esc(s.replace(" ", "-"))}" '
                     f'value="{_esc(s)}" checked> {_esc(s)}</label>' for s in STATUS_ORDER)

@@ -148,11 +148,12 @@ class RockingResult:
     def history_csv(self) -> str:
         if self.history is None:
             raise ValueError("run without dt_out: no history")
-        h = self.history
-        lines = ["t_s,theta_rad,theta_dot_rad_s,phase"]
-        lines += [f"{t:.9g},{a:.12g},{b:.12g},{int(p)}" for t, a, b, p in zip(h["t"], h["theta"], h["theta_dot"],
-                                                                            h["phase"])]
-        return "\n".join(lines) + "\n"
+        from ..io.csvsafe import csv_text, num_cell
+
+        h = self.history      # every cell through the CSV guard: none is ever nan or inf
+        return csv_text(("t_s", "theta_rad", "theta_dot_rad_s", "phase"),
+                        ((num_cell(t, ".9g"), num_cell(a, ".12g"), num_cell(b, ".12g"), num_cell(p, ".0f"))
+                         for t, a, b, p in zip(h["t"], h["theta"], h["theta_dot"], h["phase"])))
 
 
 def outcome_name(moved: bool, full_uplift: bool, overturned: bool, impacts_before_overturn) -> str:

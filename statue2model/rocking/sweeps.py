@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..compute.budget import check_runs
-from ..errors import InputError
+from ..errors import InputError, quoted
 from . import kernel as K
 from .batch import NOT_APPLICABLE_CODE, outcome_codes, run_batch
 from .engine import FREE_TIME, simulate
@@ -139,7 +139,7 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
     if pgas.size == 0 or not np.all(np.isfinite(pgas)) or np.any(pgas < 0):
         raise InputError("PGA values must be finite and >= 0 (m/s^2)")
     if motion.pga == 0:
-        raise InputError(f"motion {motion.label!r} is zero everywhere")
+        raise InputError(f"motion {quoted(motion.label)} is zero everywhere")
     check_runs(pgas.size, BYTES_PER_RUN, f"{pgas.size} PGA levels", "use fewer PGA values")
     kind, M0, samples = motion.kernel_args()
     n = pgas.size
@@ -159,7 +159,7 @@ def variability(model: RockingModel, motion: GroundMotion, pgas, rtol: float = 1
 
 def _models(model: RockingModel, name: str, values) -> list[RockingModel]:
     if name not in SWEEPABLE:
-        raise InputError(f"cannot sweep {name!r}; choose one of {', '.join(SWEEPABLE)}")
+        raise InputError(f"cannot sweep {quoted(name)}; choose one of {', '.join(SWEEPABLE)}")
     out = []
     for v in values:
         if name in ("alpha", "theta", "e"):
@@ -238,9 +238,9 @@ def linspace_spec(text: str, what: str, accel: bool = False) -> np.ndarray:
         raise
     except ValueError:
         raise InputError(f"{what}: expected START:STOP:N (N in 1..1e6) or a comma list of numbers, "
-                         f"got {text!r}") from None
+                         f"got {quoted(text)}") from None
     if out.size == 0 or not np.all(np.isfinite(out)):
-        raise InputError(f"{what}: values must be finite numbers, got {text!r}")
+        raise InputError(f"{what}: values must be finite numbers, got {quoted(text)}")
     return out
 
 
