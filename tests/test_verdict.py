@@ -374,3 +374,26 @@ def test_a_classification_that_cannot_fail_is_not_said_to_agree():
     c = crosscheck_line(cls)
     assert c["met"] == [] and c["untested"] and "agrees" not in c["line"].split(";")[0].replace("no limit state agrees", "")
     assert "not testable on" in c["line"] and "no positive case in 70 runs" in c["line"]
+
+
+def test_every_row_states_its_rule_beside_its_count():
+    """Issue [25] item 3: full contact is judged on the mean of the records, overturning on any single one; each
+    row says its rule (limit_states.json ``rule``, the verdict's line) beside the count of single records exceeding
+    it, and the bullet under the headline says both rules where it gives the counts."""
+    from statue2model.assessment import states
+    from statue2model.assessment.recommendation import Code, Facts, bullets
+    from statue2model.assessment.verdict import limit_state_line
+    from statue2model.assessment.limit_states import evaluate
+    from statue2model.geometry.rocking_params import RockingParams
+    from statue2model.hazard import motions
+    from statue2model.rocking.model import RockingModel
+
+    assert {s.id: s.rule for s in states.REGISTRY}["overturning"] == "any"
+    assert states.get("full_contact").rule == "mean" and states.get("bearing").rule == "static"
+    block = RockingParams.rectangular_block(b=0.05, h=0.25, m=10.0)
+    ls = evaluate(RockingModel.housner(block), [motions.sine_pulse((1.5 + 0.1 * k), 2.0) for k in range(7)])
+    assert [r["rule"] for r in ls.to_dict()["rows"]] == ["mean", "mean", "any"]
+    line = limit_state_line(ls)
+    assert "exceed it alone; judged on the mean)" in line and "judged on any record)" in line
+    b = bullets(Code.NO_ISOLATOR_BUT_RECORDS_LIFT, Facts(pga=3.0, uplift=2.0, n=7, k_lift=2, k_over=0))
+    assert any("full contact on the mean of the 7 records, overturning on any one" in x for x in b)

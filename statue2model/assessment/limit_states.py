@@ -292,7 +292,8 @@ class LimitState:
                    dict(d.get("details") or {}), str(d.get("reason") or ""))
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "title": self.title, "base": self.base, "demand": _num(self.demand),
+        return {"name": self.name, "title": self.title, "base": self.base, "rule": states.get(self.name).rule,
+                "demand": _num(self.demand),
                 "capacity": _num(self.capacity), "ratio": _num(self.ratio), "unit": self.unit,
                 "exceeded": bool(self.exceeded), "n_exceeding": int(self.n_exceeding),
                 "per_record": [_num(v) for v in self.per_record], "definition": self.definition,

@@ -39,6 +39,7 @@ import enum
 import math
 from dataclasses import dataclass
 
+from ..hazard.matching import N_MIN
 from ..quantities import G
 
 
@@ -254,6 +255,8 @@ def bullets(code, f: Facts) -> list[str]:
             line += f"; {_records(f.k_lift, f.n)} lift{_s(f.k_lift)} it on its own base"
             if f.k_over is not None:
                 line += ", none overturns it" if f.k_over == 0 else f", {f.k_over} overturn{_s(f.k_over)} it"
+            line += (f" (the codes judge full contact on the {'mean' if f.n >= N_MIN else 'worst'} of the {f.n} records, "
+                     "overturning on any one)")
         out.append(line + ".")
     if f.slide is not None and code is Code.SLIDES:
         out.append(_slide_bullet(f))

@@ -49,7 +49,8 @@ class LimitState:
     ``bases``, ``curves`` (base -> fragility curve key), ``fragility_title`` (the fragility section's
     and the verdict's words for the curve), ``classified`` (the 3D classification checks it),
     ``exceeded_words`` (what the object does when it is exceeded, for sentences), ``noun`` (its
-    exceedance in a word or two: "uplift", "capacity exceeded")."""
+    exceedance in a word or two: "uplift", "capacity exceeded"), ``rule`` (how the design level judges
+    it over the design records, one of :data:`RULES`)."""
 
     id: str
     title: str
@@ -59,6 +60,7 @@ class LimitState:
     classified: bool = False
     exceeded_words: str = ""
     noun: str = ""
+    rule: str = "mean"
 
 
 REGISTRY: tuple[LimitState, ...] = (
@@ -71,19 +73,26 @@ REGISTRY: tuple[LimitState, ...] = (
                noun="rocking to its limit"),
     LimitState("overturning", "overturning", BASES,
                {"fixed": "overturning_fixed", "isolated": "overturning_isolated"},
-               "overturning", True, "overturns", "overturning"),
+               "overturning", True, "overturns", "overturning", rule="any"),
     LimitState("pedestal_sliding", "the pedestal sliding on the floor", ("fixed",),
                {"fixed": "pedestal_sliding_fixed"}, "the pedestal sliding beyond its allowance",
                exceeded_words="slides on its pedestal's base beyond the allowance", noun="pedestal sliding"),
     LimitState("pedestal_overturning", "the pedestal overturning (with the statue)", ("fixed",),
                {"fixed": "pedestal_overturning_fixed"}, "the pedestal overturning",
-               exceeded_words="overturns with its pedestal", noun="pedestal overturning"),
+               exceeded_words="overturns with its pedestal", noun="pedestal overturning", rule="any"),
     LimitState("capacity", "isolator travel capacity", ("isolated",), {"isolated": "capacity_isolated"},
                "isolator capacity exceeded", True, "reaches the capacity", "capacity exceeded"),
     LimitState("bearing", "ball load on the grooves", ("isolated",), exceeded_words="overloads the grooves",
-               noun="ball load exceeded"),
+               noun="ball load exceeded", rule="static"),
 )
 """Every limit state, in the order the damage grows (limit_states.json's ``first_exceeded`` follows it)."""
+
+RULES = {"mean": "the {statistic} of the {n} records' effects (NTC 2018 7.3.5, EN 1998-1 4.3.3.4.3: the mean with at "
+                 "least 7 records, else the most unfavourable)",
+         "any": "any single record (a collapse has no mean: one record that collapses exceeds it)",
+         "static": "a static check (the same for every record)"}
+"""How the design level judges a limit state over the design records (LimitState.rule): one documented rule per
+state, printed beside its row with the count of single records exceeding it (issue [25])."""
 
 BY_ID = {s.id: s for s in REGISTRY}
 IDS = tuple(BY_ID)
@@ -137,6 +146,15 @@ def get(state: str) -> LimitState:
 def title(state: str) -> str:
     """The title of ``state`` (limit_states.json, the tables)."""
     return get(state).title
+
+
+def rule_text(state: str, statistic: str = "mean", n: int = 7) -> str:
+    """The design level's rule of ``state`` in words, for ``n`` records judged by ``statistic``.
+
+    >>> rule_text("overturning")
+    'any single record (a collapse has no mean: one record that collapses exceeds it)'
+    """
+    return RULES[get(state).rule].format(statistic=statistic, n=n)
 
 
 def curve(state: str, base: str) -> str | None:

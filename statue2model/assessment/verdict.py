@@ -374,7 +374,9 @@ def limit_state_line(ls: LimitStates) -> str:
             continue
         bits = []
         for r in rows:
-            bits.append(f"{r.title} {'EXCEEDED' if r.exceeded else 'holds'} ({_rv(r)}; {r.n_exceeding} of {n} records)")
+            rule = {"mean": f"the {stat}", "any": "any record", "static": "static"}[states.get(r.name).rule]
+            bits.append(f"{r.title} {'EXCEEDED' if r.exceeded else 'holds'} ({_rv(r)}; {r.n_exceeding} of {n} records "
+                        f"exceed it alone; judged on {rule})")
         parts.append(f"{label}: " + "; ".join(bits))
     band = ls.uplift_band
     doubt = ""
