@@ -114,7 +114,38 @@ def check_run(mesh: Path, out: Path, cfg: Path, capsys) -> dict:
                     assert not NONFINITE.fullmatch(cell.strip()), f"{p.relative_to(out)}: '{cell}' in '{line}'"
     for sentence in verdict["lines"] + [rec]:
         assert not NONFINITE.search(sentence), sentence
+    check_uplift_count(run, out)
     return run
+
+
+def check_uplift_count(run: dict, out: Path) -> None:
+    """The property of issue [25], item 1: every printed P at the design PGA of the fixed-base uplift
+    (run.json's verdict, its text) lies within the 95 % Wilson interval of the count of the exact uplift
+    thresholds (fragility.json) at or below the design PGA."""
+    from statue2model.assessment.fragility import wilson_interval
+
+    frag = out / "dynamics" / "fragility.json"
+    if not frag.is_file():
+        return
+    up = (json.loads(frag.read_text()).get("curves") or {}).get("full_contact_fixed") or {}
+    t = np.asarray(up.get("thresholds") or [], dtype=float)
+    pga = (run["stages"].get("dynamics", {}).get("data") or {}).get("fragility_design_pga")
+    entry = (((run["verdict"].get("fragility") or {}).get("limit_states") or {}).get("full_contact") or {}).get("fixed")
+    assert up.get("status") not in ("exact", "empirical") or t.size, "an exact uplift curve without its thresholds"
+    if not t.size or pga is None or entry is None or entry.get("p_design") is None:
+        return
+    k, n = int(np.sum(t <= pga)), int(t.size)
+    lo, hi = wilson_interval(k, n)
+    p = entry["p_design"]
+    assert lo - 1e-12 <= p <= hi + 1e-12, (f"P(uplift) at the design PGA {p:.3f} outside the Wilson interval "
+                                           f"{lo:.3f}-{hi:.3f} of {k} of {n} thresholds ({entry.get('status')})")
+    assert entry["p_design_count"]["k"] == k and entry["p_design_count"]["n"] == n
+    if entry.get("curve_kind") == "empirical":
+        assert f"{k} of {n} thresholds at or below it" in verdict_fragility_line(run)
+
+
+def verdict_fragility_line(run: dict) -> str:
+    return (run["verdict"].get("fragility") or {}).get("line") or ""
 
 
 FAMILY = {

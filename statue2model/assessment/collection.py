@@ -31,7 +31,9 @@ The probabilities are the fragility study's ``p_design`` per limit state (the ve
 median only: with the lognormal curve P(a) = Phi(ln(a / median) / beta), lo = P at the design PGA
 with the median at the upper end of its confidence interval (``median_ci[1]``), hi = the same with
 the lower end (``median_ci[0]``), beta as fitted; widened to hold ``p_design`` itself. No band
-when the interval or beta is missing (the row then shows ``p_design`` alone).
+when the interval or beta is missing (the row then shows ``p_design`` alone). An empirical curve
+(the fixed-base uplift where the lognormal is not kept: assessment/fragility_fit.py UPLIFT_RULE) has
+no beta: its band is the 95 % Wilson interval of the count of thresholds (``p_design_ci``).
 
 Example
 -------
@@ -110,6 +112,9 @@ def p_band(curve: dict | None, pga: float | None) -> tuple[float | None, float |
     if not isinstance(curve, dict):
         return None, None, None
     p = _finite(curve.get("p_design"))
+    pci = [_finite(x) for x in (list(curve.get("p_design_ci") or []) + [None, None])[:2]]
+    if p is not None and None not in pci:
+        return p, min(pci[0], p), max(pci[1], p)
     ci = list(curve.get("median_ci") or []) + [None, None]
     m_lo, m_hi, beta = _finite(ci[0]), _finite(ci[1]), _finite(curve.get("beta"))
     pga = _finite(pga)

@@ -129,11 +129,17 @@ from . import states
 from .fragility_fit import (  # noqa: F401  (re-exported: the study's statistics live in fragility_fit.py)
     BETA_MAX,
     BETA_MIN,
+    EMPIRICAL,
     EXACT,
+    UPLIFT_RULE,
     MIN_PARTIAL,
     REASONS,
     FragilityCurve,
     _finite,
+    choose_uplift_curve,
+    distinct_thresholds,
+    threshold_count,
+    wilson_interval,
     beta_profile_band,
     fit_lognormal,
     fit_lognormal_many,
@@ -374,6 +380,8 @@ class FragilityResult:
                     bci = f" [{_band(c.beta_ci, '.3f')}]" if any(math.isfinite(x) for x in c.beta_ci) else ""
                 spread = c.spread
                 btxt = f"beta {c.beta:.3f}{bci}" if spread is None else spread
+                if c.status == EMPIRICAL:
+                    btxt = f"empirical: the step CDF of {len(c.thresholds)} exact thresholds ({c.choice.get('reason')})"
                 out.append(f"{LABELS[c.outcome]}: median {c.median:.4g} {u}{mci}, {btxt}")
             else:
                 out.append(f"{LABELS[c.outcome]}: not fitted ({c.reason}) in {c.levels[0]:.4g}..{c.levels[-1]:.4g} "
@@ -655,7 +663,7 @@ def _isolated(iso, model, records, gains, samples, study, executor):
 def run_fragility(model: RockingModel, records, levels, samples: ParameterSamples, study: FragilityStudy | None = None,
                   isolator=None, executor=None, max_steps: int = 20_000_000,
                   adaptive: AdaptiveLevels | None = None, iso_model: RockingModel | None = None,
-                  support=None) -> FragilityResult:
+                  support=None, design_im: float | None = None) -> FragilityResult:
     """Run and fit a fragility study (module docstring): ``records`` a list of GroundMotion
     (each scaled so that its IM equals each of ``levels``: m/s^2 for PGA, m/s for PGV, times
     the sample's im_factor), ``samples`` the parameter samples, ``isolator`` an Isolator for
@@ -666,7 +674,9 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     spread is identified (module docstring); None runs ``levels`` as given. ``iso_model``: the body on the
     isolator (None: ``model``; the stack as one body when the device carries the pedestal). ``support``:
     what the statue stands on (assessment/support.py Support): adds the curves of its sliding and, with a
-    pedestal, of the pedestal's sliding and overturning (:func:`_support_fails`)."""
+    pedestal, of the pedestal's sliding and overturning (:func:`_support_fails`). ``design_im``: the design
+    level (the study's IM), where the fixed-base uplift's choice of curve is checked besides the levels
+    (:func:`exact_uplift`; None: the levels only, a reader checks its own level with choose_uplift_curve)."""
     study = FragilityStudy() if study is None else study
     iso_model = model if iso_model is None else iso_model
     if not isinstance(study, FragilityStudy):
@@ -755,7 +765,8 @@ def run_fragility(model: RockingModel, records, levels, samples: ParameterSample
     curves, ratio = _fit_all(lv, fails, valid, study, unit, ran)
     if "full_contact_fixed" in curves:
         curves["full_contact_fixed"], ratio = exact_uplift(curves["full_contact_fixed"], uplift_thresholds(model, records, samples, ims),
-                                               valid["fixed"], study, unit, ratio, curves.get("full_contact_isolated"))
+                                               valid["fixed"], study, unit, ratio, curves.get("full_contact_isolated"),
+                                               design_im=design_im)
     if log is not None:
         log["identified"] = {k: bool(c.fitted and c.spread is None) for k, c in curves.items()}
         log["why_not"] = {k: (c.reason or c.spread) for k, c in curves.items()
@@ -828,15 +839,21 @@ def uplift_thresholds(model, records, samples, ims) -> np.ndarray:
     return out
 
 
-def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None):
+def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None, design_im=None):
     """The fixed-base uplift curve refitted on the exact thresholds ``x`` (records, samples) of
     :func:`uplift_thresholds` (runs the study counted, ``valid`` at any level): the lognormal's
     maximum-likelihood fit to exact values, median exp(mean ln x*), beta the standard deviation of
     ln x*; equal thresholds (a symmetric base under records that push both ways to their PGA) are a
     deterministic threshold: beta 0 there (BETA_MIN in the fit: P steps from 0 to 1 at x*). Its band:
     the bootstrap over the records (or samples) of the same estimates. The counts per level stay
-    (the plot's points; they are the same outcome). The ratio "full_contact" is re-taken on this median,
-    without a band (the isolated median's band is in its own row). Returns (curve, ratio)."""
+    (the plot's points; they are the same outcome).
+
+    The curve reported is chosen by UPLIFT_RULE (:func:`choose_uplift_curve`, checked at the levels and at
+    ``design_im``): the lognormal only where no threshold is tied and its P lies inside the 95 % Wilson
+    interval of the count of thresholds at or below each level; else the empirical step CDF of the
+    thresholds (:func:`distinct_thresholds`), status EMPIRICAL, with the reason in ``choice``. The ratio
+    "full_contact" is re-taken on the chosen curve's median, without a band (the isolated median's band
+    is in its own row). Returns (curve, ratio)."""
     ok = valid.any(axis=2)                       # runs counted at some level (applicable)
     x = np.where(ok, x, np.nan)
     fin = np.isfinite(x)
@@ -868,7 +885,11 @@ def exact_uplift(cv, x, valid, study, unit, ratio, iso_cv=None):
                            beta_ci=bci, band_lo=band[0], band_hi=band[1],
                            median_ci_note=None if meds else "no band: one unit to resample", beta_ci_note=note,
                            beta_profile=(float(beta), float(beta)),
-                           beta_profile_note="exact thresholds: beta is their log standard deviation, no profile")
+                           beta_profile_note="exact thresholds: beta is their log standard deviation, no profile",
+                           thresholds=distinct_thresholds(x),
+                           choice={"confidence": float(study.confidence), "n_runs": int(fin.sum())})
+    exact = choose_uplift_curve(exact, [] if design_im is None else [float(design_im)])
+    med = exact.median
     ratio = dict(ratio)
     if iso_cv is not None and "full_contact" in ratio:
         value = iso_cv.median / med if iso_cv.fitted and math.isfinite(iso_cv.median) else None

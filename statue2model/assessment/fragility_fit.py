@@ -321,8 +321,9 @@ def partial_levels(n_fail, n_trials) -> int:
 def median_reason(cv) -> str | None:
     """None when the fitted median of curve ``cv`` lies within the levels it ran (else the median is
     an extrapolation of the fit: not identified, and why); None too for a curve without a fit, and
-    for one fitted on exact thresholds (EXACT: its median is their geometric mean, not a fit's)."""
-    if not cv.fitted or cv.status == EXACT:
+    for one fitted on exact thresholds (EXACT: its median is their geometric mean, not a fit's; EMPIRICAL:
+    their median)."""
+    if not cv.fitted or cv.status in (EXACT, EMPIRICAL):
         return None
     lv = np.asarray(cv.levels, dtype=float)[np.asarray(cv.n_trials) > 0]
     if cv.median < lv.min():
@@ -348,7 +349,7 @@ def spread_reason(cv, confidence: float = 0.90) -> str | None:
     failures, a profile-likelihood band of beta with an end not identified, or a bootstrap band with
     an end not identified. None too for a curve without a fit (its ``reason`` says why). A
     probability from a fit whose spread is not identified is not known and is not stored."""
-    if not cv.fitted or cv.status == EXACT:     # exact thresholds: beta is their log standard deviation
+    if not cv.fitted or cv.status in (EXACT, EMPIRICAL):   # exact thresholds: beta their log std, or no beta
         return None
     lv = np.asarray(cv.levels, dtype=float)
     zf, nt = np.asarray(cv.n_fail), np.asarray(cv.n_trials)
@@ -395,7 +396,10 @@ class FragilityCurve:
     what the band was computed on); band_lo, band_hi (L,): P at each level (nan when the
     curve is undefined); ``boot_undefined``: replicates per undefined status; ``beta_profile``:
     the profile-likelihood band of beta (:func:`beta_profile_band`; None: not computed, then
-    computed from the counts when asked), ``beta_profile_note`` why an end is nan."""
+    computed from the counts when asked), ``beta_profile_note`` why an end is nan. ``thresholds``: the
+    exact thresholds the curve stands on (fixed-base uplift only, :func:`distinct_thresholds`; None
+    elsewhere), ``choice``: which curve :func:`choose_uplift_curve` kept and why (None elsewhere). A
+    curve of status EMPIRICAL is the step CDF of ``thresholds`` (beta nan: it has none)."""
 
     outcome: str
     levels: np.ndarray
@@ -413,11 +417,13 @@ class FragilityCurve:
     boot_undefined: dict = field(default_factory=dict)
     beta_profile: tuple | None = None
     beta_profile_note: str | None = None
+    thresholds: np.ndarray | None = None
+    choice: dict | None = None
 
     @property
     def fitted(self) -> bool:
-        """Whether median and beta are defined (status "ok" or "step")."""
-        return self.status in ("ok", "step", EXACT)
+        """Whether the curve is defined (status "ok", "step", EXACT, or EMPIRICAL: no beta there)."""
+        return self.status in ("ok", "step", EXACT, EMPIRICAL)
 
     @property
     def reason(self) -> str | None:
@@ -430,8 +436,19 @@ class FragilityCurve:
             return np.where(self.n_trials > 0, self.n_fail / np.maximum(self.n_trials, 1), np.nan)
 
     def probability(self, x) -> np.ndarray:
-        """The fitted P(failure | IM = x)."""
+        """P(failure | IM = x) of the curve reported: the lognormal fit, or for an EMPIRICAL curve the
+        share of its thresholds at or below x (:func:`empirical_cdf`)."""
+        if self.status == EMPIRICAL:
+            return empirical_cdf(self.thresholds, x)
         return lognormal_cdf(x, self.median, self.beta)
+
+    def count_at(self, x) -> dict | None:
+        """The count behind P at IM = x of a curve on exact thresholds (None for the others):
+        {"k": thresholds <= x, "n", "p": k / n, "ci": its Wilson interval (COUNT_CONFIDENCE),
+        "method"} (:func:`threshold_count`)."""
+        if self.thresholds is None:
+            return None
+        return threshold_count(self.thresholds, float(x))
 
     @property
     def partial(self) -> int:
@@ -478,20 +495,30 @@ class FragilityCurve:
         prof, prof_note = d.get("beta_profile"), d.get("beta_profile_note")
         profile = (None if prof is None or (all(x is None for x in prof) and prof_note is None)
                    else tuple(num(x, "beta_profile") for x in prof))
+        choice = d.get("choice")
+        if choice is not None and not isinstance(choice, dict):
+            raise InputError(f"fragility curve {key}: choice must be a table")
+        status = str(d.get("status") or "")
+        thresholds = arr("thresholds")
+        if status == EMPIRICAL and (thresholds is None or not thresholds.size):
+            raise InputError(f"fragility curve {key}: an empirical curve needs its thresholds")
         return cls(key, levels, n_fail, n_trials, num(d.get("median"), "median"), num(d.get("beta"), "beta"),
-                   str(d.get("status") or ""), tuple(num(x, "median_ci") for x in d.get("median_ci") or (None, None)),
+                   status, tuple(num(x, "median_ci") for x in d.get("median_ci") or (None, None)),
                    tuple(num(x, "beta_ci") for x in d.get("beta_ci") or (None, None)), arr("band_lo"), arr("band_hi"),
                    d.get("median_ci_note"), d.get("beta_ci_note"), dict(d.get("bootstrap_undefined") or {}),
-                   profile, prof_note)
+                   profile, prof_note, thresholds, None if choice is None else dict(choice))
 
     def to_dict(self) -> dict:
         """JSON-ready; an undefined number is None with its reason beside it (``reason`` for the
         fit, its fitted P and bands; ``median_ci_note``, ``beta_ci_note`` for a band end;
         ``spread_reason`` when the median or beta is not identified (``identified`` False): then
-        ``fitted`` is None too)."""
+        ``fitted`` is None too). A curve on exact thresholds adds ``thresholds`` and ``choice`` (which curve
+        is reported and why: :func:`choose_uplift_curve`); the others have them None."""
         spread = self.spread
         prof = (float("nan"),) * 2 if self.beta_profile is None else self.beta_profile
-        return {"outcome": self.outcome, "label": LABELS[self.outcome], "median": _finite(self.median),
+        extra = {"thresholds": None if self.thresholds is None else [float(v) for v in self.thresholds],
+                 "choice": self.choice}
+        return {**extra, "outcome": self.outcome, "label": LABELS[self.outcome], "median": _finite(self.median),
                 "beta": _finite(self.beta), "status": self.status, "reason": self.reason,
                 "identified": bool(self.fitted and spread is None), "spread_reason": spread,
                 "partial_levels": self.partial,
@@ -507,6 +534,183 @@ class FragilityCurve:
 
 EXACT = "exact"
 """Status of the fixed-base uplift curve: fitted to each run's exact uplift PGA, not to counts."""
+EMPIRICAL = "empirical"
+"""Status of the fixed-base uplift curve when the lognormal is not kept (:func:`choose_uplift_curve`):
+the step CDF of the exact thresholds."""
+COUNT_CONFIDENCE = 0.95
+"""The two-sided confidence of the binomial (Wilson score) interval of a threshold count."""
+TIE_RTOL = 1e-9
+"""Thresholds equal to this relative tolerance are tied."""
+UPLIFT_RULE = (
+    "fixed-base uplift: with the exact thresholds x* of the n runs (a record's runs that share one x*, "
+    "samples that do not move its uplift limit, count once) and k = #(x* <= x), the empirical P = k / n "
+    "and its 95 % Wilson score interval are always computed; the lognormal fit (median exp(mean ln x*), "
+    "beta std ln x*) is the curve reported only where (a) no threshold is tied (the largest number of equal "
+    "thresholds, to a relative 1e-9, is 1) and (b) its P lies inside the Wilson interval of k / n at the "
+    "design PGA and at every level run; otherwise the curve reported is the empirical one (the step CDF of "
+    "x*, status 'empirical'), with the reason")
+"""The rule of :func:`choose_uplift_curve`, in words (docs/fragility.md, the report's text)."""
+
+
+def wilson_interval(k: float, n: float, confidence: float = COUNT_CONFIDENCE) -> tuple[float, float]:
+    """The Wilson score interval (lo, hi) of ``k`` successes in ``n`` trials at two-sided
+    ``confidence`` (full precision; (nan, nan) for n = 0). It always holds k / n; (0, ...) at k = 0.
+
+    >>> [round(v, 4) for v in wilson_interval(6, 7)]
+    [0.4869, 0.9743]
+    >>> wilson_interval(0, 7)[0], round(wilson_interval(7, 7)[1], 12)
+    (0.0, 1.0)
+    """
+    from scipy.stats import norm
+
+    if n <= 0:
+        return float("nan"), float("nan")
+    z = float(norm.ppf(0.5 + confidence / 2))
+    p = k / n
+    den = 1 + z * z / n
+    mid = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(max(p * (1 - p), 0.0) / n + z * z / (4 * n * n)) / den
+    lo, hi = max(0.0, mid - half), min(1.0, mid + half)
+    return min(lo, p), max(hi, p)          # rounding never leaves k / n outside
+
+
+def empirical_cdf(thresholds, x) -> np.ndarray:
+    """The share of ``thresholds`` at or below each x (the step CDF; right-continuous)."""
+    t = np.sort(np.asarray(thresholds, dtype=float))
+    x = np.asarray(x, dtype=float)
+    if not t.size:
+        return np.full(x.shape, np.nan)
+    return np.searchsorted(t, x, side="right") / t.size
+
+
+def threshold_count(thresholds, x: float, confidence: float = COUNT_CONFIDENCE) -> dict:
+    """{"k", "n", "p", "ci", "method"}: how many of ``thresholds`` lie at or below ``x``, of how many,
+    the share and its Wilson interval.
+
+    >>> c = threshold_count([1.0, 2.0, 2.0, 2.0, 3.0], 2.0)
+    >>> c["k"], c["n"], c["p"], c["method"]
+    (4, 5, 0.8, 'Wilson score, 95 %')
+    """
+    t = np.asarray(thresholds, dtype=float)
+    k, n = int(np.sum(t <= x)), int(t.size)
+    lo, hi = wilson_interval(k, n, confidence)
+    return {"k": k, "n": n, "p": k / n if n else None, "ci": [_finite(lo), _finite(hi)],
+            "method": f"Wilson score, {confidence:.0%}".replace("%", " %")}
+
+
+def distinct_thresholds(x) -> np.ndarray:
+    """The thresholds the empirical curve counts, sorted, of the (records, samples) array ``x`` of exact
+    thresholds (nan: a run not counted; inf: a record that never lifts it): each record's finite
+    thresholds, those equal to TIE_RTOL (samples that do not move its uplift limit) counted once; the
+    same value in two records counts twice (that is a tie).
+
+    >>> distinct_thresholds(np.array([[2.0, 2.0, 2.0], [3.0, 3.5, np.nan]])).tolist()
+    [2.0, 3.0, 3.5]
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    out = []
+    for row in x:
+        v = np.sort(row[np.isfinite(row)])
+        keep = [float(a) for i, a in enumerate(v) if i == 0 or not math.isclose(a, v[i - 1], rel_tol=TIE_RTOL)]
+        out.extend(keep)
+    return np.sort(np.array(out, dtype=float))
+
+
+def max_tie(thresholds) -> tuple[int, float]:
+    """(the largest number of equal values to TIE_RTOL, that value) of ``thresholds`` ((0, nan) if none).
+
+    >>> max_tie([2.7, 2.7, 2.9, 2.7 * (1 + 1e-12), 3.1])
+    (3, 2.7)
+    """
+    t = np.sort(np.asarray(thresholds, dtype=float))
+    best, value, run = 0, float("nan"), 0
+    for i, a in enumerate(t):
+        run = run + 1 if i and math.isclose(a, t[i - 1], rel_tol=TIE_RTOL) else 1
+        if run > best:
+            best, value = run, float(t[i - run + 1])
+    return best, value
+
+
+def _median_band(t: np.ndarray, confidence: float) -> tuple[tuple, str | None]:
+    """The distribution-free band of the median of sorted ``t``: [t_(j), t_(n+1-j)] with the largest j
+    such that P(Binomial(n, 1/2) < j) <= (1 - confidence) / 2 (coverage at least ``confidence``)."""
+    from scipy.stats import binom
+
+    n = t.size
+    j = 0
+    while j + 1 <= n // 2 and binom.cdf(j, n, 0.5) <= (1 - confidence) / 2:
+        j += 1
+    if j == 0:
+        return (float("nan"),) * 2, (f"no band: {n} thresholds are too few for a {confidence:.0%} band of the "
+                                     "median (order statistics)")
+    return (float(t[j - 1]), float(t[n - j])), f"order statistics {j} and {n + 1 - j} of {n} thresholds"
+
+
+def empirical_curve(cv: FragilityCurve, reason: str, choice: dict) -> FragilityCurve:
+    """The EMPIRICAL curve of ``cv``'s thresholds: P the step CDF, the median the smallest threshold
+    with P >= 1/2 (lower median), its band from the order statistics (:func:`_median_band`, at the
+    study's confidence kept in ``choice``), the band at each level the Wilson interval of the count
+    there; beta nan (none). ``reason``: why the lognormal was not kept."""
+    t = np.sort(np.asarray(cv.thresholds, dtype=float))
+    n = t.size
+    med = float(t[(n + 1) // 2 - 1])
+    mci, note = _median_band(t, float(choice.get("confidence", 0.90)))
+    k = np.searchsorted(t, np.asarray(cv.levels, dtype=float), side="right")
+    band = np.array([wilson_interval(int(kk), n) for kk in k]).reshape(-1, 2).T
+    return FragilityCurve(cv.outcome, cv.levels, cv.n_fail, cv.n_trials, med, float("nan"), EMPIRICAL,
+                          median_ci=mci, beta_ci=(float("nan"), float("nan")), band_lo=band[0], band_hi=band[1],
+                          median_ci_note=note, beta_ci_note="an empirical curve has no beta",
+                          beta_profile=None, beta_profile_note="an empirical curve has no beta",
+                          thresholds=t, choice={**choice, "curve": EMPIRICAL, "reason": reason})
+
+
+def choose_uplift_curve(cv: FragilityCurve, check=()) -> FragilityCurve:
+    """The curve the fixed-base uplift reports (:data:`UPLIFT_RULE`): ``cv`` (status EXACT, with its
+    ``thresholds``) when no threshold is tied and its lognormal P lies inside the Wilson interval of the
+    count at every level of ``cv.levels`` and of ``check`` (the design PGA), else :func:`empirical_curve`
+    with the reason. An EMPIRICAL curve, or one without thresholds, is returned as it is; an EXACT curve
+    already checked at every level asked is too (a reader can call this with its own design level).
+
+    >>> lv = np.array([2.0, 3.0])
+    >>> t = np.array([2.717] * 4 + [2.6, 2.75, 3.0])
+    >>> cv = FragilityCurve("full_contact_fixed", lv, np.zeros(2, int), np.full(2, 7), 2.78, 0.05, EXACT,
+    ...                     thresholds=np.sort(t), choice={"checked_at": []})
+    >>> c = choose_uplift_curve(cv, [2.8194])
+    >>> c.status, c.choice["reason"].split(":")[0], float(c.probability(2.8194))
+    ('empirical', '4 of 7 thresholds are tied at 2.717 m/s^2 (0.277 g)', 0.8571428571428571)
+    """
+    if cv.status != EXACT or cv.thresholds is None or not len(cv.thresholds):
+        return cv
+    choice = dict(cv.choice or {})
+    t = np.asarray(cv.thresholds, dtype=float)
+    at = sorted({float(v) for v in [*np.asarray(cv.levels, dtype=float), *np.atleast_1d(check)]
+                 if v is not None and math.isfinite(float(v)) and float(v) > 0})
+    done = set(choice.get("checked_at") or [])
+    if choice.get("curve") == EXACT and all(v in done for v in at):
+        return cv
+    tie, tied = max_tie(t)
+    choice.update(rule=UPLIFT_RULE, n=int(t.size), max_tie=tie, tied_value=_finite(tied) if tie > 1 else None,
+                  lognormal={"median": _finite(cv.median), "beta": _finite(cv.beta)})
+    if tie > 1:
+        where = f"{tied:.4g} m/s^2 ({tied / G:.3f} g)"
+        return empirical_curve(cv, (f"all {tie} thresholds are equal, {where}: a deterministic step" if tie == t.size
+                                    else f"{tie} of {t.size} thresholds are tied at {where}: a lognormal has no "
+                                    "point mass to hold them"), choice)
+    bad = []
+    for v in at:
+        c = threshold_count(t, v)
+        p = float(lognormal_cdf(v, cv.median, cv.beta))
+        if not (c["ci"][0] <= p <= c["ci"][1]):
+            bad.append((v, p, c))
+    if bad:
+        v, p, c = bad[0]
+        return empirical_curve(cv, f"the lognormal gives P {p:.3f} at {v:.4g} m/s^2 ({v / G:.3f} g), outside the "
+                               f"95 % Wilson interval {c['ci'][0]:.3f}-{c['ci'][1]:.3f} of the count there, "
+                               f"{c['k']} of {c['n']} thresholds" + (f" ({len(bad)} levels so)" if len(bad) > 1 else ""),
+                               choice)
+    from dataclasses import replace
+
+    return replace(cv, choice={**choice, "curve": EXACT, "reason": None, "checked_at": at})
 
 
 def _finite(v):

@@ -267,7 +267,8 @@ def run_study(model, iso, target, rs, levels_text: str, n_samples: int, rtol: fl
     study = FragilityStudy(im="pga", rtol=rtol, n_boot=200, seed=0)
     adaptive = AdaptiveLevels(rounds=int(rounds), max_added=ADAPTIVE_MAX_ADDED) if rounds else None
     res = run_fragility(model, rs.records, lv, samples, study, isolator=iso, executor=executor, adaptive=adaptive,
-                        iso_model=iso_model, support=support)
+                        iso_model=iso_model, support=support,
+                        design_im=float(np.asarray(target.Se(np.array([0.0])))[0]))
     return StudyRun(target, rs, met, res.levels, samples, varied, study, res, iso is not None)
 
 
@@ -354,13 +355,27 @@ def curve_entry(cv, pga: float) -> dict:
         p_design(_reason)        P(exceeding | PGA = design PGA); None unless identified, with why
         identified               median and spread identified (assessment.fragility.identified_reason)
         spread_identified        the spread alone (assessment.fragility.spread_reason)
+        p_design_count           a curve on exact thresholds (fixed-base uplift): {k, n, p = k / n, ci, method},
+                                 the thresholds at or below the design PGA and their 95 % Wilson interval
+                                 (None elsewhere); p_design always lies inside ci (fragility.UPLIFT_RULE)
+        p_design_ci              the Wilson interval of an empirical curve's p_design (None elsewhere)
+        curve_kind, choice_reason  "lognormal" or "empirical" (fragility.UPLIFT_RULE) and why the empirical
+
+    A fixed-base uplift curve is re-chosen at ``pga`` first (fragility.choose_uplift_curve: a no-op when
+    the study checked it there): the entry reads the curve the rule keeps.
     """
-    from .fragility import LABELS
+    from .fragility import EMPIRICAL, LABELS, choose_uplift_curve
+
+    cv = choose_uplift_curve(cv, [pga])
+    count = cv.count_at(pga) if cv.fitted else None
+    kind = {"curve_kind": None if cv.thresholds is None else ("empirical" if cv.status == EMPIRICAL else "lognormal"),
+            "choice_reason": (cv.choice or {}).get("reason"), "p_design_count": count,
+            "p_design_ci": count["ci"] if count is not None and cv.status == EMPIRICAL else None}
 
     levels = [float(x) for x in cv.levels]
     base = {"curve": cv.outcome, "label": LABELS.get(cv.outcome, cv.outcome), "status": cv.status,
             "levels": levels, "n_levels": len(levels), "partial_levels": int(cv.partial),
-            "n_fail": int(np.sum(cv.n_fail)), "n_trials": int(np.sum(cv.n_trials))}
+            "n_fail": int(np.sum(cv.n_fail)), "n_trials": int(np.sum(cv.n_trials)), **kind}
     if not cv.fitted:
         why = f"{cv.reason} ({_range_text(cv.levels)})"
         return {**base, "median": None, "median_reason": why, "median_ci": None, "median_ci_reason": why,
@@ -380,8 +395,10 @@ def curve_entry(cv, pga: float) -> dict:
     bci = [_num(x) for x in cv.beta_ci]
     bci = None if all(x is None for x in bci) else bci
     p = _num(float(cv.probability(pga))) if spread is None else None
+    empirical = cv.status == EMPIRICAL
     return {**base, "median": _num(cv.median), "median_reason": outside, "median_ci": mci, "median_ci_reason": ci_why,
-            "beta": _num(cv.beta) if spread is None else None, "beta_reason": spread,
+            "beta": _num(cv.beta) if spread is None else None,
+            "beta_reason": f"an empirical curve has no beta ({kind['choice_reason']})" if empirical else spread,
             "beta_ci": bci if spread is None else None, "beta_profile": prof,
             "beta_profile_note": getattr(cv, "beta_profile_note", None),
             "p_design": p, "p_design_reason": None if p is not None else (

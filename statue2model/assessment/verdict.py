@@ -571,6 +571,13 @@ def _curve_text(c: dict) -> str:
     p = finite_number(c.get("p_design"))
     pt = (f", P at the design PGA {prob_text(p)}" if p is not None else
           f", P at the design PGA not known ({c.get('p_design_reason') or 'not identified'})")
+    count = c.get("p_design_count") if isinstance(c.get("p_design_count"), dict) else None
+    if c.get("curve_kind") == "empirical" and p is not None and count:
+        ci = [finite_number(x) for x in (list(count.get("ci") or []) + [None, None])[:2]]
+        within = f", 95 % Wilson {ci[0]:.2f}-{ci[1]:.2f}" if None not in ci else ""
+        return (f"empirical ({c.get('choice_reason') or 'the lognormal is not kept'}): median {g_text(m)}{band}, "
+                f"P at the design PGA {prob_text(p)} ({count.get('k')} of {count.get('n')} thresholds at or below "
+                f"it{within})")
     return f"median {g_text(m)}{band}{beta}{pt}"
 
 

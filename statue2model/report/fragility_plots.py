@@ -57,6 +57,16 @@ def _draw_curve(ax, c, base, scale, unit, xs):
         return
     spread = c.spread
     lo, hi = (float(x) for x in c.median_ci)
+    if c.status == "empirical":     # the step CDF of the exact thresholds, the Wilson band of the count
+        t = np.sort(np.asarray(c.thresholds, dtype=float))
+        xe = np.concatenate([[min(xs[0], t[0])], t, [max(xs[-1], t[-1])]])
+        ax.step(xe / scale, c.probability(xe), where="post", color=col,
+                label=f"{word}: empirical, {t.size} thresholds, median {c.median / scale:.3g}{unit}")
+        from ..assessment.fragility import wilson_interval
+
+        band = np.array([wilson_interval(int(k), t.size) for k in np.searchsorted(t, xe, side="right")])
+        ax.fill_between(xe / scale, band[:, 0], band[:, 1], color=col, alpha=0.15, lw=0, step="post")
+        return
     if spread is None:
         ax.plot(xs / scale, c.probability(xs), "-", color=col,
                 label=f"{word}: median {c.median / scale:.3g}{unit}, beta {c.beta:.2f}")

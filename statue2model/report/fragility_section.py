@@ -52,6 +52,8 @@ def short_reason(why: str | None) -> str:
 
 
 def _beta_text(e: dict) -> str:
+    if e.get("curve_kind") == "empirical":
+        return "- (empirical curve)"
     if e.get("beta") is None:
         return "not identified"
     ci = e.get("beta_ci") or e.get("beta_profile")
@@ -64,7 +66,11 @@ def _p_text(e: dict) -> str:
     p = e.get("p_design")
     if p is None:
         return short_reason(e.get("p_design_reason"))
-    return "< 0.001" if p < 1e-3 else "> 0.999" if p > 0.999 else f"{p:.3f}"
+    txt = "< 0.001" if p < 1e-3 else "> 0.999" if p > 0.999 else f"{p:.3f}"
+    c, ci = e.get("p_design_count"), e.get("p_design_ci")
+    if c and ci and None not in ci:
+        txt += f" ({c['k']} / {c['n']}; {ci[0]:.2f}-{ci[1]:.2f})"
+    return txt
 
 
 def _row(name: str, e: dict, levels) -> list:
@@ -90,6 +96,12 @@ def fragility_section(run) -> dict:
         rows = []
         for base, e in bases.items():
             rows.append(_row(BASES[base], e, e["levels"] or lv))
+            if e.get("curve_kind") == "empirical":
+                c = e.get("p_design_count") or {}
+                why_lines.append(f"{TITLES[ls]}, {BASES[base]}: the empirical curve of the exact uplift thresholds, "
+                                 f"not the lognormal ({e.get('choice_reason')}); P at the design PGA is the share "
+                                 f"of thresholds at or below it, {c.get('k')} of {c.get('n')}, with its 95 % Wilson "
+                                 "interval (the rule: docs/fragility.md).")
             if e.get("p_design") is None:
                 why_lines.append(f"{TITLES[ls]}, {BASES[base]} ({LABELS.get(e['curve'], e['curve'])}): "
                                  f"P at the design PGA {e['p_design_reason']}.")
@@ -122,11 +134,15 @@ def fragility_section(run) -> dict:
     text.extend(why_lines)
     text.append("A probability at the design PGA is given only where the fit identifies the spread (at least two "
                 "levels with a partial fraction of failures and a closed band of beta); elsewhere the table says "
-                "why it is not known.")
+                "why it is not known. The fixed-base uplift stands on each run's exact uplift PGA: its lognormal is kept "
+                "only where no threshold is tied and its P lies within the 95 % Wilson interval of the count of "
+                "thresholds at the design PGA and at every level run; else the table gives the empirical share "
+                "(k / n; its Wilson interval).")
     figs = [{"path": "fragility.png", "caption": "Fragility per limit state (one panel each; fixed base red, isolated "
              "blue): markers the fraction exceeding the limit state at each level run, lines the lognormal fits "
              "where the spread is identified with their bootstrap bands shaded, diamonds the median with its band "
-             "where it is not; dashed: the design PGA"}]
+             "where it is not; a step: the empirical curve of the fixed-base uplift thresholds where the lognormal "
+             "is not kept, shaded its 95 % Wilson band; dashed: the design PGA"}]
     return {"figures": figs, "tables": tables, "text": text, "warnings": warnings}
 
 
