@@ -244,7 +244,7 @@ def test_the_project_file_keys():
     assert (cfg.isolator.mu_low, cfg.isolator.mu_high, cfg.isolator.ball_capacity) == (0.005, 0.01, 300.0)
     for text, words in (('[isolator]\nmu = 0.0073\nmu_low = 0.01\n', "mu_low (0.01) must not exceed mu"),
                         ('[isolator]\nmu_low = 0.004\n', "give mu_low and mu_high together, or mu"),
-                        ('[isolator]\nball_capacity = 0\n', "ball_capacity must be a positive load"),
+                        ('[isolator]\nball_capacity = 0\n', "ball_capacity = 0 N is implausible"),
                         ('[isolator]\nball_capacity = 300\n', "a load test of one groove surface")):
         with pytest.raises(InputError, match=words.replace("(", r"\(").replace(")", r"\)")):
             load_config_text(text, "p")
