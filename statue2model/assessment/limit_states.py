@@ -621,12 +621,15 @@ def _sliding_row(name, per_pos, per_neg, cap, source, support_words, friction, s
         n_off = sum(p >= cap[0] > 0 or q >= cap[1] > 0 for p, q in zip(per_pos, per_neg))
         per_pos = [min(p, cap[0]) for p in per_pos]
         per_neg = [min(q, cap[1]) for q in per_neg]
+
+    def over(d: float, c: float) -> float:
+        """demand / capacity of one side; no capacity: infinite once it slides at all."""
+        return d / c if c > 0 else (math.inf if d > 0 else 0.0)
+
     d_pos, d_neg = _stat(per_pos, statistic), _stat(per_neg, statistic)
-    r_pos = d_pos / cap[0] if cap[0] > 0 else (math.inf if d_pos > 0 else 0.0)
-    r_neg = d_neg / cap[1] if cap[1] > 0 else (math.inf if d_neg > 0 else 0.0)
+    r_pos, r_neg = over(d_pos, cap[0]), over(d_neg, cap[1])
     pos = r_pos >= r_neg
-    per_ratio = [max(p / cap[0] if cap[0] > 0 else (math.inf if p > 0 else 0.0),
-                     q / cap[1] if cap[1] > 0 else (math.inf if q > 0 else 0.0)) for p, q in zip(per_pos, per_neg)]
+    per_ratio = [max(over(p, cap[0]), over(q, cap[1])) for p, q in zip(per_pos, per_neg)]
     ratio = max(r_pos, r_neg)
     off_text = ("; a record that slides past the edge drops the statue off its support and exceeds the row by "
                 "itself (it counts as the edge distance in the statistic)" if edge else "")

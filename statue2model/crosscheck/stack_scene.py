@@ -63,7 +63,7 @@ from .statue_scene import (
     add_statue,
     inertia_frame,
 )
-from .world import SimSettings, World, matrices_from_quats, quat_from_matrix, real_time_factor, step_mean_acc
+from .world import SimSettings, World, matrices_from_quats, quat_from_matrix, real_time_factor, step_grid, step_mean_acc
 
 STACK_SETTINGS = STATUE_SETTINGS
 """Engine settings of the stack scene when none are given: the statue scene's (dt 2 ms, 50 solver
@@ -380,13 +380,8 @@ def simulate_stack_3d(scene: StackScene, motion, *, t_end: float | None = None,
     settings = STACK_SETTINGS if settings is None else settings
     if t_end is None:
         t_end = motion.end + free_time
-    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
-        raise InputError(f"t_end must be positive, got {t_end}")
-    if not (math.isfinite(dt_out) and dt_out > 0):
-        raise InputError(f"dt_out must be positive, got {dt_out}")
     dt = settings.dt
-    n = math.ceil(t_end / dt - 1e-9)
-    every = max(1, round(dt_out / dt))
+    n, every = step_grid(t_end, dt_out, dt)
     acc = step_mean_acc(motion, 0.0, dt, n).tolist()
     k_quiet = math.ceil(motion.end / dt - 1e-9)           # from this step on the ground is still
     rest_need = math.ceil(REST_TIME / dt)

@@ -51,6 +51,7 @@ from .world import (
     matrix_from_quat,
     quat_from_matrix,
     real_time_factor,
+    step_grid,
     step_mean_acc,
 )
 
@@ -364,13 +365,8 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
         raise InputError(f"theta0 = {theta0} rad is not between -delta_L and delta_R")
     if t_end is None:
         t_end = max(motion.end, 0.0 if motion_y is None else motion_y.end) + free_time
-    if not (math.isfinite(t_end) and t_end > 0):
-        raise InputError(f"t_end must be positive, got {t_end}")
-    if not (math.isfinite(dt_out) and dt_out > 0):
-        raise InputError(f"dt_out must be positive, got {dt_out}")
     dt = settings.dt
-    n = math.ceil(t_end / dt - 1e-9)
-    every = max(1, round(dt_out / dt))
+    n, every = step_grid(t_end, dt_out, dt)
     acc = step_mean_acc(motion, 0.0, dt, n).tolist()
     acc_y = [0.0] * n if motion_y is None else step_mean_acc(motion_y, 0.0, dt, n).tolist()
     _, V = inertia_frame(scene.inertia)

@@ -255,6 +255,17 @@ def _park_client(pybullet, client: int) -> bool:
     return True
 
 
+def step_grid(t_end: float, dt_out: float, dt: float) -> tuple[int, int]:
+    """(n, every) of a scene run to ``t_end`` s at steps of ``dt`` s, its output every ``dt_out`` s: n steps,
+    a sample every ``every`` of them; an InputError for a ``t_end`` or ``dt_out`` that is not a positive
+    finite number of seconds."""
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"t_end must be positive, got {t_end}")
+    if not (math.isfinite(dt_out) and dt_out > 0):
+        raise InputError(f"dt_out must be positive, got {dt_out}")
+    return math.ceil(t_end / dt - 1e-9), max(1, round(dt_out / dt))
+
+
 def step_mean_acc(motion, t0: float, dt: float, n: int) -> np.ndarray:
     """Mean ground acceleration over each of the n steps [t0 + k dt, t0 + (k+1) dt]
     (Simpson's rule; m/s^2). Zero once the motion has ended."""

@@ -55,6 +55,7 @@ class Context:
     bodies: dict = field(default_factory=dict)     # the run's Body, shared by its stages (body_cache.py)
     mesh_sha256: str | None = None                 # the scan's hash, computed once by the run
     record_sets: dict = field(default_factory=dict)  # the run's record sets by their matching arguments
+    supports: dict = field(default_factory=dict)     # the statue's Support by its rocking parameters (support())
 
     def load_body(self, store: Path | None = None):
         """The Body of the scan with the [scan] settings, built once per run (pipeline/body_cache.py):
@@ -88,11 +89,16 @@ class Context:
     def support(self, params=None):
         """What the statue stands on (assessment/support.py): its friction on the floor or on the
         [pedestal], the sliding capacities, and the two-block model with a pedestal."""
+        p = self.params() if params is None else params
+        if p not in self.supports:          # built once per run: a pedestal's scan and the overhang read files
+            self.supports[p] = self._support(p)
+        return self.supports[p]
+
+    def _support(self, p):
         from ..assessment.support import FLOOR_ALLOWANCE, Support, edge_distances
         from ..rocking.sliding import Friction
 
         sl, pd = self.config.sliding, self.config.pedestal
-        p = self.params() if params is None else params
         friction = Friction(sl.mu_statue, sl.kinetic_ratio * sl.mu_statue)
         floor_cap = FLOOR_ALLOWANCE if sl.allowance is None else sl.allowance
         floor_words = (f"the default floor allowance {FLOOR_ALLOWANCE:g} m" if sl.allowance is None else

@@ -296,6 +296,20 @@ def _choose(y, s1, s2, a, pref_i, pref_s, P, A):
 
 # --- the impact (stack._Run.impact) -----------------------------------------------------------
 @njit(cache=True)
+def _other_rate(y, t1, t2, j, qi, P, Bn, Dv, vold):
+    """(rate of coordinate j after an impact of the other contact, its mass term M_jj) with pivots (t1, t2):
+    coordinate j's generalised momentum (Bn[:, j] D . v_old, the bodies' velocities before) conserved, the
+    impacting coordinate at ``qi``."""
+    M11, M12, M22, _, _ = _system(y[0], y[1], 0.0, 0.0, t1, t2, 0.0, P)
+    _bmap(y[0], y[1], t1, t2, P, Bn)
+    pj = 0.0
+    for r in range(6):
+        pj += Bn[r, j - 1] * Dv[r] * vold[r]
+    Mjj = M11 if j == 1 else M22
+    return (pj - M12 * qi) / Mjj, Mjj
+
+
+@njit(cache=True)
 def _impact(y, s1, s2, i, a, P, B, Bn, Dv, vold):
     """Impact of contact i at y (theta_i set to 0 here): y's velocities updated in place.
     Returns (new s1, new s2, energy before, energy after, |theta_i'| before)."""
@@ -326,25 +340,13 @@ def _impact(y, s1, s2, i, a, P, B, Bn, Dv, vold):
     qi = e * wi
     sj = s2 if i == 1 else s1
     if sj != 0:
-        M11, M12, M22, _, _ = _system(y[0], y[1], 0.0, 0.0, n1, n2, 0.0, P)
-        _bmap(y[0], y[1], n1, n2, P, Bn)
-        pj = 0.0
-        for r in range(6):
-            pj += Bn[r, j - 1] * Dv[r] * vold[r]
-        Mjj = M11 if j == 1 else M22
-        qj = (pj - M12 * qi) / Mjj
+        qj = _other_rate(y, n1, n2, j, qi, P, Bn, Dv, vold)[0]
     else:
         qj = 0.0
         for s in (1, -1):
             t1 = s if j == 1 else n1
             t2 = s if j == 2 else n2
-            M11, M12, M22, _, _ = _system(y[0], y[1], 0.0, 0.0, t1, t2, 0.0, P)
-            _bmap(y[0], y[1], t1, t2, P, Bn)
-            pj = 0.0
-            for r in range(6):
-                pj += Bn[r, j - 1] * Dv[r] * vold[r]
-            Mjj = M11 if j == 1 else M22
-            wj = (pj - M12 * qi) / Mjj
+            wj, Mjj = _other_rate(y, t1, t2, j, qi, P, Bn, Dv, vold)
             if s * wj > 0 and 0.5 * Mjj * wj * wj > OPEN_EPS * (P[BAR1] if j == 1 else P[BAR2]):
                 qj = wj
                 n1 = t1
