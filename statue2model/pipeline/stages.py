@@ -357,7 +357,15 @@ def _match_args(ctx: Context, seed: int) -> tuple:
 
 
 def _match_task(args):
-    """match_records(*args) (module level: runs on a worker)."""
+    """match_records(*args), or the same set kept by an earlier run (pipeline/record_cache.py: matched
+    once per user and code, not once per run). Module level: runs on a worker."""
+    from .record_cache import matched
+
+    return matched(args, _match_now)
+
+
+def _match_now(args):
+    """match_records(*args): the set matched now."""
     from ..assessment.study import match_records
 
     target, n, duration, T1, T_is, seed, code = args
