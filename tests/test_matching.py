@@ -238,13 +238,15 @@ def test_a_floor_set_has_the_floor_spectrum_peak_acceleration(ground, floor, T1)
     PGA lies within Se(0) .. (1 + PGA_TOL) Se(0), its mean spectrum still within the code's band (not
     below 90 % of the target from 0.15 s to max(2 s, 2 T1)) and every rule holds."""
     from statue2model.assessment.study import match_records
-    from statue2model.hazard.matching import PGA_TOL
 
     target = parse_floor(floor, parse_spectrum(ground))
     s = match_records(target, 7, T1=T1, code="EC8" if ground.startswith("ec8") else "ntc2018")
     zpa = float(target.Se(np.array([0.0]))[0])
     ratio = np.mean([m.pga for m in s.records]) / zpa
-    assert 1 - 1e-9 <= ratio <= 1 + PGA_TOL, ratio
+    assert 1 - 1e-9 <= ratio <= 1.05, ratio                  # the stated tolerance, PGA_TOL = 0.05
+    from statue2model.hazard.matching import PGA_TOL
+
+    assert PGA_TOL == 0.05
     assert s.pga_cap == pytest.approx(1 + PGA_TOL)
     c = s.check()
     assert c["min_ratio"] >= 0.9 and c["fit_met"] and c["met"], c
@@ -259,6 +261,7 @@ def test_the_mean_pga_rule_fails_above_the_cap():
     from dataclasses import replace
 
     target = parse_floor("z=8,H=11.5,T1=0.32,n=3,code=ntc2018", parse_spectrum(FLOOR_CASES[0][0]))
+    assert match_set(target, n=7, seed=1).check()["mean_pga_over_target_pga"] <= 1.05
     free = match_set(target, n=7, seed=1, peak_control=False)
     assert free.pga_cap is None and free.check()["mean_pga_over_target_pga"] > 1.2
     capped = replace(free, pga_cap=1.05)
