@@ -328,7 +328,7 @@ class _Bodies:
         for name, O, R, base, piv in (("statue", Orel, Rrel, self.base_s, self.piv_s),
                                       ("pedestal", Op, Rp, self.base_p, self.piv_p)):
             th = _theta(R)
-            z = O[:, 2, None] + R[:, 2, :] @ base.T
+            z = O[:, 2, None] + np.ascontiguousarray(R[:, 2, :]) @ np.ascontiguousarray(base.T)   # contiguous: fast matmul
             lift = z.max(axis=1) - (self.top if name == "statue" else 0.0)
             pts = {s: O + R @ q for s, q in piv.items()}
             side = np.where(th >= 0, 1.0, 0.0)[:, None]
@@ -390,7 +390,8 @@ def simulate_stack_3d(scene: StackScene, motion, *, t_end: float | None = None,
     with World(settings) as world:
         world.plane(scene.mu_floor, 0.0)
         ped = _add_pedestal(world, scene.pedestal)
-        st = add_statue(world, scene.statue, ContactSettings(friction=scene.mu_top), z0=scene.height)
+        st = add_statue(world, scene.statue, ContactSettings(friction=scene.mu_top), z0=scene.height,
+                        collision="patch")
         pos, orn = world.call("getBasePositionAndOrientation", st)
         shift = scene._shift()
         world.call("resetBasePositionAndOrientation", st,
