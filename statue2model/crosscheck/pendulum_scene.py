@@ -218,6 +218,11 @@ class PendulumResult(PlateRun):
         return d
 
 
+TILT_EVERY = 50
+"""Steps between two reads of the plate's tilt (PendulumResult.tilt_max; and at the last step): on its
+three prismatic joints the plate cannot rotate, the read is a check (0.0 in every run measured)."""
+
+
 def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | None = None,
                       settings: SimSettings | None = None, *, u0: float = 0.0, t_end: float | None = None,
                       contact: ContactSettings | None = None, dt_out: float = 0.005, free_time: float = 10.0,
@@ -305,7 +310,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
         t_cap = u_cap = t_ot = None
         v_prev = 0.0
         get_states, set_motors, apply_force = p.getJointStates, p.setJointMotorControlArray, p.applyExternalForce
-        get_pose = p.getBasePositionAndOrientation
+        get_pose, get_link = p.getBasePositionAndOrientation, p.getLinkState
         step, gravity, world_frame = p.stepSimulation, p.setGravity, p.WORLD_FRAME
         cid = world.client
         a_set = None
@@ -340,8 +345,9 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                     overturned = True
                     t_ot = k * dt
             if k % every == 0 or hit or overturned or k == n:
-                q = world.call("getLinkState", plate, 2)[1]
-                tilt_max = max(tilt_max, 2.0 * math.asin(min(1.0, math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2))))
+                if k % TILT_EVERY == 0 or hit or overturned or k == n:
+                    q = get_link(plate, 2, physicsClientId=cid)[1]
+                    tilt_max = max(tilt_max, 2.0 * math.asin(min(1.0, math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2))))
                 ts.append(k * dt)
                 us.append(x)
                 uys.append(y)
