@@ -140,14 +140,21 @@ def design_json(path: str | None) -> str:
     return str(out / "isolator" / "design.json")
 
 
+ANGLE_FLOOR = 1e-3
+"""rad: rotations below it are the contact solver's compliance (a statue that does not lift reads
+~1e-5 rad), so an angle's difference is taken relative to max(|old|, ANGLE_FLOOR)."""
+
+
 def peak_diff(a: dict, b: dict) -> tuple[float, str]:
-    """Largest relative difference of the peaks b against a (and its name)."""
+    """Largest relative difference of the peaks b against a (and its name); angles (theta, yaw) relative
+    to at least ANGLE_FLOOR."""
     worst, name = 0.0, "-"
     for k, va in a.items():
         vb = b.get(k)
         if va is None or vb is None:
             continue
-        d = abs(vb - va) / max(abs(va), 1e-12) if va != vb else 0.0
+        floor = ANGLE_FLOOR if ("theta" in k or "yaw" in k) else 1e-12
+        d = abs(vb - va) / max(abs(va), floor) if va != vb else 0.0
         if d > worst or name == "-":
             worst, name = d, k
     return worst, name

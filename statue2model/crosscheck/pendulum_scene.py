@@ -311,6 +311,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
         v_prev = 0.0
         get_states, set_motors, apply_force = p.getJointStates, p.setJointMotorControlArray, p.applyExternalForce
         get_pose, get_link = p.getBasePositionAndOrientation, p.getLinkState
+        d_R, d_L = (statue.params.delta_R, statue.params.delta_L) if statue is not None else (0.0, 0.0)
         step, gravity, world_frame = p.stepSimulation, p.setGravity, p.WORLD_FRAME
         cid = world.client
         a_set = None
@@ -323,10 +324,12 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                 break
             a_abs = acc_l[k - 1] + (vx - v_prev) / dt if k > 0 else 0.0
             v_prev = vx
-            a_abs_max = max(a_abs_max, abs(a_abs))
+            if abs(a_abs) > a_abs_max:
+                a_abs_max = abs(a_abs)
             af.append(a_abs)
             uh = math.hypot(x, y)
-            u_max = max(u_max, uh)
+            if uh > u_max:
+                u_max = uh
             hit = t_cap is None and uh > cap
             if hit:
                 t_cap, u_cap = k * dt, x
@@ -340,8 +343,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                 if not (math.isfinite(theta) and math.isfinite(pos[0]) and math.isfinite(pos[2])):
                     finite = False
                     break
-                d = statue.params.delta_R if theta > 0 else statue.params.delta_L
-                if abs(theta) >= d:
+                if (theta >= d_R) if theta > 0 else (-theta >= d_L):
                     overturned = True
                     t_ot = k * dt
             if k % every == 0 or hit or overturned or k == n:
