@@ -50,6 +50,7 @@ from ..errors import InputError
 from ..geometry.rocking_params import RockingParams
 from .contact import ContactSettings
 from .world import (
+    run_clock,
     SimSettings,
     World,
     matrices_from_quats,
@@ -420,7 +421,7 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     engine but not bit-identical: the chaotic record and restitution runs of the tests move)."""
     from .contact import ContactSettings as _CS
 
-    c0 = time.process_time()
+    c0 = run_clock()
     contact = _CS() if contact is None else contact
     settings = STATUE_SETTINGS if settings is None else settings
     if collision is None:
