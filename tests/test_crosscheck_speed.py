@@ -59,3 +59,63 @@ def test_lift_off_time_matches_the_step_rule():
         lift = rng.uniform(0, 4e-4, rng.integers(2, 40))
         got, want = _lift_off_time(lift, dt), _lift_off_loop(list(lift), dt)
         assert (got is None) == (want is None) and (got is None or got == pytest.approx(want, abs=1e-15))
+
+
+# -- issue [23], item 1: what the 3D scenes skip must not change what they report -------------------
+
+def test_record_acceleration_on_arrays_is_the_compiled_ground_motion_bit_for_bit():
+    """world._record_acc (numpy, whole arrays) against GroundMotion.acc (the compiled kernel, a call a
+    point) at every sample time, just below each, between, and outside the record."""
+    m = motions.parse_spec("synthetic:duration=3,pga=0.3g,seed=4")[0]
+    for start in (0.0, 0.37):
+        r = motions.record(m.samples, m.dt, start=start)
+        ts = r.start + r.dt * np.arange(len(r.samples))
+        t = np.concatenate([np.linspace(-0.1, r.end + 0.1, 5001), ts, np.nextafter(ts, -np.inf),
+                            np.nextafter(ts, np.inf)])
+        assert np.array_equal(W._record_acc(r, t), r.acc(t))
+
+
+def test_contact_patch_touches_the_floor_where_the_hull_does():
+    """Tilted by less than the patch's tilt about any horizontal axis, the lowest point of the patch is the
+    lowest point of the hull (the floor meets the same vertex); the patch is inside the hull and smaller."""
+    from statue2model.crosscheck.statue_scene import PATCH_TILT, contact_patch, landing_angles
+
+    rng = np.random.default_rng(3)
+    # a tall body whose upper vertices overhang the base on +x: an arm at 0.3 m height, 0.25 m out
+    base = np.array([[-0.1, -0.1, 0], [0.1, -0.1, 0], [0.1, 0.1, 0], [-0.1, 0.1, 0]], float)
+    ring = [[0.08 * np.cos(a), 0.08 * np.sin(a), z] for a in np.linspace(0, 2 * np.pi, 20, endpoint=False)
+            for z in (0.5, 1.0, 1.5)]
+    hull = np.vstack([base, ring, [[0.35, 0.0, 0.3], [0.35, 0.02, 0.32]]])
+    sc = StatueScene.block(b=0.1, h=0.75, m=50.0)
+    from dataclasses import replace
+    sc = replace(sc, hull=hull)
+    ang = landing_angles(hull)
+    assert ang[-2] == pytest.approx(np.arctan2(0.3, 0.25))
+    tilt = PATCH_TILT * max(sc.params.delta_L, sc.params.delta_R)
+    patch = contact_patch(sc)
+    assert len(patch) < len(hull) / 2 and len(patch) >= 5
+    assert ang[-1] > tilt and not any(np.array_equal(v, hull[-1]) for v in patch)    # not extreme: left out
+    assert any(np.array_equal(v, hull[-2]) for v in patch)                         # the hull's largest x
+    for _ in range(300):
+        axis = np.array([*rng.normal(size=2), 0.0])
+        axis /= np.linalg.norm(axis)
+        phi = rng.uniform(0, 0.999 * tilt)
+        K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        R = np.eye(3) + np.sin(phi) * K + (1 - np.cos(phi)) * K @ K
+        assert (patch @ R.T)[:, 2].min() == pytest.approx((hull @ R.T)[:, 2].min(), abs=1e-12)
+
+
+def test_unloading_read_only_above_the_gate_gives_the_same_time(monkeypatch):
+    """The contacts read from UNLOAD_GATE x the least uplift acceleration on, or at every step: the same
+    unloading time (a one-sine pulse that lifts the block)."""
+    from statue2model.crosscheck import statue_scene as S
+
+    blk = StatueScene.block(b=0.1, h=0.5, m=100.0)
+    m = motions.sine_pulse(1.5 * 9.80665 * 0.1 / 0.5, 2.0)
+    s = SimSettings(dt=1e-3)
+    a = simulate_statue(blk, m, t_end=0.8, settings=s)
+    monkeypatch.setattr(S, "UNLOAD_GATE", 0.0)
+    b = simulate_statue(blk, m, t_end=0.8, settings=s)
+    assert a.unload_time is not None and a.unload_time > 0.05
+    assert a.unload_time == b.unload_time
+    assert np.array_equal(a.theta, b.theta)

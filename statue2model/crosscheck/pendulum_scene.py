@@ -51,7 +51,7 @@ from ..errors import InputError
 from .contact import ContactSettings
 from .isolator_scene import PlateRun, _box_inertia, _peaks
 from .statue_scene import STATUE_SETTINGS, StatueScene, add_statue, inertia_frame
-from .world import SimSettings, World, step_mean_acc
+from .world import run_clock, SimSettings, World, step_mean_acc
 
 EPS_MASS = 1e-6
 """Mass of each of the two carriages (x, y joints) per kg of plate: adds 2e-6 to the horizontal inertia."""
@@ -218,6 +218,11 @@ class PendulumResult(PlateRun):
         return d
 
 
+TILT_EVERY = 50
+"""Steps between two reads of the plate's tilt (PendulumResult.tilt_max; and at the last step): on its
+three prismatic joints the plate cannot rotate, the read is a check (0.0 in every run measured)."""
+
+
 def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | None = None,
                       settings: SimSettings | None = None, *, u0: float = 0.0, t_end: float | None = None,
                       contact: ContactSettings | None = None, dt_out: float = 0.005, free_time: float = 10.0,
@@ -235,6 +240,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
     >>> r.outcome, bool(abs(r.u[-1] - 0.05 * math.cos(0.2 * math.sqrt(9.80665 / 0.6))) < 3e-4)  # dt 2 ms
     ('ok', True)
     """
+    c0 = run_clock()
     contact = ContactSettings() if contact is None else contact
     settings = STATUE_SETTINGS if settings is None else settings
     if mount not in ("contact", "rigid"):
@@ -257,7 +263,8 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
     g = settings.g
     m_tot = m_plate + (statue.mass if statue is not None else 0.0)
     notes = []
-    t0, c0 = time.perf_counter(), time.process_time()
+    acc_l = acc_g.tolist()                  # Python floats: the step loop's arithmetic
+    t0 = time.perf_counter()
     with World(settings) as world:
         p = world.p
         box = world.call("createCollisionShape", p.GEOM_BOX,
@@ -285,7 +292,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
         body = theta = None
         V = None
         if statue is not None:
-            body = add_statue(world, statue, contact, z0=t_pl + z_0)
+            body = add_statue(world, statue, contact, z0=t_pl + z_0, collision="patch")
             pos, orn = world.call("getBasePositionAndOrientation", body)
             world.call("resetBasePositionAndOrientation", body, [pos[0] + u0, pos[1], pos[2]], orn)
             _, V = inertia_frame(statue.inertia)
@@ -303,8 +310,11 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
         t_cap = u_cap = t_ot = None
         v_prev = 0.0
         get_states, set_motors, apply_force = p.getJointStates, p.setJointMotorControlArray, p.applyExternalForce
-        get_pose = p.getBasePositionAndOrientation
+        get_pose, get_link = p.getBasePositionAndOrientation, p.getLinkState
+        d_R, d_L = (statue.params.delta_R, statue.params.delta_L) if statue is not None else (0.0, 0.0)
+        step, gravity, world_frame = p.stepSimulation, p.setGravity, p.WORLD_FRAME
         cid = world.client
+        a_set = None
         for k in range(n + 1):
             (x, vx, _, _), (y, vy, _, _), (z, vz, _, fz) = get_states(plate, joints, physicsClientId=cid)
             if k > 0:
@@ -312,12 +322,14 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
             if not (math.isfinite(x) and math.isfinite(vx) and math.isfinite(y) and math.isfinite(N)):
                 finite = False
                 break
-            a_abs = acc_g[k - 1] + (vx - v_prev) / dt if k > 0 else 0.0
+            a_abs = acc_l[k - 1] + (vx - v_prev) / dt if k > 0 else 0.0
             v_prev = vx
-            a_abs_max = max(a_abs_max, abs(a_abs))
+            if abs(a_abs) > a_abs_max:
+                a_abs_max = abs(a_abs)
             af.append(a_abs)
             uh = math.hypot(x, y)
-            u_max = max(u_max, uh)
+            if uh > u_max:
+                u_max = uh
             hit = t_cap is None and uh > cap
             if hit:
                 t_cap, u_cap = k * dt, x
@@ -331,13 +343,13 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
                 if not (math.isfinite(theta) and math.isfinite(pos[0]) and math.isfinite(pos[2])):
                     finite = False
                     break
-                d = statue.params.delta_R if theta > 0 else statue.params.delta_L
-                if abs(theta) >= d:
+                if (theta >= d_R) if theta > 0 else (-theta >= d_L):
                     overturned = True
                     t_ot = k * dt
             if k % every == 0 or hit or overturned or k == n:
-                q = world.call("getLinkState", plate, 2)[1]
-                tilt_max = max(tilt_max, 2.0 * math.asin(min(1.0, math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2))))
+                if k % TILT_EVERY == 0 or hit or overturned or k == n:
+                    q = get_link(plate, 2, physicsClientId=cid)[1]
+                    tilt_max = max(tilt_max, 2.0 * math.asin(min(1.0, math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2))))
                 ts.append(k * dt)
                 us.append(x)
                 uys.append(y)
@@ -352,7 +364,7 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
             # the sphere's horizontal reaction, with this step's N from the previous step
             s = math.sqrt(max(Rh * Rh - uh * uh, 1e-12 * Rh * Rh))
             fx, fy = -N * x / s, -N * y / s
-            apply_force(plate, 2, [fx, fy, 0.0], [x, y, t_pl / 2 + z], p.WORLD_FRAME, physicsClientId=cid)
+            apply_force(plate, 2, [fx, fy, 0.0], [x, y, t_pl / 2 + z], world_frame, physicsClientId=cid)
             # rolling resistance: bounded velocity motors, isotropic along the step's direction of motion
             vh = math.hypot(vx, vy)
             if vh > 1e-9:
@@ -365,15 +377,18 @@ def simulate_pendulum(scene: PendulumIsolator, motion, statue: StatueScene | Non
             zt = Rh - math.sqrt(max(Rh * Rh - xn * xn - yn * yn, 0.0))
             set_motors(plate, joints, ctrl, targetVelocities=[0.0, 0.0, (zt - z) / dt],
                        forces=[fr * cx, fr * cy, f_z], physicsClientId=cid)
-            world.set_ground_acc(acc_g[k])
-            world.step()
+            if acc_l[k] != a_set:                # gravity (-a, 0, -g): World.set_ground_acc
+                a_set = acc_l[k]
+                gravity(-a_set, 0.0, -g, physicsClientId=cid)
+            step(physicsClientId=cid)
             steps += 1
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    wall = time.perf_counter() - t0
     t_arr, u_arr = np.asarray(ts), np.asarray(us)
     pk_t, pk_u = _peaks(t_arr, u_arr)
     rocking = {}
     if body is not None and P:
         rocking = _statue_on_plate(statue, V, np.asarray(P, dtype=float), np.asarray(Q, dtype=float), dt)
+    cpu = time.process_time() - c0             # the whole call: set-up, steps and the statue's histories
     return PendulumResult(
         scene=scene, settings=settings, t=t_arr, u=u_arr, uy=np.asarray(uys), z=np.asarray(zs), N=np.asarray(Ns),
         acc_abs=np.asarray(aa), theta=np.asarray(th) if statue is not None else None, peaks_t=pk_t, peaks_u=pk_u,
