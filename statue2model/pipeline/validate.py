@@ -92,26 +92,56 @@ def specimen_models(body, direction: float, contact: Contact = Contact()) -> lis
     return models
 
 
-def _run_2d(task) -> tuple[float, float]:
-    from ..rocking.engine import simulate
+def _pooled(executor, n_tasks: int) -> bool:
+    """Whether ``n_tasks`` tasks go to ``executor``'s workers: a Dask cluster always, local processes when
+    there are 2 or more (one would only add a process start to this process's work), never one task alone."""
+    if executor is None or n_tasks < 2:
+        return False
+    return getattr(executor, "name", "") == "dask" or getattr(executor, "workers", 1) >= 2
 
-    models, motion = task
-    top = lift = 0
-    for m in models:
-        r = simulate(m, motion)
-        top += bool(r.overturned)
-        lift += r.uplift_time is not None
-    return top / len(models), lift / len(models)
+
+def _run_2d(task) -> np.ndarray:
+    """P(topple) and P(lift) over ``models`` of each motion of one block of tests: ``task`` = (models, motions);
+    returns (len(motions), 2). Each motion's runs are one batch of the compiled kernel (rocking/batch.py
+    run_batch: a row per model, the motion's samples shared), the numbers of one ``simulate`` per model
+    (rocking/engine.py: the same kernel, rtol, end time motion.end + FREE_TIME and the skip of a ground that
+    cannot lift the body). Module level so that it pickles (an executor's task)."""
+    from ..rocking import kernel as K
+    from ..rocking.batch import run_batch
+    from ..rocking.engine import FREE_TIME
+
+    models, motions = task
+    n = len(models)
+    P = np.array([m.kernel_vector() for m in models])
+    rows = np.arange(n, dtype=np.int64)
+    limits = [m.uplift_limits for m in models]
+    out = np.empty((len(motions), 2))
+    for j, motion in enumerate(motions):
+        kind, M, samples = motion.kernel_args()
+        hi, lo = motion.extremes()
+        quiet = np.array([hi <= up and lo >= -dn for up, dn in limits])   # engine.simulate's quiet ground
+        S = run_batch(models, P, kind, np.tile(M, (n, 1)), samples, np.full(n, motion.end + FREE_TIME),
+                      quiet=quiet, table_row=rows)
+        out[j] = (np.count_nonzero(S[:, K.S_OVERTURNED] > 0) / n, np.count_nonzero(np.isfinite(S[:, K.S_T_UPLIFT])) / n)
+    return out
 
 
 def predict_2d(models, motions, executor=None) -> tuple[np.ndarray, np.ndarray]:
-    """(P(topple), P(lift)) per motion over the sample models."""
-    tasks = [(models, m) for m in motions]
-    if executor is None or getattr(executor, "workers", 1) < 2 or len(tasks) < 2:
-        res = [_run_2d(t) for t in tasks]
+    """(P(topple), P(lift)) per motion over the sample models: here, a batch a motion in numba's threads;
+    with an executor of 2 workers or more, blocks of motions (compute/executors.py chunks, about 4 a
+    worker) on its workers. The same numbers either way."""
+    motions = list(motions)
+    if not motions:
+        return np.zeros(0), np.zeros(0)
+    if not _pooled(executor, len(motions)):
+        res = _run_2d((models, motions))
     else:
-        res = list(executor.map(_run_2d, tasks, desc="validate: 2D"))
-    return np.array([r[0] for r in res]), np.array([r[1] for r in res])
+        from ..compute.executors import chunks
+
+        blocks = chunks(len(motions), executor, min_chunk=1)
+        parts = executor.map(_run_2d, [(models, [motions[i] for i in b]) for b in blocks], desc="validate: 2D")
+        res = np.vstack(parts)
+    return res[:, 0].copy(), res[:, 1].copy()
 
 
 def _sample(pgas: np.ndarray, k: int) -> list[int]:
@@ -123,24 +153,68 @@ def _sample(pgas: np.ndarray, k: int) -> list[int]:
     return sorted(int(order[i]) for i in pick)
 
 
-def predict_3d(body, direction: float, motions, indices) -> dict:
-    """{test index: (P(topple), P(lift))} of the PyBullet scene on the tests ``indices``, over the
-    scenes of the contact band (module docstring; the nominal contact alone without a band)."""
-    from ..crosscheck.statue_scene import StatueScene, simulate_statue
+def _run_3d(task) -> tuple[bool, bool]:
+    """One PyBullet run: ``task`` = (StatueScene, motion); (overturned, lifted). Module level so that it pickles
+    (an executor's task)."""
+    from ..crosscheck.statue_scene import simulate_statue
+
+    scene, motion = task
+    r = simulate_statue(scene, motion)
+    return bool(r.overturned), r.uplift_time is not None
+
+
+def band_scenes(body, direction: float) -> list:
+    """The PyBullet scenes of the contact band's ends (module docstring; the nominal contact alone without a
+    band), each without its full mesh (the runs collide the convex hull: the scene then pickles in a few kB)."""
+    from ..crosscheck.statue_scene import StatueScene
 
     tols = [c.tol for c in body.base.cases] if body.base is not None else [None]
     scenes = []
     for t in tols:
         try:
-            scenes.append(StatueScene.from_body(body, direction, tol=t))
+            scenes.append(replace(StatueScene.from_body(body, direction, tol=t), mesh=None))
         except InputError:
             continue              # a contact the body cannot stand on (G outside its hull) is no scene
     if not scenes:
         raise InputError("the specimen cannot stand on any contact of its band: no 3D scene")
+    return scenes
+
+
+def _distinct(scenes) -> tuple[list, list[int]]:
+    """(the distinct scenes, the distinct scene of each): the ends of a band whose contact hulls are the same
+    (a flat base) give one scene, run once (a run is deterministic: the same scene, the same result)."""
+    import pickle
+
+    keys, uniq, which = {}, [], []
+    for sc in scenes:
+        k = pickle.dumps(sc)
+        if k not in keys:
+            keys[k] = len(uniq)
+            uniq.append(sc)
+        which.append(keys[k])
+    return uniq, which
+
+
+def predict_3d(body, direction: float, motions, indices, executor=None) -> dict:
+    """{test index: (P(topple), P(lift))} of the PyBullet scene on the tests ``indices``, over the
+    scenes of the contact band (module docstring; the nominal contact alone without a band). One task per
+    test x distinct scene, here one after the other, or with an executor of 2 workers or more on its workers
+    (the longest motions handed out first). The same numbers either way."""
+    scenes = band_scenes(body, direction)
+    uniq, which = _distinct(scenes)
+    indices = list(indices)
+    pairs = [(i, u) for i in indices for u in range(len(uniq))]
+    pairs.sort(key=lambda iu: -motions[iu[0]].end)             # stable: the longest runs first
+    tasks = [(uniq[u], motions[i]) for i, u in pairs]
+    if not _pooled(executor, len(tasks)):
+        res = [_run_3d(t) for t in tasks]
+    else:
+        res = executor.map(_run_3d, tasks, desc="validate: 3D")
+    got = dict(zip(pairs, res))
     out = {}
     for i in indices:
-        rs = [simulate_statue(sc, motions[i]) for sc in scenes]
-        out[i] = (sum(bool(r.overturned) for r in rs) / len(rs), sum(r.uplift_time is not None for r in rs) / len(rs))
+        rs = [got[(i, u)] for u in which]
+        out[i] = (sum(r[0] for r in rs) / len(rs), sum(r[1] for r in rs) / len(rs))
     return out
 
 
@@ -255,7 +329,7 @@ def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int
     if "3d" in models:
         idx = _sample(pgas, int(sample))
         say(f"validate: 3D on {len(idx)} of {len(tests)} tests")
-        res = predict_3d(body, direction, motions, idx)
+        res = predict_3d(body, direction, motions, idx, executor)
         for i, (top, lift) in res.items():
             rows[i].update(p_topple_3d=float(top), topple_3d=bool(top >= DECISION), p_lift_3d=float(lift),
                            lift_3d=bool(lift >= DECISION))
