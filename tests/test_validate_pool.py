@@ -19,6 +19,7 @@ from statue2model.pipeline.validate import (
     _distinct,
     band_scenes,
     predict_2d,
+    predict_2d_sets,
     predict_3d,
     specimen_models,
 )
@@ -69,6 +70,16 @@ def test_2d_batch_gives_the_numbers_of_one_simulate_a_model(scan, contact):
     assert any(0.0 < p < 1.0 for p in P0 + L0)
 
 
+def test_the_identification_grid_as_one_batch_gives_each_contacts_numbers(scan):
+    """identify's contacts (alpha x restitution) run together, a batch a motion: each set's P as alone."""
+    sets = [specimen_models(scan, 0.0, Contact(a, f)) for a, f in ((1.0, 0.9), (0.7, 1.0), (0.4, 1.05))]
+    records = _records()
+    got = predict_2d_sets(sets, records)
+    for models, (P, L) in zip(sets, got):
+        assert (P.tolist(), L.tolist()) == _reference_2d(models, records)
+    assert got[0][0].tolist() != got[2][0].tolist()       # the contacts differ: a mix-up would show
+
+
 def test_a_flat_base_gives_one_scene_a_scan_three(scan, tmp_path):
     import trimesh
 
@@ -107,6 +118,9 @@ def test_the_pool_gives_the_serial_numbers(scan, where, request):
     P, L = predict_2d(models, records)
     Pw, Lw = predict_2d(models, records, ex)
     assert Pw.tolist() == P.tolist() and Lw.tolist() == L.tolist()
+    sets = [models, specimen_models(scan, 0.0, Contact(0.5, 1.05))]
+    assert [(a.tolist(), b.tolist()) for a, b in predict_2d_sets(sets, records, ex)] == \
+        [(a.tolist(), b.tolist()) for a, b in predict_2d_sets(sets, records)]
     short = [records[0], records[4], records[3]]        # quiet, toppling, lifting: a few seconds each in 3D
     here = predict_3d(scan, 0.0, short, [0, 1, 2])
     pooled = predict_3d(scan, 0.0, short, [0, 1, 2], ex)

@@ -101,47 +101,59 @@ def _pooled(executor, n_tasks: int) -> bool:
 
 
 def _run_2d(task) -> np.ndarray:
-    """P(topple) and P(lift) over ``models`` of each motion of one block of tests: ``task`` = (models, motions);
-    returns (len(motions), 2). Each motion's runs are one batch of the compiled kernel (rocking/batch.py
-    run_batch: a row per model, the motion's samples shared), the numbers of one ``simulate`` per model
-    (rocking/engine.py: the same kernel, rtol, end time motion.end + FREE_TIME and the skip of a ground that
-    cannot lift the body). Module level so that it pickles (an executor's task)."""
+    """P(topple) and P(lift) over each set of models, of each motion of one block of tests: ``task`` =
+    (model sets, motions); returns (sets, len(motions), 2). Each motion's runs, every model of every set, are
+    one batch of the compiled kernel (rocking/batch.py run_batch: a row per model, the motion's samples
+    shared), the numbers of one ``simulate`` per model (rocking/engine.py: the same kernel, rtol, end time
+    motion.end + FREE_TIME and the skip of a ground that cannot lift the body). Module level so that it
+    pickles (an executor's task)."""
     from ..rocking import kernel as K
     from ..rocking.batch import run_batch
     from ..rocking.engine import FREE_TIME
 
-    models, motions = task
+    sets, motions = task
+    models = [m for ms in sets for m in ms]
+    ends = np.cumsum([0] + [len(ms) for ms in sets])
     n = len(models)
     P = np.array([m.kernel_vector() for m in models])
     rows = np.arange(n, dtype=np.int64)
     limits = [m.uplift_limits for m in models]
-    out = np.empty((len(motions), 2))
+    out = np.empty((len(sets), len(motions), 2))
     for j, motion in enumerate(motions):
         kind, M, samples = motion.kernel_args()
         hi, lo = motion.extremes()
         quiet = np.array([hi <= up and lo >= -dn for up, dn in limits])   # engine.simulate's quiet ground
         S = run_batch(models, P, kind, np.tile(M, (n, 1)), samples, np.full(n, motion.end + FREE_TIME),
                       quiet=quiet, table_row=rows)
-        out[j] = (np.count_nonzero(S[:, K.S_OVERTURNED] > 0) / n, np.count_nonzero(np.isfinite(S[:, K.S_T_UPLIFT])) / n)
+        top, lift = S[:, K.S_OVERTURNED] > 0, np.isfinite(S[:, K.S_T_UPLIFT])
+        for k in range(len(sets)):
+            r = slice(ends[k], ends[k + 1])
+            out[k, j] = np.count_nonzero(top[r]) / len(sets[k]), np.count_nonzero(lift[r]) / len(sets[k])
     return out
 
 
-def predict_2d(models, motions, executor=None) -> tuple[np.ndarray, np.ndarray]:
-    """(P(topple), P(lift)) per motion over the sample models: here, a batch a motion in numba's threads;
-    with an executor of 2 workers or more, blocks of motions (compute/executors.py chunks, about 4 a
-    worker) on its workers. The same numbers either way."""
+def predict_2d_sets(sets, motions, executor=None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """[(P(topple), P(lift)) per motion] over each set of sample models (the contacts of an identification):
+    here, one batch a motion (every set's models) in numba's threads; with an executor of 2 workers or more,
+    blocks of motions (compute/executors.py chunks, about 4 a worker) on its workers, each motion sent once.
+    The same numbers either way."""
     motions = list(motions)
     if not motions:
-        return np.zeros(0), np.zeros(0)
+        return [(np.zeros(0), np.zeros(0)) for _ in sets]
     if not _pooled(executor, len(motions)):
-        res = _run_2d((models, motions))
+        res = _run_2d((sets, motions))
     else:
         from ..compute.executors import chunks
 
         blocks = chunks(len(motions), executor, min_chunk=1)
-        parts = executor.map(_run_2d, [(models, [motions[i] for i in b]) for b in blocks], desc="validate: 2D")
-        res = np.vstack(parts)
-    return res[:, 0].copy(), res[:, 1].copy()
+        parts = executor.map(_run_2d, [(sets, [motions[i] for i in b]) for b in blocks], desc="validate: 2D")
+        res = np.concatenate(parts, axis=1)
+    return [(res[k, :, 0].copy(), res[k, :, 1].copy()) for k in range(len(sets))]
+
+
+def predict_2d(models, motions, executor=None) -> tuple[np.ndarray, np.ndarray]:
+    """(P(topple), P(lift)) per motion over the sample models (:func:`predict_2d_sets` of one set)."""
+    return predict_2d_sets([models], motions, executor)[0]
 
 
 def _sample(pgas: np.ndarray, k: int) -> list[int]:
@@ -263,21 +275,20 @@ def identify(campaign_path, executor=None, say=lambda m: None) -> dict:
     if len(set(obs)) < 2 and all(t.lifted is not None for t in other.tests) and \
             len({t.lifted for t in other.tests}) == 2:
         obs, outcome = [t.lifted for t in other.tests], "lift"      # the outcome that varies there
+    grid = [(a, f) for a in ALPHAS for f in E_GRID]
+    say(f"identify: {len(grid)} contacts (alpha x restitution) on {len(motions)} tests")
+    sets = [specimen_models(body, other.specimen.direction, Contact(a, f)) for a, f in grid]
     best, rows = None, []
-    for a in ALPHAS:
-        for f in E_GRID:
-            say(f"identify: alpha {a:g}, restitution x {f:g}")
-            P_top, P_lift = predict_2d(specimen_models(body, other.specimen.direction, Contact(a, f)), motions,
-                                       executor)
-            P = P_top if outcome == "topple" else P_lift
-            pred = P >= DECISION
-            s = scores(obs, pred, P)
-            row = {"alpha": a, "e_factor": f, "balanced_accuracy": _balanced(obs, pred), "brier": s["brier"],
-                   "recall": s["recall"]["value"], "precision": s["precision"]["value"]}
-            rows.append(row)
-            key = (row["balanced_accuracy"], -row["brier"])
-            if best is None or key > best[0]:
-                best = (key, row)
+    for (a, f), (P_top, P_lift) in zip(grid, predict_2d_sets(sets, motions, executor)):
+        P = P_top if outcome == "topple" else P_lift
+        pred = P >= DECISION
+        s = scores(obs, pred, P)
+        row = {"alpha": a, "e_factor": f, "balanced_accuracy": _balanced(obs, pred), "brier": s["brier"],
+               "recall": s["recall"]["value"], "precision": s["precision"]["value"]}
+        rows.append(row)
+        key = (row["balanced_accuracy"], -row["brier"])
+        if best is None or key > best[0]:
+            best = (key, row)
     chosen = best[1]
     return {"campaign": other.name, "tests": len(other.tests), "outcome": outcome, "alpha": chosen["alpha"],
             "e_factor": chosen["e_factor"], "balanced_accuracy": chosen["balanced_accuracy"],
