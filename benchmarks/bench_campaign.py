@@ -10,8 +10,8 @@ campaign.toml are written as a lab would (the format of tests/test_validate.py's
 Each row runs ``validate`` (pipeline/validate.py: the scan read, the motions read, the predictions, the json and
 html written) in a subprocess per code tree (``PYTHONPATH`` = the tree): old = serial, in-process (the
 854e6ff code path: one ``simulate`` per 2D run; 3D scenes one after the other); new = ``--workers`` local
-processes (ProcessExecutor; the pool's start is in the time) and, for 2D, also in-process (the batch kernel in
-numba's threads). 3D rows run every test in 3D (``--sample N``). The table gives the wall time (s) and the CPU
+processes (ProcessExecutor; the pool's start is in the time) and, for 2D, also in-process (the batch kernel on
+one thread). 3D rows run every test in 3D (``--sample N``). The table gives the wall time (s) and the CPU
 time (s, the process and its workers), the ratio old / new of each, the tests a minute of the new code and the
 time it projects for a 500-test campaign (500 / tests a minute; "500 CPU/w": the new CPU time a test x 500
 over the workers' cores, the wall time where each worker has a core of its own: on a shared machine the wall
@@ -182,7 +182,7 @@ def main() -> int:
           f"{'ratio':>5} {'tests/min':>9} {'500 tests':>9} {'500 CPU/w':>9} {'same P':>6} {'load':>5}")
     for n, model, how, ow, nw, oc, nc, pm, proj, cpu500, same, load in table:
         print(f"{n:>4} {model:<5} {how:<11} {ow:>7.1f} {nw:>7.1f} {ow / nw:>5.2f} {oc:>7.1f} {nc:>7.1f} "
-              f"{oc / nc:>5.2f} {pm:>9.1f} {proj / 60:>7.1f} m {cpu500 / 60:>7.1f} m {str(same):>6} {load:>5.1f}")
+              f"{oc / nc:>5.2f} {pm:>9.1f} {proj:>7.1f} m {cpu500 / 60:>7.1f} m {str(same):>6} {load:>5.1f}")
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
     return 0 if same_all else 1
 

@@ -134,14 +134,19 @@ def _run_2d(task) -> np.ndarray:
 
 def predict_2d_sets(sets, motions, executor=None) -> list[tuple[np.ndarray, np.ndarray]]:
     """[(P(topple), P(lift)) per motion] over each set of sample models (the contacts of an identification):
-    here, one batch a motion (every set's models) in numba's threads; with an executor of 2 workers or more,
+    here, one batch a motion (every set's models) on one thread; with an executor of 2 workers or more,
     blocks of motions (compute/executors.py chunks, about 4 a worker) on its workers, each motion sent once.
     The same numbers either way."""
     motions = list(motions)
     if not motions:
         return [(np.zeros(0), np.zeros(0)) for _ in sets]
     if not _pooled(executor, len(motions)):
-        res = _run_2d((sets, motions))
+        from ..compute.executors import SerialExecutor
+
+        # one numba thread: a batch of a few rows a motion in 2 threads meets at a barrier each motion, and on a
+        # loaded machine each barrier waits for a descheduled thread (200 tests at load 15: 8 s CPU, 65 s wall)
+        with SerialExecutor() as here:
+            res = here.map(_run_2d, [(sets, motions)])[0]
     else:
         from ..compute.executors import chunks
 
