@@ -1,7 +1,7 @@
 """Command-line stage of the validation: ``statue2model validate CAMPAIGN.toml --out DIR``.
 
     statue2model validate CAMPAIGN.toml --out DIR [--models 2d,3d] [--identify OTHER.toml] [--sample N]
-                          [--workers N]
+                          [--workers N | --scheduler ADDRESS]
 """
 from __future__ import annotations
 
@@ -23,7 +23,11 @@ def add_parsers(sub) -> None:
     p.add_argument("--models", default="2d", help="2d, 3d or 2d,3d (default 2d)")
     p.add_argument("--identify", metavar="OTHER.toml", help="identify the contact on this campaign first")
     p.add_argument("--sample", type=int, default=10, metavar="N", help="tests run in 3D (default 10)")
-    p.add_argument("--workers", type=int, metavar="N", help="local processes for the 2D runs")
+    x = p.add_mutually_exclusive_group()
+    x.add_argument("--workers", type=int, metavar="N", help="run the tests (2D and 3D) on N local worker processes, "
+                   "one core each (default: this process, the 2D runs of a test in its threads)")
+    x.add_argument("--scheduler", metavar="ADDRESS", help="run the tests on the workers of a Dask cluster "
+                   "(tcp://host:8786)")
     p.set_defaults(func=_cmd_validate)
 
 
@@ -38,12 +42,13 @@ def _cmd_validate(args) -> int:
         raise InputError(f"--sample must be at least 1, got {args.sample}")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
-    if args.workers is None or args.workers < 2:
+    if args.scheduler is None and (args.workers is None or args.workers < 2):
         ctx = contextlib.nullcontext(None)
     else:
         from ..compute.executors import make_executor
 
-        ctx = make_executor(workers=args.workers, cap=True)
+        ctx = make_executor(scheduler=args.scheduler, workers=args.workers, cap=True)
+        print(f"running on {ctx.describe()}")
     with open_output(args.out, "validate", command="validate", can_reuse=False) as od, \
             od.group(VALIDATION_FILES) as g, ctx as ex:
         res = validate(args.campaign, g.tmp, models=models, identify_path=args.identify, sample=args.sample,

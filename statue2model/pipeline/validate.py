@@ -92,26 +92,73 @@ def specimen_models(body, direction: float, contact: Contact = Contact()) -> lis
     return models
 
 
-def _run_2d(task) -> tuple[float, float]:
-    from ..rocking.engine import simulate
+def _pooled(executor, n_tasks: int) -> bool:
+    """Whether ``n_tasks`` tasks go to ``executor``'s workers: a Dask cluster always, local processes when
+    there are 2 or more (one would only add a process start to this process's work), never one task alone."""
+    if executor is None or n_tasks < 2:
+        return False
+    return getattr(executor, "name", "") == "dask" or getattr(executor, "workers", 1) >= 2
 
-    models, motion = task
-    top = lift = 0
-    for m in models:
-        r = simulate(m, motion)
-        top += bool(r.overturned)
-        lift += r.uplift_time is not None
-    return top / len(models), lift / len(models)
+
+def _run_2d(task) -> np.ndarray:
+    """P(topple) and P(lift) over each set of models, of each motion of one block of tests: ``task`` =
+    (model sets, motions); returns (sets, len(motions), 2). Each motion's runs, every model of every set, are
+    one batch of the compiled kernel (rocking/batch.py run_batch: a row per model, the motion's samples
+    shared), the numbers of one ``simulate`` per model (rocking/engine.py: the same kernel, rtol, end time
+    motion.end + FREE_TIME and the skip of a ground that cannot lift the body). Module level so that it
+    pickles (an executor's task)."""
+    from ..rocking import kernel as K
+    from ..rocking.batch import run_batch
+    from ..rocking.engine import FREE_TIME
+
+    sets, motions = task
+    models = [m for ms in sets for m in ms]
+    ends = np.cumsum([0] + [len(ms) for ms in sets])
+    n = len(models)
+    P = np.array([m.kernel_vector() for m in models])
+    rows = np.arange(n, dtype=np.int64)
+    limits = [m.uplift_limits for m in models]
+    out = np.empty((len(sets), len(motions), 2))
+    for j, motion in enumerate(motions):
+        kind, M, samples = motion.kernel_args()
+        hi, lo = motion.extremes()
+        quiet = np.array([hi <= up and lo >= -dn for up, dn in limits])   # engine.simulate's quiet ground
+        S = run_batch(models, P, kind, np.tile(M, (n, 1)), samples, np.full(n, motion.end + FREE_TIME),
+                      quiet=quiet, table_row=rows)
+        top, lift = S[:, K.S_OVERTURNED] > 0, np.isfinite(S[:, K.S_T_UPLIFT])
+        for k in range(len(sets)):
+            r = slice(ends[k], ends[k + 1])
+            out[k, j] = np.count_nonzero(top[r]) / len(sets[k]), np.count_nonzero(lift[r]) / len(sets[k])
+    return out
+
+
+def predict_2d_sets(sets, motions, executor=None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """[(P(topple), P(lift)) per motion] over each set of sample models (the contacts of an identification):
+    here, one batch a motion (every set's models) on one thread; with an executor of 2 workers or more,
+    blocks of motions (compute/executors.py chunks, about 4 a worker) on its workers, each motion sent once.
+    The same numbers either way."""
+    motions = list(motions)
+    if not motions:
+        return [(np.zeros(0), np.zeros(0)) for _ in sets]
+    if not _pooled(executor, len(motions)):
+        from ..compute.executors import SerialExecutor
+
+        # one numba thread: a batch of a few rows a motion in 2 threads meets at a barrier each motion, and on a
+        # loaded machine each barrier waits for a descheduled thread (200 tests at load 15: 8 s CPU, 65 s wall)
+        with SerialExecutor() as here:
+            res = here.map(_run_2d, [(sets, motions)])[0]
+    else:
+        from ..compute.executors import chunks
+
+        blocks = chunks(len(motions), executor, min_chunk=1)
+        parts = executor.map(_run_2d, [(sets, [motions[i] for i in b]) for b in blocks], desc="validate: 2D")
+        res = np.concatenate(parts, axis=1)
+    return [(res[k, :, 0].copy(), res[k, :, 1].copy()) for k in range(len(sets))]
 
 
 def predict_2d(models, motions, executor=None) -> tuple[np.ndarray, np.ndarray]:
-    """(P(topple), P(lift)) per motion over the sample models."""
-    tasks = [(models, m) for m in motions]
-    if executor is None or getattr(executor, "workers", 1) < 2 or len(tasks) < 2:
-        res = [_run_2d(t) for t in tasks]
-    else:
-        res = list(executor.map(_run_2d, tasks, desc="validate: 2D"))
-    return np.array([r[0] for r in res]), np.array([r[1] for r in res])
+    """(P(topple), P(lift)) per motion over the sample models (:func:`predict_2d_sets` of one set)."""
+    return predict_2d_sets([models], motions, executor)[0]
 
 
 def _sample(pgas: np.ndarray, k: int) -> list[int]:
@@ -123,36 +170,91 @@ def _sample(pgas: np.ndarray, k: int) -> list[int]:
     return sorted(int(order[i]) for i in pick)
 
 
-def predict_3d(body, direction: float, motions, indices) -> dict:
-    """{test index: (P(topple), P(lift))} of the PyBullet scene on the tests ``indices``, over the
-    scenes of the contact band (module docstring; the nominal contact alone without a band)."""
-    from ..crosscheck.statue_scene import StatueScene, simulate_statue
+def _run_3d(task) -> tuple[bool, bool]:
+    """One PyBullet run: ``task`` = (StatueScene, motion); (overturned, lifted). Module level so that it pickles
+    (an executor's task)."""
+    from ..crosscheck.statue_scene import simulate_statue
+
+    scene, motion = task
+    r = simulate_statue(scene, motion)
+    return bool(r.overturned), r.uplift_time is not None
+
+
+def band_scenes(body, direction: float) -> list:
+    """The PyBullet scenes of the contact band's ends (module docstring; the nominal contact alone without a
+    band), each without its full mesh (the runs collide the convex hull: the scene then pickles in a few kB)."""
+    from ..crosscheck.statue_scene import StatueScene
 
     tols = [c.tol for c in body.base.cases] if body.base is not None else [None]
     scenes = []
     for t in tols:
         try:
-            scenes.append(StatueScene.from_body(body, direction, tol=t))
+            scenes.append(replace(StatueScene.from_body(body, direction, tol=t), mesh=None))
         except InputError:
             continue              # a contact the body cannot stand on (G outside its hull) is no scene
     if not scenes:
         raise InputError("the specimen cannot stand on any contact of its band: no 3D scene")
+    return scenes
+
+
+def _distinct(scenes) -> tuple[list, list[int]]:
+    """(the distinct scenes, the distinct scene of each): the ends of a band whose contact hulls are the same
+    (a flat base) give one scene, run once (a run is deterministic: the same scene, the same result)."""
+    import pickle
+
+    keys, uniq, which = {}, [], []
+    for sc in scenes:
+        k = pickle.dumps(sc)
+        if k not in keys:
+            keys[k] = len(uniq)
+            uniq.append(sc)
+        which.append(keys[k])
+    return uniq, which
+
+
+def predict_3d(body, direction: float, motions, indices, executor=None) -> dict:
+    """{test index: (P(topple), P(lift))} of the PyBullet scene on the tests ``indices``, over the
+    scenes of the contact band (module docstring; the nominal contact alone without a band). One task per
+    test x distinct scene, here one after the other, or with an executor of 2 workers or more on its workers
+    (the longest motions handed out first). The same numbers either way."""
+    scenes = band_scenes(body, direction)
+    uniq, which = _distinct(scenes)
+    indices = list(indices)
+    pairs = [(i, u) for i in indices for u in range(len(uniq))]
+    pairs.sort(key=lambda iu: -motions[iu[0]].end)             # stable: the longest runs first
+    tasks = [(uniq[u], motions[i]) for i, u in pairs]
+    if not _pooled(executor, len(tasks)):
+        res = [_run_3d(t) for t in tasks]
+    else:
+        res = executor.map(_run_3d, tasks, desc="validate: 3D")
+    got = dict(zip(pairs, res))
     out = {}
     for i in indices:
-        rs = [simulate_statue(sc, motions[i]) for sc in scenes]
-        out[i] = (sum(bool(r.overturned) for r in rs) / len(rs), sum(r.uplift_time is not None for r in rs) / len(rs))
+        rs = [got[(i, u)] for u in which]
+        out[i] = (sum(r[0] for r in rs) / len(rs), sum(r[1] for r in rs) / len(rs))
     return out
 
 
-def _read_motions(campaign) -> tuple[list, list[list[str]]]:
+def _read_one(task) -> tuple:
+    """One test's motion file: ``task`` = (path, LabFormat, label); (GroundMotion, notes, PGV m/s). Module level
+    so that it pickles (an executor's task)."""
+    from ..assessment.fragility import pgv
     from ..hazard.lab import read_lab_motion
 
-    motions, notes = [], []
-    for t in campaign.tests:
-        m, n = read_lab_motion(t.file, campaign.motion, label=t.name)
-        motions.append(m)
-        notes.append(n)
-    return motions, notes
+    path, fmt, label = task
+    m, notes = read_lab_motion(path, fmt, label=label)
+    return m, notes, pgv(m)
+
+
+def _read_motions(campaign, executor=None) -> tuple[list, list[list[str]], np.ndarray]:
+    """(motions, notes, PGVs in m/s) of the campaign's tests, read here or, with an executor, on its workers
+    (a lab file of 40 s is 8000 lines of text: reading is most of a 2D campaign's time)."""
+    tasks = [(t.file, campaign.motion, t.name) for t in campaign.tests]
+    if _pooled(executor, len(tasks)):
+        res = executor.map(_read_one, tasks, desc="validate: motion files")
+    else:
+        res = [_read_one(t) for t in tasks]
+    return [r[0] for r in res], [r[1] for r in res], np.array([r[2] for r in res], dtype=float)
 
 
 def _balanced(obs, pred) -> float:
@@ -172,27 +274,26 @@ def identify(campaign_path, executor=None, say=lambda m: None) -> dict:
 
     other = load_campaign(campaign_path)
     body = _body(other)
-    motions, _ = _read_motions(other)
+    motions, _, _ = _read_motions(other, executor)
     obs = [t.toppled for t in other.tests]
     outcome = "topple"
     if len(set(obs)) < 2 and all(t.lifted is not None for t in other.tests) and \
             len({t.lifted for t in other.tests}) == 2:
         obs, outcome = [t.lifted for t in other.tests], "lift"      # the outcome that varies there
+    grid = [(a, f) for a in ALPHAS for f in E_GRID]
+    say(f"identify: {len(grid)} contacts (alpha x restitution) on {len(motions)} tests")
+    sets = [specimen_models(body, other.specimen.direction, Contact(a, f)) for a, f in grid]
     best, rows = None, []
-    for a in ALPHAS:
-        for f in E_GRID:
-            say(f"identify: alpha {a:g}, restitution x {f:g}")
-            P_top, P_lift = predict_2d(specimen_models(body, other.specimen.direction, Contact(a, f)), motions,
-                                       executor)
-            P = P_top if outcome == "topple" else P_lift
-            pred = P >= DECISION
-            s = scores(obs, pred, P)
-            row = {"alpha": a, "e_factor": f, "balanced_accuracy": _balanced(obs, pred), "brier": s["brier"],
-                   "recall": s["recall"]["value"], "precision": s["precision"]["value"]}
-            rows.append(row)
-            key = (row["balanced_accuracy"], -row["brier"])
-            if best is None or key > best[0]:
-                best = (key, row)
+    for (a, f), (P_top, P_lift) in zip(grid, predict_2d_sets(sets, motions, executor)):
+        P = P_top if outcome == "topple" else P_lift
+        pred = P >= DECISION
+        s = scores(obs, pred, P)
+        row = {"alpha": a, "e_factor": f, "balanced_accuracy": _balanced(obs, pred), "brier": s["brier"],
+               "recall": s["recall"]["value"], "precision": s["precision"]["value"]}
+        rows.append(row)
+        key = (row["balanced_accuracy"], -row["brier"])
+        if best is None or key > best[0]:
+            best = (key, row)
     chosen = best[1]
     return {"campaign": other.name, "tests": len(other.tests), "outcome": outcome, "alpha": chosen["alpha"],
             "e_factor": chosen["e_factor"], "balanced_accuracy": chosen["balanced_accuracy"],
@@ -208,7 +309,6 @@ def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int
     """Replay the campaign at ``campaign_path``; write OUT/validation.json and validation.html; return the record.
     ``contact``: the contact to assume (Python only; ``identify_path`` identifies it instead)."""
     from ..assessment.campaign import load_campaign
-    from ..assessment.fragility import pgv
     from ..io.files import write_json
     from ..quantities import G
 
@@ -226,9 +326,8 @@ def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int
     body = _body(campaign)
     direction = campaign.specimen.direction
     p0 = body.rocking(direction)
-    motions, notes = _read_motions(campaign)
+    motions, notes, pgvs = _read_motions(campaign, executor)
     pgas = np.array([m.pga for m in motions])
-    pgvs = np.array([pgv(m) for m in motions])
     tests = campaign.tests
     rows = [{"name": t.name, "file": t.file.name, "toppled": t.toppled, "lifted": t.lifted,
              "peak_rotation": t.peak_rotation, "pga": float(a), "pga_g": float(a / G), "pgv": float(v),
@@ -255,7 +354,7 @@ def validate(campaign_path, out, models=("2d",), identify_path=None, sample: int
     if "3d" in models:
         idx = _sample(pgas, int(sample))
         say(f"validate: 3D on {len(idx)} of {len(tests)} tests")
-        res = predict_3d(body, direction, motions, idx)
+        res = predict_3d(body, direction, motions, idx, executor)
         for i, (top, lift) in res.items():
             rows[i].update(p_topple_3d=float(top), topple_3d=bool(top >= DECISION), p_lift_3d=float(lift),
                            lift_3d=bool(lift >= DECISION))
