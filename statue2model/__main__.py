@@ -32,11 +32,27 @@ def _interrupted(signum, frame) -> None:
         os._exit(130)
 
 
+def _after_the_program() -> None:
+    """The last of the interpreter's exit handlers (registered first, run last): a Ctrl-C from
+    here on is ignored. The command has ended and written everything; without this, one that
+    lands in the interpreter's final clean-up (after it has put the default SIGINT action
+    back: tens of milliseconds of freeing modules) killed the process by the signal, status
+    -2, with nothing said. Before this point :func:`_interrupted` answers it."""
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # pragma: no cover - not the main thread
+        pass
+
+
 if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
     try:
         signal.signal(signal.SIGINT, _interrupted)
     except ValueError:          # not the main thread: not the program's entry
         pass
+    else:
+        import atexit           # built in
+
+        atexit.register(_after_the_program)
 
 
 def main() -> int:

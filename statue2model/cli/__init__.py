@@ -142,10 +142,22 @@ def _end_now(code: int) -> None:
 def _dispatch(args, guard=None) -> int:
     """The command's handler; its errors as exit statuses (KeyboardInterrupt goes to main). An
     exception raised after a Ctrl-C arrived (``guard.interrupted``: a library that turned the
-    KeyboardInterrupt into its own error, e.g. a figure half drawn) is the interrupt's, not a bug:
-    status 130, and main says "interrupted"."""
+    KeyboardInterrupt into its own error, e.g. a figure half drawn, or trimesh's PLY reader that
+    dropped it and then failed on its file: "cannot read ...: Bad file descriptor") is the
+    interrupt's, not the input's nor a bug: status 130, nothing printed here (main says
+    "interrupted")."""
     try:
         return args.func(args)
+    except Exception:
+        if guard is not None and guard.interrupted:
+            return 130
+        return _error_status()
+
+
+def _error_status() -> int:
+    """The exit status of the exception being handled (printed as one line)."""
+    try:
+        raise
     except OutputError as exc:
         print(f"statue2model: error: {exc}", file=sys.stderr)
         return 3
@@ -162,8 +174,6 @@ def _dispatch(args, guard=None) -> int:
               "a coarser --dt-out or a shorter --t-end", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
-        if guard is not None and guard.interrupted:
-            return 130
         return _internal(exc)
 
 

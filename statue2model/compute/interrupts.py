@@ -2,7 +2,9 @@
 line's ``main`` installs :class:`InterruptGuard` before it imports numpy or any command).
 
 * :class:`InterruptGuard` - the SIGINT handler of a command: counts every Ctrl-C, raises
-  it as KeyboardInterrupt, re-delivers one that Python lost, ends a stop that hangs.
+  it as KeyboardInterrupt (never inside an import: there it is held until the import is
+  over), re-delivers one that Python lost, ends a stop that hangs; its :meth:`~InterruptGuard.check`
+  stops the command before a write once a Ctrl-C arrived, wherever it went.
 * :class:`interrupts_deferred` - a block a Ctrl-C must not cut in half (raised at its end).
 * :class:`interrupt_checkpoint` - a block of third-party code that may swallow the
   KeyboardInterrupt (``except BaseException``, as trimesh does around its optional imports
@@ -40,6 +42,16 @@ class InterruptGuard:
       hook, as before);
     * holds a Ctrl-C back inside :class:`interrupts_deferred` blocks (starting or
       stopping a pool's processes), raised when the block ends;
+    * holds a Ctrl-C back while the main thread imports a module (importlib's frames on its
+      stack), and the watcher delivers it again within 0.05 s of the import's end. A
+      KeyboardInterrupt raised inside an import is the cause of three faults: libraries that
+      catch ``BaseException`` around their imports drop it (trimesh), or print it as their
+      own error (rtree: "rtree.finder ... unexpected error"); C extensions turn it into an
+      ImportError that a fallback ``except ImportError`` drops; and a module interrupted
+      half-way (a C extension's init) is imported again by the next ``import`` of it. The
+      imports of a command take about a second, so the Ctrl-C waits at most that long;
+    * :meth:`check`, called before every write (statue2model.io.files), raises a Ctrl-C that
+      arrived but was dropped on its way (by a library): nothing is written after it;
     * after :meth:`stop` (the command is already ending) only counts.
 
     On leaving, the previous SIGINT handler and unraisable hook are restored.
@@ -62,6 +74,7 @@ class InterruptGuard:
         self._watcher = None
         self._deadline = None
         self._resent = False
+        self._import_held = False
 
     @property
     def interrupted(self) -> bool:
@@ -87,6 +100,25 @@ class InterruptGuard:
         if self._defer:
             self._held = True
             return
+        if _in_import(frame):
+            self._import_held = True        # the watcher delivers it again once the import is over
+            return
+        self._import_held = False
+        raise KeyboardInterrupt
+
+    def check(self) -> None:
+        """Before a write: KeyboardInterrupt if a Ctrl-C arrived while the command ran (whether it
+        was raised and then dropped by a library, or is still held back), so that nothing is
+        written after it. Not in a deferred block (raised at its end), not once the command is
+        ending (:meth:`stop`), not while an exception is being handled (the clean-up of a
+        stop that is already on its way writes, e.g. a manifest put back), main thread only."""
+        if not self.count or self.stopping or self._defer or not self._installed:
+            return
+        import threading
+
+        if threading.current_thread() is not threading.main_thread() or sys.exc_info()[0] is not None:
+            return
+        self._import_held = False
         raise KeyboardInterrupt
 
     def _start_deadline(self) -> None:
@@ -126,8 +158,14 @@ class InterruptGuard:
         return interrupt
 
     def _watch(self) -> None:
+        import threading
+
+        main = threading.main_thread().ident
         while not self._done.wait(self.poll):
-            if self._take_lost() and not self.stopping and not self._resent:
+            lost = self._take_lost()
+            if self._import_held and not self._resent and not _in_import(sys._current_frames().get(main)):
+                lost = True                     # the import that held it back is over
+            if lost and not self.stopping and not self._resent:
                 self._resent = True            # cleared by the handler: never more than one in flight
                 self._interrupt_main()         # this guard's handler runs again, in the main thread
 
@@ -175,6 +213,17 @@ class InterruptGuard:
         if signal.getsignal(signal.SIGINT) is self:
             signal.signal(signal.SIGINT, self._previous if self._previous is not None else signal.default_int_handler)
         self._installed = False
+
+
+def _in_import(frame) -> bool:
+    """Whether ``frame`` (the main thread's) runs inside an import: a frame of importlib's
+    bootstrap on its stack (every ``import`` of a module not yet loaded, Python's or a C
+    extension's, runs there; one already loaded does not)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib._bootstrap"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _check_signals() -> None:
@@ -279,6 +328,7 @@ class interrupt_checkpoint:
         guard = self._guard
         if (exc_type is None and guard is not None and guard.count > self._count and not guard.stopping
                 and not guard._defer and guard._installed):
+            guard._import_held = False      # delivered here: the watcher need not send it again
             raise KeyboardInterrupt
 
 

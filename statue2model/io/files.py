@@ -55,6 +55,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import socket
 import sys
 import tempfile
@@ -150,8 +151,20 @@ def _read_umask() -> int:
 _UMASK = _read_umask()   # read once: os.umask can only be read by setting it
 
 
+def stop_if_interrupted() -> None:
+    """Before a write: a Ctrl-C that arrived while the command ran stops it here, even one a
+    library dropped on its way (``except BaseException``): the SIGINT handler of the command
+    line (compute.interrupts.InterruptGuard, found through the signal module: io imports
+    nothing above it) counts every Ctrl-C and its ``check`` raises KeyboardInterrupt. Without
+    that handler (the package used from Python) nothing happens."""
+    check = getattr(signal.getsignal(signal.SIGINT), "check", None)
+    if check is not None:
+        check()
+
+
 def _write_file(tmp: Path, write: Callable[[Path], None]) -> None:
     """The one place every output's bytes are written (tests make it fail)."""
+    stop_if_interrupted()
     write(tmp)
 
 
@@ -240,6 +253,7 @@ def swap_in(tmp: str | os.PathLike, out: str | os.PathLike) -> Path:
     system; the old folder is removed afterwards), so ``out`` is never half-written.
     A symlinked ``out`` is followed: its target is replaced, the link stays. If the
     second rename fails, the old folder is put back."""
+    stop_if_interrupted()
     tmp, out = Path(tmp), Path(out)
     if out.is_symlink():
         out = out.resolve()
@@ -592,6 +606,7 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
     ``adopt(folder)``: names of an older statue2model output without a manifest, taken
     over with ``reuse``. ``can_reuse``: whether the command has --reuse (its refusal
     mentions it only then)."""
+    stop_if_interrupted()
     path = Path(path)
     if path.is_symlink():
         path = Path(os.path.realpath(path))      # follow the link: write into its target
@@ -741,6 +756,7 @@ class OutputGroup:
     __truediv__ = path
 
     def __enter__(self) -> OutputGroup:
+        stop_if_interrupted()
         self.created = not self.folder.exists()
         prepare_dir(self.folder)
         try:
@@ -783,6 +799,7 @@ class OutputGroup:
 
     def commit(self) -> list[Path]:
         """List the staged files and rename them into place (see the class docstring)."""
+        stop_if_interrupted()           # a Ctrl-C that arrived meanwhile: nothing appears
         staged = sorted(p.name for p in self.tmp.iterdir())
         listed_before = set(self._entries())
         if self.od is not None:
