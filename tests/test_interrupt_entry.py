@@ -21,6 +21,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -264,3 +265,44 @@ def test_the_forced_stop_after_ctrl_c_leaves_no_lock(tmp_path):
     assert "ended at once" in r.stderr and "Traceback" not in r.stderr, r.stderr
     assert json.loads(r.stdout.splitlines()[0]).endswith(".statue2model.lock")
     assert not (out / ".statue2model.lock").exists()
+
+
+def test_a_ctrl_c_inside_an_import_is_held_until_the_import_ends(tmp_path, monkeypatch):
+    """The guard never raises KeyboardInterrupt inside an import (where a library would drop it, print
+    it as its own error, or be left half imported): the module is imported whole, and the interrupt
+    comes as soon as the import is over (the guard's watcher sends it again)."""
+    from statue2model.compute.interrupts import InterruptGuard
+
+    (tmp_path / "ctrl_c_mid_import.py").write_text(
+        "import signal\nsignal.raise_signal(signal.SIGINT)\nfor i in range(100000):\n    pass\nwhole = True\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with InterruptGuard() as guard:
+        with pytest.raises(KeyboardInterrupt):
+            try:
+                import ctrl_c_mid_import
+            except KeyboardInterrupt:
+                pytest.fail("KeyboardInterrupt raised inside the import")
+            assert ctrl_c_mid_import.whole
+            for _ in range(6000):          # the watcher looks every 0.05 s: delivered on one of its looks
+                time.sleep(0.01)
+        guard.stop()
+    assert guard.count == 2                # the Ctrl-C, and its delivery once the import was over
+
+
+def test_nothing_is_written_after_a_ctrl_c_that_a_library_dropped(tmp_path):
+    from statue2model.compute.interrupts import InterruptGuard
+    from statue2model.io.files import OutputGroup, atomic_write, write_json
+
+    with InterruptGuard():
+        try:                               # a library that drops the Ctrl-C
+            signal.raise_signal(signal.SIGINT)
+        except BaseException:
+            pass
+        with pytest.raises(KeyboardInterrupt):
+            write_json(tmp_path / "a.json", {"x": 1})
+        with pytest.raises(KeyboardInterrupt):
+            with OutputGroup(tmp_path / "g", "demo", names=["b.csv"]) as g:
+                atomic_write(g / "b.csv", lambda p: p.write_text("x\n"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    write_json(tmp_path / "a.json", {"x": 1})    # no guard (the package used from Python): written
+    assert (tmp_path / "a.json").exists()
