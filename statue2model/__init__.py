@@ -22,8 +22,26 @@ Example
 0.732
 """
 from .errors import InputError
-from .geometry.body import Body, body_from_mesh, load_body
-from .geometry.rocking_params import RockingParams
 from .version import __version__
 
 __all__ = ["Body", "InputError", "RockingParams", "body_from_mesh", "load_body", "__version__"]
+
+# The geometry (numpy, scipy) is imported on first use of these names, not with the package: the
+# command line (``statue2model``, ``python -m statue2model``) imports this package before its first
+# line runs, and must install its Ctrl-C handling before any heavy import (cli.main).
+_LAZY = {"Body": ".geometry.body", "body_from_mesh": ".geometry.body", "load_body": ".geometry.body",
+         "RockingParams": ".geometry.rocking_params"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

@@ -195,3 +195,105 @@ def test_a_lock_of_another_host_is_stale_only_once_its_heartbeat_stops(tmp_path)
     assert time.time() - mine.stat().st_mtime < 5
     files.release_lock(mine)
     assert not mine.exists()
+
+
+def _serial_cli(monkeypatch):
+    """`statue2model run FOLDER` on a SerialExecutor (this process: monkeypatches reach the work)."""
+    from statue2model.cli import main
+    from statue2model.cli import run as cli_run
+
+    monkeypatch.setattr(cli_run, "_executor", lambda args, cfg: SerialExecutor())
+    return main
+
+
+def _message_lines(err: str) -> list[str]:
+    """stderr without the progress bars (tqdm redraws them with carriage returns)."""
+    import re
+
+    pieces = (s.strip() for s in re.split(r"[\r\n]", err))
+    return [s for s in pieces if s and not re.search(r"\d+/\d+ \[|task/s|it/s", s)]
+
+
+@pytest.mark.parametrize("n", [1, 5, 9])
+def test_disk_full_in_a_folder_run_is_a_write_failure_not_a_failed_scan(scans, tmp_path, monkeypatch, capsys, n):
+    """ENOSPC while a scan's files are written (the n-th file written of the run) ends the run with
+    exit 3 and one line naming the file (not its hidden partial folder): not one scan's failure
+    (before: exit 2, the object ranked first as "not assessed", the next scans run into the same
+    full disk), and no collection.json / .csv / .html that looks complete."""
+    import errno
+
+    from statue2model.io import files
+
+    main = _serial_cli(monkeypatch)
+    real, seen = files._write_file, []
+
+    def write(tmp, fn):
+        seen.append(tmp)
+        if len(seen) == n:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real(tmp, fn)
+
+    monkeypatch.setattr(files, "_write_file", write)
+    out = tmp_path / "out"
+    assert main(["run", str(scans), "--out", str(out), "--stages", "params"]) == 3
+    lines = _message_lines(capsys.readouterr().err)
+    assert len(lines) == 1 and lines[0].startswith("statue2model: error: no space left on device while writing "), lines
+    assert ".partial-" not in lines[0] and "not assessed" not in lines[0], lines
+    for name in ("collection.json", "collection.csv", "collection.html"):
+        assert not (out / name).exists()
+    assert not [p for p in out.rglob("*") if p.name == LOCK_NAME or ".partial-" in p.name or p.suffix == ".part"]
+
+
+def test_a_scan_task_passes_write_failures_on_and_keeps_its_own_errors(monkeypatch, tmp_path):
+    """The task of one scan (run in worker processes too: the error must pickle) raises an output
+    error; a bad scan or a bug stays that scan's row."""
+    import errno
+    import pickle
+
+    from statue2model.errors import InputError, OutputError
+    from statue2model.pipeline import run as pipeline_run
+
+    task = (tmp_path / "a.stl", tmp_path / "a", CFG, ["params"], False, False)
+    for raised, escapes in ((OutputError("no space left on device while writing x"), OutputError),
+                            (OSError(errno.ENOSPC, "No space left on device", "x/run.json"), OutputError),
+                            (OSError(errno.EROFS, "Read-only file system"), OutputError),
+                            (InputError("cannot read a.stl"), None), (RuntimeError("bug"), None)):
+        def fail(*a, _exc=raised, **k):
+            raise _exc
+
+        monkeypatch.setattr(pipeline_run, "run_project", fail)
+        if escapes is None:
+            assert "error" in pipeline_run._scan_task(task)
+            continue
+        with pytest.raises(escapes) as info:
+            pipeline_run._scan_task(task)
+        again = pickle.loads(pickle.dumps(info.value))
+        assert type(again) is OutputError and str(again) == str(info.value)
+
+
+def test_a_lock_whose_heartbeat_stopped_is_taken_over_whatever_its_pid(scans, tmp_path, monkeypatch, capsys):
+    """After a reboot the PID of a lock left behind may be another live process's: the folder was
+    refused forever ("wait for it"). A lock not refreshed for LOCK_STALE_AFTER s is taken over with
+    a one-line note, whatever its PID; a fresh one of a live PID is still refused."""
+    import socket
+    import time
+
+    from statue2model.io import files
+
+    main = _serial_cli(monkeypatch)
+    out = tmp_path / "out"
+    out.mkdir()
+    lock = out / LOCK_NAME
+    alive = os.getppid()                     # a live process, not a statue2model one
+    lock.write_text(json.dumps({"pid": alive, "host": socket.gethostname(), "started": "2026-11-26T08:00:00",
+                                "command": "run"}), encoding="utf-8")
+    assert main(["run", str(scans), "--out", str(out), "--stages", "params"]) == 2     # fresh: in use
+    assert f"in use by statue2model run (PID {alive}, started 08:00:00); wait for it" in capsys.readouterr().err
+    old = time.time() - files.LOCK_STALE_AFTER - 3600
+    os.utime(lock, (old, old))
+    assert main(["run", str(scans), "--out", str(out), "--stages", "params"]) == 0
+    notes = [s for s in _message_lines(capsys.readouterr().err) if "note" in s]
+    assert len(notes) == 1, notes
+    assert notes[0].startswith(f"statue2model: note: {out}: replaced a lock of PID {alive} (started 08:00:00) "
+                               "not refreshed for ") and f"(over {files.LOCK_STALE_AFTER:.0f} s)" in notes[0], notes
+    assert not lock.exists() and (out / "collection.json").is_file()

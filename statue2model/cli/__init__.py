@@ -22,10 +22,12 @@ file, exit status 3, and leaves no file that looks complete. Ctrl-C: status 130.
 Set STATUE2MODEL_DEBUG=1 to see tracebacks of internal errors (status 1).
 
 This module holds only ``main``, the top-level parser and the error-to-exit-status
-handling; each command's parser and handler live beside it by topic: geometry
-(props), dynamics (rock, spectrum, variability, sweep, identify, motion),
-fabrication (slice), isolator, crosscheck, run (run, config); argtypes holds the
-argument types they share.
+handling. It imports nothing heavy (no numpy): ``main`` puts its Ctrl-C handling in place
+before any command is imported (the console script's entry is ``statue2model.__main__:main``,
+that of older installs ``statue2model.cli:main``; tests/test_interrupt_entry.py). Each
+command's parser and handler live beside it by topic: geometry (props), dynamics (rock,
+spectrum, variability, sweep, identify, motion), fabrication (slice), isolator, crosscheck,
+run (run, config); argtypes holds the argument types they share.
 """
 from __future__ import annotations
 
@@ -36,11 +38,14 @@ import sys
 
 from ..version import __version__
 from ..errors import InputError, OutputError
-from ..io.files import _REASONS as _OUTPUT_REASONS
-from ..io.files import output_error
 from .argtypes import join_dash_values
 
-OUTPUT_ERRNOS = frozenset(_OUTPUT_REASONS)   # ENOSPC, EDQUOT, EACCES, EROFS, ENAMETOOLONG, ...
+
+def _output_reasons() -> dict:
+    """errno -> words of an output error (ENOSPC, EDQUOT, EACCES, EROFS, ENAMETOOLONG, ...)."""
+    from ..io.files import _REASONS
+
+    return _REASONS
 
 
 class _Parser(argparse.ArgumentParser):
@@ -76,9 +81,22 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run one command; returns its exit status. A Ctrl-C at any moment of the command
     (even one Python could only report as "Exception ignored", see
-    :class:`~statue2model.compute.executors.InterruptGuard`) ends it with the one line
-    ``statue2model: interrupted`` and status 130."""
-    from ..compute.executors import InterruptGuard
+    :class:`~statue2model.compute.interrupts.InterruptGuard`) ends it with the one line
+    ``statue2model: interrupted`` and status 130: also while the program is still
+    importing (the guard is installed first, from a module that imports only the standard
+    library; every command is imported under it), and in the instant before the guard is in
+    place or after it is gone (the KeyboardInterrupt of Python's own handler, caught here)."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("statue2model: interrupted", file=sys.stderr)
+        if argv is None:
+            _end_now(130)
+        return 130
+
+
+def _main(argv: list[str] | None) -> int:
+    from ..compute.interrupts import InterruptGuard
 
     with InterruptGuard() as guard:
         try:
@@ -89,6 +107,10 @@ def main(argv: list[str] | None = None) -> int:
             finally:
                 guard.stop()        # from here on a Ctrl-C is only counted
         except KeyboardInterrupt:   # also one that lands in the finally, before stop()
+            code = 130
+        except Exception:           # a Ctrl-C turned into another error while a command was imported
+            if not guard.interrupted:   # (numpy's C import: "ImportError ... could not import module")
+                raise
             code = 130
         if code == 130 or guard.interrupted:
             print("statue2model: interrupted", file=sys.stderr)
@@ -120,10 +142,22 @@ def _end_now(code: int) -> None:
 def _dispatch(args, guard=None) -> int:
     """The command's handler; its errors as exit statuses (KeyboardInterrupt goes to main). An
     exception raised after a Ctrl-C arrived (``guard.interrupted``: a library that turned the
-    KeyboardInterrupt into its own error, e.g. a figure half drawn) is the interrupt's, not a bug:
-    status 130, and main says "interrupted"."""
+    KeyboardInterrupt into its own error, e.g. a figure half drawn, or trimesh's PLY reader that
+    dropped it and then failed on its file: "cannot read ...: Bad file descriptor") is the
+    interrupt's, not the input's nor a bug: status 130, nothing printed here (main says
+    "interrupted")."""
     try:
         return args.func(args)
+    except Exception:
+        if guard is not None and guard.interrupted:
+            return 130
+        return _error_status()
+
+
+def _error_status() -> int:
+    """The exit status of the exception being handled (printed as one line)."""
+    try:
+        raise
     except OutputError as exc:
         print(f"statue2model: error: {exc}", file=sys.stderr)
         return 3
@@ -131,7 +165,7 @@ def _dispatch(args, guard=None) -> int:
         print(f"statue2model: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
-        if exc.errno not in OUTPUT_ERRNOS or os.environ.get("STATUE2MODEL_DEBUG"):
+        if exc.errno not in _output_reasons() or os.environ.get("STATUE2MODEL_DEBUG"):
             return _internal(exc)
         print(f"statue2model: error: {_os_error_line(exc)}", file=sys.stderr)
         return 3
@@ -140,16 +174,16 @@ def _dispatch(args, guard=None) -> int:
               "a coarser --dt-out or a shorter --t-end", file=sys.stderr)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
-        if guard is not None and guard.interrupted:
-            return 130
         return _internal(exc)
 
 
 def _os_error_line(exc: OSError) -> str:
     """One line for an OSError no output helper translated (e.g. a library writing directly)."""
+    from ..io.files import output_error
+
     if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
         return str(output_error(exc, exc.filename if exc.filename is not None else "an output file"))
-    return f"{_OUTPUT_REASONS[exc.errno]}" + (f": {exc.filename}" if exc.filename is not None else "")
+    return f"{_output_reasons()[exc.errno]}" + (f": {exc.filename}" if exc.filename is not None else "")
 
 
 def _internal(exc: BaseException) -> int:

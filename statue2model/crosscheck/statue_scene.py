@@ -127,7 +127,9 @@ class StatueScene:
         default the footprint's contact tolerance; the contact band's tol / 2 and 2 tol,
         geometry/base.py, give the scenes of its other ends) of the lowest are put on z = 0, the
         rest of the convex hull kept as scanned."""
-        import trimesh
+        from ..compute.interrupts import checked_import
+
+        trimesh = checked_import("trimesh")   # trimesh drops a Ctrl-C during its import
 
         params = body.rocking(direction_deg)
         psi = math.radians(params.direction_deg)

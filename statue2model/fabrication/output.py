@@ -309,7 +309,9 @@ def write_slice(res: SliceResult, out: Path | OutputDir, preview=None, reuse: bo
     previews) or ``preview(res, sheet, drawings, stem)``, called after each sheet's DXF to draw
     STEM.png and STEM.svg of sheet ``sheet`` (0-based), e.g.
     :func:`statue2model.report.fabrication_plots.plot_sheet`."""
-    import trimesh
+    from ..compute.interrupts import checked_import
+
+    trimesh = checked_import("trimesh")   # trimesh drops a Ctrl-C during its import
 
     od = out if isinstance(out, OutputDir) else open_slice_dir(Path(out), reuse)
     try:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..compute.interrupts import checked_import, interrupt_checkpoint
 from ..errors import InputError
 from ..io.inputs import input_problem, open_input
 from .gltf import read_gltf
@@ -88,10 +89,11 @@ class _NoFiles:
 
 
 def _load_trimesh(path: Path):
-    import trimesh
-
+    # trimesh catches BaseException around its optional imports and in its loaders: a Ctrl-C
+    # landing there would be dropped and the command go on; the checkpoint raises it again
+    trimesh = checked_import("trimesh")
     try:
-        with open_input(path, "scan") as f:     # a regular file only: never blocks on a FIFO
+        with open_input(path, "scan") as f, interrupt_checkpoint():   # a regular file only: never blocks on a FIFO
             loaded = trimesh.load(f, file_type=path.suffix.lower().lstrip("."), resolver=_NoFiles(),
                                   skip_materials=True, process=False)
     except InputError:

@@ -28,7 +28,8 @@ in the manifest and renamed into place; on any error (disk full, Ctrl-C) the sta
 folder is removed and nothing of the command appears, nor is listed.
 One writer per folder: ``DIR/.statue2model.lock`` (PID, host, start time; created
 with ``O_CREAT | O_EXCL``) refuses a second writer at once; a lock whose process
-is gone (same host) is reported and replaced. A symlinked folder is followed:
+is gone (same host: its PID no longer runs; any host: not refreshed for LOCK_STALE_AFTER s,
+whatever process has its PID now) is reported and replaced. A symlinked folder is followed:
 the files go into its target, the link stays.
 
 Example
@@ -54,6 +55,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import socket
 import sys
 import tempfile
@@ -71,8 +73,10 @@ LOCK_NAME = ".statue2model.lock"
 LOCK_HEARTBEAT = 30.0
 """s: the process holding a lock refreshes the lock file's modification time this often."""
 LOCK_STALE_AFTER = 600.0
-"""s: a lock of ANOTHER host not refreshed for this long is stale (its process is gone, e.g. a lost
-cluster worker: its PID cannot be checked from here); 20 missed heartbeats, wide for clock skew."""
+"""s: a lock not refreshed for this long is stale, whatever its PID and host: its process is gone (20
+missed heartbeats, wide for clock skew). On another host the PID cannot be checked from here (a lost
+cluster worker); on this host a PID still running may be another process's since a reboot or a
+wrap-around of the PIDs (a live holder refreshes its lock every LOCK_HEARTBEAT s)."""
 MANIFEST_SCHEMA = "statue2model.output/1"
 STAGING_PREFIX = ".statue2model.staging-"
 """Hidden folder (``.statue2model.staging-PID-XXXX``) where an :class:`OutputGroup` writes its files."""
@@ -147,8 +151,20 @@ def _read_umask() -> int:
 _UMASK = _read_umask()   # read once: os.umask can only be read by setting it
 
 
+def stop_if_interrupted() -> None:
+    """Before a write: a Ctrl-C that arrived while the command ran stops it here, even one a
+    library dropped on its way (``except BaseException``): the SIGINT handler of the command
+    line (compute.interrupts.InterruptGuard, found through the signal module: io imports
+    nothing above it) counts every Ctrl-C and its ``check`` raises KeyboardInterrupt. Without
+    that handler (the package used from Python) nothing happens."""
+    check = getattr(signal.getsignal(signal.SIGINT), "check", None)
+    if check is not None:
+        check()
+
+
 def _write_file(tmp: Path, write: Callable[[Path], None]) -> None:
     """The one place every output's bytes are written (tests make it fail)."""
+    stop_if_interrupted()
     write(tmp)
 
 
@@ -237,6 +253,7 @@ def swap_in(tmp: str | os.PathLike, out: str | os.PathLike) -> Path:
     system; the old folder is removed afterwards), so ``out`` is never half-written.
     A symlinked ``out`` is followed: its target is replaced, the link stays. If the
     second rename fails, the old folder is put back."""
+    stop_if_interrupted()
     tmp, out = Path(tmp), Path(out)
     if out.is_symlink():
         out = out.resolve()
@@ -355,7 +372,9 @@ def acquire_lock(folder: Path, command: str, say=None, heartbeat: float = LOCK_H
     process that is gone is reported with ``say`` and replaced: on this host a PID no longer
     running, on another host a lock not refreshed for LOCK_STALE_AFTER s (the holder refreshes
     its lock's modification time every ``heartbeat`` s from a daemon thread, :func:`_keep_fresh`,
-    which ends when the lock is released)."""
+    which ends when the lock is released). A lock not refreshed for LOCK_STALE_AFTER s is stale
+    on this host too, even when its PID is running: after a reboot (or a wrap-around) the PID
+    may be an unrelated process's."""
     say = say or (lambda m: print(m, file=sys.stderr))
     lock = Path(folder) / LOCK_NAME
     info = {"pid": os.getpid(), "host": socket.gethostname(), "started": time.strftime("%Y-%m-%dT%H:%M:%S"),
@@ -378,9 +397,10 @@ def acquire_lock(folder: Path, command: str, say=None, heartbeat: float = LOCK_H
                     raise InputError(f"{folder} is in use by another statue2model command; wait for it or "
                                      "choose another --out")
                 stale = "an unreadable lock"
-            elif host != socket.gethostname() and age > LOCK_STALE_AFTER:
-                stale = (f"a lock of PID {pid} on {host} (started {_clock(held.get('started'))}) not refreshed for "
-                         f"{age:.0f} s: its process is gone")
+            elif age > LOCK_STALE_AFTER:            # no heartbeat: whatever runs under that PID now is not its holder
+                where = "" if host == socket.gethostname() else f" on {host}"
+                stale = (f"a lock of PID {pid}{where} (started {_clock(held.get('started'))}) not refreshed for "
+                         f"{age:.0f} s (over {LOCK_STALE_AFTER:.0f} s): its process is gone")
             elif host != socket.gethostname() or _pid_alive(pid):
                 where = "" if host == socket.gethostname() else f" on {host}"
                 raise InputError(f"{folder} is in use by statue2model {held.get('command') or 'command'} "
@@ -404,6 +424,7 @@ def acquire_lock(folder: Path, command: str, say=None, heartbeat: float = LOCK_H
         except OSError as exc:
             lock.unlink(missing_ok=True)
             raise output_error(exc, lock) from None
+        _HELD_LOCKS.add(lock)
         if heartbeat and heartbeat > 0:
             import threading
 
@@ -427,8 +448,20 @@ def _keep_fresh(lock: Path, every: float) -> None:
             return
 
 
+_HELD_LOCKS: set[Path] = set()
+"""The locks this process took and has not released (:func:`release_held_locks`)."""
+
+
+def release_held_locks() -> None:
+    """Release every lock this process holds: called by the CLI's interrupt guard just before it
+    ends the process at once (a stop that took too long after Ctrl-C), which runs no ``finally``."""
+    for lock in list(_HELD_LOCKS):
+        release_lock(lock)
+
+
 def release_lock(lock: Path) -> None:
     """Remove ``lock`` if it is still this process's."""
+    _HELD_LOCKS.discard(Path(lock))
     try:
         held = json.loads(Path(lock).read_text(encoding="utf-8"))
     except (OSError, ValueError):
@@ -573,6 +606,7 @@ def open_output(path: str | os.PathLike, kind: str, *, reuse: bool = False, comm
     ``adopt(folder)``: names of an older statue2model output without a manifest, taken
     over with ``reuse``. ``can_reuse``: whether the command has --reuse (its refusal
     mentions it only then)."""
+    stop_if_interrupted()
     path = Path(path)
     if path.is_symlink():
         path = Path(os.path.realpath(path))      # follow the link: write into its target
@@ -722,6 +756,7 @@ class OutputGroup:
     __truediv__ = path
 
     def __enter__(self) -> OutputGroup:
+        stop_if_interrupted()
         self.created = not self.folder.exists()
         prepare_dir(self.folder)
         try:
@@ -764,6 +799,7 @@ class OutputGroup:
 
     def commit(self) -> list[Path]:
         """List the staged files and rename them into place (see the class docstring)."""
+        stop_if_interrupted()           # a Ctrl-C that arrived meanwhile: nothing appears
         staged = sorted(p.name for p in self.tmp.iterdir())
         listed_before = set(self._entries())
         if self.od is not None:

@@ -412,7 +412,9 @@ def volume_deficit_bound(geom: PlateGeometry, segments: int = 256, which: str = 
 
 def to_trimesh(solid):
     """A ``manifold3d.Manifold`` as a ``trimesh.Trimesh`` (float64 vertices, unchanged)."""
-    import trimesh
+    from ..compute.interrupts import checked_import
+
+    trimesh = checked_import("trimesh")   # trimesh drops a Ctrl-C during its import
 
     mesh = solid.to_mesh64()
     verts = np.asarray(mesh.vert_properties, dtype=float)[:, :3]

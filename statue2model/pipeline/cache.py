@@ -47,7 +47,7 @@ from collections.abc import Callable
 from functools import lru_cache
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, OutputError
 from ..io.files import file_sha256, read_json, swap_in, write_json
 
 MANIFEST = "stage.json"
@@ -204,6 +204,11 @@ def run_stage(stage_dir: Path, key: str, work: Callable[[Path], dict], force: bo
                         finished=time.strftime("%Y-%m-%dT%H:%M:%S"), files=stage_files(tmp))
         write_json(tmp / MANIFEST, manifest)
         swap_in(tmp, stage_dir)
+    except OutputError as exc:           # name the stage's file, not its hidden partial folder
+        shutil.rmtree(tmp, ignore_errors=True)
+        if str(tmp) not in str(exc):
+            raise
+        raise OutputError(str(exc).replace(str(tmp), str(stage_dir))) from None
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

@@ -34,6 +34,7 @@ Example
 """
 from __future__ import annotations
 
+import errno
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,8 +42,8 @@ from pathlib import Path
 from ..version import __version__
 from ..quantities import G
 from ..io.csvsafe import write_csv
-from ..errors import InputError, quoted
-from ..io.files import LOCK_NAME, MANIFEST_NAME, atomic_write, open_output, write_json
+from ..errors import InputError, OutputError, quoted
+from ..io.files import LOCK_NAME, MANIFEST_NAME, atomic_write, open_output, output_error, write_json
 from ..io.inputs import check_input
 from .cache import MANIFEST, completed, file_hash, run_stage, stage_key
 from .config import ProjectConfig, check_stage_names, motion_files, stage_list
@@ -327,12 +328,27 @@ def object_folders(scans) -> list[str]:
     return out
 
 
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS})
+"""errno of an ``OSError`` that is a failure to write (disk full, quota, file too large, read-only
+file system), whoever raised it: the run's, never one scan's (a library writing directly)."""
+
+
 def _scan_task(task) -> dict:
-    """One scan of a collection (module level: runs in worker processes or on Dask workers)."""
+    """One scan of a collection (module level: runs in worker processes or on Dask workers). Its
+    own errors (a bad scan, a bug) are its row's; an output that cannot be written (disk full,
+    quota, read-only: :class:`~statue2model.errors.OutputError`) ends the whole run, exit 3: the
+    next scan would fail the same way, and the scan is not to blame."""
     mesh, out, cfg, stages, force, *rest = task
     try:
         res = run_project(mesh, out, cfg, stages=stages, force=force, executor=None, report=True,
                           say=lambda m: None, reuse=bool(rest and rest[0]))
+    except OutputError:
+        raise
+    except OSError as exc:
+        if exc.errno in WRITE_ERRNOS:
+            raise output_error(exc, exc.filename if exc.filename is not None else out) from None
+        return {"scan": Path(mesh).name, "folder": Path(out).name,
+                "error": f"internal error ({type(exc).__name__}: {exc})", "internal": True}
     except InputError as exc:
         return {"scan": Path(mesh).name, "folder": Path(out).name, "error": str(exc)}
     except Exception as exc:        # one object's internal error must not cost the others their assessment
