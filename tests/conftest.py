@@ -40,6 +40,22 @@ def checkout_outputs_untouched():
                     "(give the command --out/--json under tmp_path or monkeypatch.chdir(tmp_path))", pytrace=False)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def record_set_cache(tmp_path_factory):
+    """One folder of matched record sets for the session (pipeline/record_cache.py): the tests
+    share the sets they match, as a user's runs do, and never write into the user's own cache.
+    Set in the environment, so the commands the tests start use it too."""
+    from statue2model.pipeline.record_cache import ENV
+
+    before = os.environ.get(ENV)
+    os.environ[ENV] = str(tmp_path_factory.mktemp("record_sets"))
+    yield
+    if before is None:
+        os.environ.pop(ENV, None)
+    else:
+        os.environ[ENV] = before
+
+
 @pytest.fixture(scope="module")
 def chromium() -> str:
     """The headless Chromium the report tests use: skipped without one, a failure under CI."""
