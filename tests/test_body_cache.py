@@ -155,6 +155,7 @@ def test_each_stage_gets_its_own_copy(first):
 
 
 # --- within a run, and across runs ----------------------------------------------------------------
+@pytest.mark.slow
 def test_one_body_per_run_for_params_prototype_and_crosscheck(tmp_path, monkeypatch):
     pytest.importorskip("pybullet")
     n = Counter(monkeypatch)
@@ -231,6 +232,7 @@ TAMPER = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", list(TAMPER))
 def test_a_tampered_file_is_ignored_and_the_outputs_do_not_change(first, tmp_path, monkeypatch, how):
     out = copy_of(first, tmp_path)

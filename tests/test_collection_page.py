@@ -189,6 +189,7 @@ def test_html_escapes_a_hostile_name(ranked, tmp_path):
     assert "not assessed: scan not found" in text
 
 
+@pytest.mark.slow
 def test_sort_and_filter_in_headless_chromium(ranked, tmp_path):
     from statue2model.report.browser import body_attributes, dump_dom, find_chromium
 

@@ -95,6 +95,7 @@ def _statue_study(executor, isolator=None):
                          isolator=isolator, executor=executor)
 
 
+@pytest.mark.slow
 def test_identical_serial_processes_dask():
     from statue2model.isolator.device import Isolator
 

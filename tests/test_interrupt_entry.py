@@ -142,6 +142,7 @@ def _imports_of_props(script: Path, tmp_path: Path, mesh: Path) -> int:
 SCAN = ROOT / "meshes" / "dancing_girl.ply"     # the issue's reproducer (trimesh's PLY reader)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("entry", list(ENTRIES))
 def test_ctrl_c_anywhere_in_the_imports_is_one_line_130_and_writes_nothing(tmp_path, entry):
     """Issue [24] items 4 and 5: a Ctrl-C at any point from the entry's first line through the imports
@@ -199,6 +200,7 @@ sys.exit(main())
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["props", "slice"])
 def test_a_ctrl_c_that_trimesh_swallows_still_stops_the_command(tmp_path, box, command):
     script = tmp_path / "swallowed.py"

@@ -247,6 +247,7 @@ def test_statue_on_the_plate_checks_contact_and_efficiency():
     assert not gentle.uplift and not gentle.rocking.stats["coupled_integration"]
 
 
+@pytest.mark.slow
 def test_design_meets_its_checks_and_explains_failures():
     statue = _statue()
     d = design(statue, spectrum=ec8(0.05 * G, "A"), mu=0.0073)

@@ -255,6 +255,7 @@ def test_bad_input_is_one_line():
 
 
 # --- a real design set on the bundled scan -----------------------------------------------------
+@pytest.mark.slow
 def test_design_record_set_on_the_default_scan():
     from statue2model.geometry.body import load_body
     from statue2model.hazard.code_spectra import parse_spectrum

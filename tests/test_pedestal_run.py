@@ -46,6 +46,7 @@ def test_the_default_scan_on_a_pedestal_gets_the_stack_rows(tmp_path):
     json.dumps(ls, allow_nan=False)
 
 
+@pytest.mark.slow
 def test_a_heavy_wide_pedestal_leaves_the_statue_as_on_the_floor(tmp_path):
     """Done-when of issue [22]: on a 3 x 3 x 0.2 m, 10 t pedestal with friction 1.0 the statue's full-contact
     and overturning demands equal the run without a pedestal within 3 %; the pedestal stays down."""
@@ -84,6 +85,7 @@ def test_objects_give_each_object_its_pedestal():
             load_config_text(f'[objects]\n"a.ply" = {bad}\n', "t.toml")
 
 
+@pytest.mark.slow
 def test_a_pedestal_scan_loads_like_a_statue_scan(tmp_path):
     """[pedestal] file (issue [22]): a scan of a 1.2 x 1.2 x 0.5 m pedestal, read by the statue's loader (units,
     up, density), gives the same rows as the box of the same size and mass (a squat pedestal that stays down: a
@@ -108,6 +110,7 @@ def test_a_pedestal_scan_loads_like_a_statue_scan(tmp_path):
         load_config_text('[pedestal]\nfile = "plinth.stl"\nsize = [1, 1, 1]\nmass = 3\n', "p.toml", base_dir=tmp_path)
 
 
+@pytest.mark.slow
 def test_the_isolator_under_the_pedestal_carries_the_stack(tmp_path):
     """[isolator] under = "pedestal" (issue [22], item 6): the device is designed for the statue and its pedestal
     (their mass on the balls), its top plate carries the pedestal's base, and the felt acceleration is held

@@ -216,6 +216,7 @@ def test_failing_browser_is_one_line_error(good_report):
 # ---- headless Chromium -------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_browser_loads_all_figures(chromium, good_report):
     check = check_figures(good_report, browser=chromium)
     assert check == FigureCheck(total=3, loaded=3, broken=(), missing=0)

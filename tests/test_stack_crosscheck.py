@@ -178,6 +178,7 @@ motion = "sine:amp=0.3g,freq=2"
 """
 
 
+@pytest.mark.slow
 def test_the_crosscheck_stage_classifies_the_stack(tmp_path):
     """params, dynamics, crosscheck on a box statue on a slender pedestal (measured 13 s on 2 cores)."""
     import trimesh
