@@ -94,3 +94,14 @@ def test_the_pipeline_task_goes_through_the_cache(cache):
     a = _match_task(_args())
     assert len(list(cache.glob("*.npz"))) == 1
     _same(a, _match_task(_args()))
+
+
+def test_every_field_of_the_set_is_kept(cache):
+    """A floor set's ``pga_cap`` (a field added after the cache was written) was dropped: a warm
+    run read the set back with ``pga_cap`` None. Every RecordSet field is now kept by its name."""
+    a = dataclasses.replace(_match_now(_args()), pga_cap=1.05, d_g=0.0123, sd_plateau=0.5)
+    key = C.set_key(_args())
+    C._to_file(cache / f"{key}.npz", key, a)
+    b = C._from_file(cache / f"{key}.npz", key)
+    assert b.pga_cap == 1.05
+    _same(a, b)

@@ -17,22 +17,32 @@ cannot be written keeps nothing (the run goes on).
 """
 from __future__ import annotations
 
+import dataclasses
+import functools
 import hashlib
 import json
 import os
 import pickle
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ..io.files import atomic_write
 from ..version import __version__
 from .cache import code_hash
 
 ENV = "STATUE2MODEL_RECORD_CACHE"
 """The environment variable naming the folder ('off' or '0': no cache)."""
 
-_CODE: list = []
+ARRAYS = ("periods", "spectra", "target")
+"""The RecordSet fields kept as npz arrays; ``records`` as one array each; every other field in
+the JSON header, by its dataclass name (a field added to RecordSet is kept without a change here)."""
+
+
+@functools.cache
+def _code() -> str:
+    """The package's code hash, once per process."""
+    return code_hash()
 
 
 def folder() -> Path | None:
@@ -46,34 +56,27 @@ def folder() -> Path | None:
 
 def set_key(args: tuple) -> str:
     """Key of the record set matched with ``args`` (stages._match_args' tuple)."""
-    if not _CODE:
-        _CODE.append(code_hash())
     h = hashlib.sha256()
     h.update(pickle.dumps(args, protocol=4))
-    h.update(json.dumps({"version": __version__, "code": _CODE[0]}).encode())
+    h.update(json.dumps({"version": __version__, "code": _code()}).encode())
     return h.hexdigest()
 
 
 def _to_file(path: Path, key: str, rs) -> None:
     """Write RecordSet ``rs`` to ``path`` (npz of arrays and a JSON header) atomically."""
     recs = rs.records
+    fields = {f.name: getattr(rs, f.name) for f in dataclasses.fields(rs) if f.name not in ("records", *ARRAYS)}
     meta = {"key": key, "dts": [m.dt for m in recs], "labels": [m.label for m in recs],
-            "starts": [m.start for m in recs], "seeds": list(rs.seeds), "band": list(rs.band),
-            "tolerance": list(rs.tolerance), "xi": rs.xi, "iterations": rs.iterations,
-            "target_info": rs.target_info, "target_pga": rs.target_pga, "required_band": list(rs.required_band),
-            "band_reason": rs.band_reason, "stationary_s": rs.stationary_s, "pga_scale": rs.pga_scale,
-            "d_g": rs.d_g, "sd_plateau": rs.sd_plateau, "kind": rs.kind}
+            "starts": [m.start for m in recs], "fields": fields,
+            "tuples": [name for name, v in fields.items() if isinstance(v, tuple)]}
     arrays = {f"acc_{i}": np.asarray(m.samples) for i, m in enumerate(recs)}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez(f, meta=np.array(json.dumps(meta)), periods=rs.periods, spectra=rs.spectra,
-                     target=rs.target, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    header = np.array(json.dumps(meta))
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as f:
+            np.savez(f, meta=header, **{k: getattr(rs, k) for k in ARRAYS}, **arrays)
+
+    atomic_write(path, write)
 
 
 def _from_file(path: Path, key: str):
@@ -85,16 +88,13 @@ def _from_file(path: Path, key: str):
         meta = json.loads(str(z["meta"][()]))
         if meta.get("key") != key:
             return None
-        n = len(meta["labels"])
-        records = tuple(record(z[f"acc_{i}"], float(meta["dts"][i]), float(meta["starts"][i]), meta["labels"][i])
-                        for i in range(n))
-        periods, spectra, target = (np.array(z[k]) for k in ("periods", "spectra", "target"))
-    return RecordSet(records, tuple(int(s) for s in meta["seeds"]), periods, spectra, target,
-                     tuple(float(x) for x in meta["band"]), tuple(meta["tolerance"]), float(meta["xi"]),
-                     int(meta["iterations"]), meta["target_info"], float(meta["target_pga"]),
-                     tuple(float(x) for x in meta["required_band"]), meta["band_reason"],
-                     float(meta["stationary_s"]), float(meta["pga_scale"]), meta["d_g"], meta["sd_plateau"],
-                     meta["kind"])
+        records = tuple(record(z[f"acc_{i}"], float(dt), float(start), label)
+                        for i, (dt, start, label) in enumerate(zip(meta["dts"], meta["starts"], meta["labels"])))
+        arrays = {k: np.array(z[k]) for k in ARRAYS}
+    fields = meta["fields"]
+    for name in meta["tuples"]:
+        fields[name] = tuple(fields[name])
+    return RecordSet(records=records, **arrays, **fields)
 
 
 def matched(args: tuple, match):
