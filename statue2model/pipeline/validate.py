@@ -109,7 +109,7 @@ def _run_2d(task) -> np.ndarray:
     pickles (an executor's task)."""
     from ..rocking import kernel as K
     from ..rocking.batch import run_batch
-    from ..rocking.engine import FREE_TIME
+    from ..rocking.engine import FREE_TIME, quiet_ground
 
     sets, motions = task
     models = [m for ms in sets for m in ms]
@@ -117,12 +117,11 @@ def _run_2d(task) -> np.ndarray:
     n = len(models)
     P = np.array([m.kernel_vector() for m in models])
     rows = np.arange(n, dtype=np.int64)
-    limits = [m.uplift_limits for m in models]
     out = np.empty((len(sets), len(motions), 2))
     for j, motion in enumerate(motions):
         kind, M, samples = motion.kernel_args()
         hi, lo = motion.extremes()
-        quiet = np.array([hi <= up and lo >= -dn for up, dn in limits])   # engine.simulate's quiet ground
+        quiet = np.array([quiet_ground(m, hi, lo) for m in models])
         S = run_batch(models, P, kind, np.tile(M, (n, 1)), samples, np.full(n, motion.end + FREE_TIME),
                       quiet=quiet, table_row=rows)
         top, lift = S[:, K.S_OVERTURNED] > 0, np.isfinite(S[:, K.S_T_UPLIFT])

@@ -213,8 +213,7 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
     S = np.zeros(K.N_S)
     hi, lo = motion.extremes()
     applicable, why = model.applicability(hi, -lo)
-    lim_up, lim_dn = model.uplift_limits
-    quiet = theta0 == 0.0 and omega0 == 0.0 and hi <= lim_up and lo >= -lim_dn
+    quiet = theta0 == 0.0 and omega0 == 0.0 and quiet_ground(model, hi, lo)
     if quiet:
         # the ground never exceeds the uplift limits: nothing to integrate
         S[K.S_T_UPLIFT] = S[K.S_T_OVERTURN] = S[K.S_T_REST] = np.nan
@@ -231,6 +230,14 @@ def simulate(model: RockingModel, motion: GroundMotion, *, theta0: float = 0.0, 
         raise RuntimeError(f"rocking solver made no progress at t = {S[K.S_T_FINAL]:.6g} s")
     r = _result(model, motion, theta0, omega0, float(t_end), S, out_t, out_y, imp, peaks)
     return r if applicable else replace(r, applicable=False, why=why)
+
+
+def quiet_ground(model, hi: float, lo: float) -> bool:
+    """Whether a ground acceleration that stays within ``lo`` .. ``hi`` (m/s^2, ``motion.extremes()``)
+    never reaches ``model``'s uplift limits: a body at rest then stays at rest, and its run is not
+    integrated (:func:`simulate`; the batch callers mark such rows ``quiet``)."""
+    lim_up, lim_dn = model.uplift_limits
+    return hi <= lim_up and lo >= -lim_dn
 
 
 def _opt(x):
