@@ -121,10 +121,10 @@ DEFAULT_BAND = (BAND_START, BAND_END_MIN)
 N_MATCH = 60
 """Matching periods (log-spaced from half the band's start to 1.5 times its end)."""
 HIGH_PASS = 1.0
+"""The seed noise and the corrections are cut below 1 / (HIGH_PASS T_hi) Hz (module docstring)."""
 PGA_TOL = 0.05
 """With peak control (floor spectra, :func:`controls_peak`) the set's mean PGA lies in Se(0) .. (1 +
 PGA_TOL) Se(0) (the rule "mean PGA" checks both ends)."""
-"""The seed noise and the corrections are cut below 1 / (HIGH_PASS T_hi) Hz (module docstring)."""
 
 
 def controls_peak(target) -> bool:
