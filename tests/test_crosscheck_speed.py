@@ -64,15 +64,19 @@ def test_lift_off_time_matches_the_step_rule():
 # -- issue [23], item 1: what the 3D scenes skip must not change what they report -------------------
 
 def test_record_acceleration_on_arrays_is_the_compiled_ground_motion_bit_for_bit():
-    """world._record_acc (numpy, whole arrays) against GroundMotion.acc (the compiled kernel, a call a
+    """GroundMotion.acc of a record (numpy, whole arrays) against the compiled kernel (ground_acc, a call a
     point) at every sample time, just below each, between, and outside the record."""
+    from statue2model.hazard import motion_kernel as MK
     m = motions.parse_spec("synthetic:duration=3,pga=0.3g,seed=4")[0]
     for start in (0.0, 0.37):
         r = motions.record(m.samples, m.dt, start=start)
         ts = r.start + r.dt * np.arange(len(r.samples))
         t = np.concatenate([np.linspace(-0.1, r.end + 0.1, 5001), ts, np.nextafter(ts, -np.inf),
                             np.nextafter(ts, np.inf)])
-        assert np.array_equal(W._record_acc(r, t), r.acc(t))
+        kind, M, samples = r.kernel_args()
+        compiled = np.array([MK.ground_acc(x, kind, M, samples) for x in t])
+        assert np.array_equal(r.acc(t), compiled)
+        assert r.acc(float(t[7])) == compiled[7]                      # a scalar time too
 
 
 def test_contact_patch_touches_the_floor_where_the_hull_does():

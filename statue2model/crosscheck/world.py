@@ -289,39 +289,13 @@ def step_mean_acc(motion, t0: float, dt: float, n: int) -> np.ndarray:
     # (motion.acc costs ~1.5 us a point; a 5 s free tail would dominate a statue run)
     live = t < motion.end
     tl = t[live]
-    acc = _record_acc if motion.kind == "record" else motion.acc
-    a0 = acc(motion, tl) if acc is _record_acc else acc(tl)
-    am = acc(motion, tl + 0.5 * dt) if acc is _record_acc else acc(tl + 0.5 * dt)
+    a0 = motion.acc(tl)
+    am = motion.acc(tl + 0.5 * dt)
     inside = tl + dt <= motion.end
     a1 = np.empty_like(tl)
-    ti, to = np.minimum(tl[inside] + dt, motion.end) - 1e-12 * dt, tl[~inside] + dt
-    a1[inside] = acc(motion, ti) if acc is _record_acc else acc(ti)
-    a1[~inside] = acc(motion, to) if acc is _record_acc else acc(to)
+    a1[inside] = motion.acc(np.minimum(tl[inside] + dt, motion.end) - 1e-12 * dt)
+    a1[~inside] = motion.acc(tl[~inside] + dt)
     out[live] = (a0 + 4.0 * am + a1) / 6.0
-    return out
-
-
-def _record_acc(motion, t: np.ndarray) -> np.ndarray:
-    """u_g''(t), m/s^2, of a record (``motion.kind == "record"``) at the times ``t`` (s): the compiled
-    ground motion's arithmetic (hazard/motion_kernel.py: segment, record_index, seg_acc) on whole
-    arrays, the same values bit for bit (tests/test_crosscheck_speed.py) at ~1/20 of the cost of
-    ``motion.acc`` (one compiled call per point: ~3 us, 3 points per engine step)."""
-    from ..hazard import motion_kernel as MK
-
-    kind, M, samples = motion.kernel_args()
-    t = np.asarray(t, dtype=float)
-    out = np.zeros(t.shape)
-    ts, te, dt, a = M[MK.MT0], M[MK.MT1], M[MK.MDT], M[MK.MA]
-    n = samples.shape[0]
-    on = (t >= ts) & (t < te)
-    tt = t[on]
-    k = np.clip(np.floor((tt - ts) / dt).astype(np.int64), 0, n - 2)
-    down = (tt < ts + k * dt) & (k > 0)
-    k[down] -= 1
-    up = (tt >= ts + (k + 1) * dt) & (k < n - 2)
-    k[up] += 1
-    tk = ts + k * dt
-    out[on] = a * samples[k] + a * (samples[k + 1] - samples[k]) / dt * (tt - tk)
     return out
 
 
