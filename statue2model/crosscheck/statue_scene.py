@@ -405,7 +405,7 @@ class Statue3DResult:
 
 def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: float | None = None,
                     settings: SimSettings | None = None, contact: ContactSettings | None = None,
-                    dt_out: float = 0.002, collision: str | None = None, stop_on_overturn: bool = True,
+                    dt_out: float = 0.002, collision: str = "hull", stop_on_overturn: bool = True,
                     free_time: float = 5.0, motion_y=None) -> Statue3DResult:
     """Run scene (a): the statue on a rigid floor under ``motion`` (a GroundMotion along +x, the
     scene's excitation direction) and, if given, ``motion_y`` (the horizontal component across it,
@@ -426,8 +426,6 @@ def simulate_statue(scene: StatueScene, motion, *, theta0: float = 0.0, t_end: f
     c0 = run_clock()
     contact = _CS() if contact is None else contact
     settings = STATUE_SETTINGS if settings is None else settings
-    if collision is None:
-        collision = "hull"
     p2 = scene.params
     if theta0 >= p2.delta_R or -theta0 >= p2.delta_L or not math.isfinite(theta0):
         raise InputError(f"theta0 = {theta0} rad is not between -delta_L and delta_R")
