@@ -122,12 +122,11 @@ def run(tree: Path, campaign: Path, model: str, workers: int, sample: int, tmp: 
 
 
 def old_tree(path: Path, ref: str) -> str:
-    """The old tree's commit; a worktree of ``ref`` is added at ``path`` when missing."""
-    if not (path / "statue2model").is_dir():
-        subprocess.run(["git", "-C", str(NEW), "worktree", "add", "--detach", str(path), ref], check=True,
-                       stdout=subprocess.DEVNULL)
-    return subprocess.run(["git", "-C", str(path), "rev-parse", "--short", "HEAD"], check=True,
-                          capture_output=True, text=True).stdout.strip()
+    """The old tree's commit (bench_fragility_speed.old_tree: a worktree of ``ref`` at ``path``)."""
+    sys.path.insert(0, str(HERE))
+    from bench_fragility_speed import old_tree as make
+
+    return make(path, ref)
 
 
 def main() -> int:
