@@ -87,24 +87,30 @@ def test_wilson_and_brier_against_hand_values():
 
 
 # --- a campaign --------------------------------------------------------------------------------------------
-@pytest.fixture
-def campaign(tmp_path):
+def box_campaign(folder, n: int = 8):
+    """A campaign in ``folder``: a 0.2 x 0.3 x 0.8 m box and ``n`` one-sine tests of 0.1-0.7 g at 2 Hz
+    (lab files in g), toppled above 0.45 g and lifted above 0.25 g; returns its campaign.toml."""
     import trimesh
 
     box = trimesh.creation.box(extents=(0.2, 0.3, 0.8))
     box.apply_translation((0, 0, 0.4))
-    box.export(tmp_path / "rock.stl")
+    box.export(folder / "rock.stl")
     rows = ["name,file,toppled,lifted"]
-    for k, amp in enumerate(np.linspace(0.1, 0.7, 8)):
+    for k, amp in enumerate(np.linspace(0.1, 0.7, n)):
         t = np.arange(0, 3.0, 0.005)
         a = np.where(t < 0.5, amp * np.sin(2 * np.pi * 2.0 * t), 0.0)
-        _write_lab(tmp_path / f"t{k}.txt", t, a)
+        _write_lab(folder / f"t{k}.txt", t, a)
         rows.append(f"t{k},t{k}.txt,{int(amp > 0.45)},{int(amp > 0.25)}")
-    (tmp_path / "tests.csv").write_text("\n".join(rows) + "\n")
-    (tmp_path / "campaign.toml").write_text('name = "box"\ntests = "tests.csv"\n[specimen]\nscan = "rock.stl"\n'
-                                            'units = "m"\nup = "z"\ndirection = 0\n[motion]\ncolumns = [1, 2]\n'
-                                            'units = "g"\n')
-    return tmp_path / "campaign.toml"
+    (folder / "tests.csv").write_text("\n".join(rows) + "\n")
+    (folder / "campaign.toml").write_text('name = "box"\ntests = "tests.csv"\n[specimen]\nscan = "rock.stl"\n'
+                                          'units = "m"\nup = "z"\ndirection = 0\n[motion]\ncolumns = [1, 2]\n'
+                                          'units = "g"\n')
+    return folder / "campaign.toml"
+
+
+@pytest.fixture
+def campaign(tmp_path):
+    return box_campaign(tmp_path)
 
 
 def test_a_campaign_is_replayed_and_scored(campaign, tmp_path):

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 import pytest
 
 from statue2model.cli import main
@@ -129,22 +128,10 @@ def test_the_pool_gives_the_serial_numbers(scan, where, request):
 
 
 def _campaign(folder):
-    import trimesh
+    """test_validate's box campaign with 6 tests."""
+    from test_validate import box_campaign
 
-    box = trimesh.creation.box(extents=(0.2, 0.3, 0.8))
-    box.apply_translation((0, 0, 0.4))
-    box.export(folder / "rock.stl")
-    rows = ["name,file,toppled,lifted"]
-    for k, amp in enumerate(np.linspace(0.1, 0.7, 6)):
-        t = np.arange(0, 3.0, 0.005)
-        a = np.where(t < 0.5, amp * np.sin(2 * np.pi * 2.0 * t), 0.0)
-        (folder / f"t{k}.txt").write_text("time [s]\tacc [g]\n" + "".join(f"{ti:.4g}\t{ai:.6f}\n" for ti, ai in zip(t, a)))
-        rows.append(f"t{k},t{k}.txt,{int(amp > 0.45)},{int(amp > 0.25)}")
-    (folder / "tests.csv").write_text("\n".join(rows) + "\n")
-    (folder / "campaign.toml").write_text('name = "box"\ntests = "tests.csv"\n[specimen]\nscan = "rock.stl"\n'
-                                          'units = "m"\nup = "z"\ndirection = 0\n[motion]\ncolumns = [1, 2]\n'
-                                          'units = "g"\n')
-    return folder / "campaign.toml"
+    return box_campaign(folder, 6)
 
 
 def _predictions(out):
