@@ -392,17 +392,16 @@ def acquire_lock(folder: Path, command: str, say=None, heartbeat: float = LOCK_H
                 held, age = {}, time.time() - lock.stat().st_mtime if lock.exists() else 0.0
             pid = held.get("pid") if isinstance(held, dict) else None
             host = held.get("host") if isinstance(held, dict) else None
+            where = "" if host == socket.gethostname() else f" on {host}"
             if not isinstance(pid, int):
                 if age < 10:                        # being written this instant
                     raise InputError(f"{folder} is in use by another statue2model command; wait for it or "
                                      "choose another --out")
                 stale = "an unreadable lock"
             elif age > LOCK_STALE_AFTER:            # no heartbeat: whatever runs under that PID now is not its holder
-                where = "" if host == socket.gethostname() else f" on {host}"
                 stale = (f"a lock of PID {pid}{where} (started {_clock(held.get('started'))}) not refreshed for "
                          f"{age:.0f} s (over {LOCK_STALE_AFTER:.0f} s): its process is gone")
-            elif host != socket.gethostname() or _pid_alive(pid):
-                where = "" if host == socket.gethostname() else f" on {host}"
+            elif where or _pid_alive(pid):
                 raise InputError(f"{folder} is in use by statue2model {held.get('command') or 'command'} "
                                  f"(PID {pid}{where}, started {_clock(held.get('started'))}); wait for it or "
                                  "choose another --out")
