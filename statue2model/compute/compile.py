@@ -98,12 +98,15 @@ START_SECONDS = 2.0
 """Seconds to start a compiling process (Python, numpy, numba)."""
 
 DEPENDS = {
-    "statue2model.rocking.kernel": ("statue2model.rocking.dop853", "statue2model.hazard.motion_kernel"),
-    "statue2model.isolator.kernel": ("statue2model.rocking.kernel", "statue2model.hazard.motion_kernel"),
+    "statue2model.rocking.kernel": ("statue2model.rocking.dop853", "statue2model.rocking.sincos",
+                                    "statue2model.hazard.motion_kernel"),
+    "statue2model.isolator.kernel": ("statue2model.rocking.kernel", "statue2model.rocking.sincos",
+                                     "statue2model.hazard.motion_kernel"),
     "statue2model.isolator.coupled_kernel": ("statue2model.rocking.kernel", "statue2model.isolator.kernel",
-                                             "statue2model.rocking.dop853", "statue2model.hazard.motion_kernel"),
+                                             "statue2model.rocking.dop853", "statue2model.rocking.sincos",
+                                             "statue2model.hazard.motion_kernel"),
     "statue2model.rocking.stack_kernel": ("statue2model.rocking.kernel", "statue2model.rocking.dop853",
-                                          "statue2model.hazard.motion_kernel"),
+                                          "statue2model.rocking.sincos", "statue2model.hazard.motion_kernel"),
 }
 """Kernel modules whose compiled code also holds code of these modules (numba does
 not see that: see the module docstring)."""

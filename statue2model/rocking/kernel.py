@@ -56,6 +56,7 @@ from ..hazard.motion_kernel import (  # noqa: F401  (re-exported: the motion enc
 from ..hazard.motion_kernel import record_index
 from ..hazard.motion_kernel import seg_acc as _acc
 from . import dop853 as D8
+from .sincos import sincos
 from .dop853 import STATUS_MAX_STEPS, STATUS_OK, STATUS_STALLED  # noqa: F401  (re-exported)
 
 _NS = D8.N_STAGES
@@ -285,12 +286,14 @@ def _rhs(t, th, s, reg, P, seg):
         al = P[AR] + (1.0 - P[AR]) * th / P[TR] if reg == 0 else 1.0
         if P[LIN] > 0.0:
             return -P[P2R] * (al * x + u)
-        return -P[P2R] * (al * math.sin(x) + u * math.cos(x))
+        sn, cs = sincos(x)
+        return -P[P2R] * (al * sn + u * cs)
     x = P[DL] + th
     al = P[AL] - (1.0 - P[AL]) * th / P[TL] if reg == 0 else 1.0
     if P[LIN] > 0.0:
         return P[P2L] * (al * x - u)
-    return P[P2L] * (al * math.sin(x) - u * math.cos(x))
+    sn, cs = sincos(x)
+    return P[P2L] * (al * sn - u * cs)
 
 
 @njit(cache=True, error_model="numpy")
