@@ -394,13 +394,30 @@ def _step(t, th, om, f0, h, s, reg, P, seg, Ks):
 
 
 @njit(cache=True, error_model="numpy")
-def _error_norm(h, th, om, thn, omn, Ks, Y, atol, rtol):
-    """D8.error_norm of the step (th, om) -> (thn, omn); Y (2, 2): work rows."""
-    Y[0, 0] = th
-    Y[0, 1] = om
-    Y[1, 0] = thn
-    Y[1, 1] = omn
-    return D8.error_norm(h, Y[0], Y[1], Ks, atol, rtol)
+def _error_norm(h, th, om, thn, omn, Ks, atol_t, atol_o, rtol):
+    """D8.error_norm of the step (th, om) -> (thn, omn) (absolute tolerances atol_t of theta,
+    atol_o of theta'), on scalars: its operations in its order (every term of E5 and E3, theta
+    then theta'), to the bit, without the work rows it reads (their writes and views cost about
+    a third of it)."""
+    a5 = 0.0
+    a3 = 0.0
+    for j in range(_NS + 1):
+        a5 += D8.E5[j] * Ks[j, 0]
+        a3 += D8.E3[j] * Ks[j, 0]
+    sc = atol_t + rtol * max(abs(th), abs(thn))
+    e5 = 0.0 + (a5 / sc) ** 2
+    e3 = 0.0 + (a3 / sc) ** 2
+    a5 = 0.0
+    a3 = 0.0
+    for j in range(_NS + 1):
+        a5 += D8.E5[j] * Ks[j, 1]
+        a3 += D8.E3[j] * Ks[j, 1]
+    sc = atol_o + rtol * max(abs(om), abs(omn))
+    e5 += (a5 / sc) ** 2
+    e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * 2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -573,7 +590,6 @@ def _simulate(Pvec, eLw, eLe, eRw, eRe, kind, M, samples, s_hi, s_lo, theta0, om
     Ks = np.empty((_NX, 2))
     Y = np.empty((2, 2))             # states at the start and the end of a step
     F = np.empty((_NI, 2))
-    atol = np.empty(2)
     n_out = out_t.shape[0]
     cap_imp = imp.shape[0]
     cap_pk = peaks.shape[0]
@@ -583,8 +599,6 @@ def _simulate(Pvec, eLw, eLe, eRw, eRe, kind, M, samples, s_hi, s_lo, theta0, om
     dmin = min(P[DL], P[DR])
     atol_t = rtol * dmin
     atol_o = rtol * dmin * math.sqrt(max(P[P2L], P[P2R]))
-    atol[0] = atol_t
-    atol[1] = atol_o
     h = 0.05 / math.sqrt(max(P[P2L], P[P2R]))
     t = t0
     th = theta0
@@ -723,7 +737,7 @@ def _simulate(Pvec, eLw, eLe, eRw, eRe, kind, M, samples, s_hi, s_lo, theta0, om
         Ks[_NS, 0] = omn
         Ks[_NS, 1] = fn
         nrhs += _NS
-        err = _error_norm(h, th, om, thn, omn, Ks, Y, atol, rtol)
+        err = _error_norm(h, th, om, thn, omn, Ks, atol_t, atol_o, rtol)
         if not (err <= 1.0):  # also rejects nan
             h *= D8.factor_reject(err)
             nrej += 1
