@@ -263,8 +263,9 @@ def test_stages_not_asked_for_are_taken_from_their_folders(small_run, tmp_path):
 
 
 @pytest.mark.slow
-def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(small_run):
-    out = small_run.out
+def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(small_run, tmp_path):
+    out = tmp_path / "copy"                       # a copy: small_run's own folder stays as its run left it
+    shutil.copytree(small_run.out, out)
     cfg = small_config()
     again = run_project(default_scan(), out, cfg, stages=["isolator", "dynamics"], say=quiet, report=False)
     assert [again.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached"] * 3
@@ -279,19 +280,22 @@ def test_unchanged_inputs_are_cached_and_a_change_recomputes_what_depends_on_it(
 
 
 @pytest.mark.slow
-def test_executors_give_identical_numbers(tmp_path):
+def test_executors_give_identical_numbers(small_run, tmp_path):
+    """small_run (no executor: every stage in this process) against the same stages from scratch on
+    2 worker processes."""
     from statue2model.compute.executors import ProcessExecutor
 
-    cfg = small_config()
-    a = run_project(default_scan(), tmp_path / "a", cfg, stages=["dynamics"], say=quiet, report=False)
+    a = small_run
     with ProcessExecutor(2) as ex:
-        b = run_project(default_scan(), tmp_path / "b", cfg, stages=["dynamics"], say=quiet, report=False, executor=ex)
+        b = run_project(default_scan(), tmp_path / "b", small_config(), stages=["dynamics"], say=quiet, report=False,
+                        executor=ex)
+    assert [b.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["done"] * 3
     assert a.stages["dynamics"]["data"] == b.stages["dynamics"]["data"]
     for name in ("spectrum_fixed.json", "spectrum_isolated.json", "variability.json"):
-        ja = json.loads((tmp_path / "a" / "dynamics" / name).read_text())
-        jb = json.loads((tmp_path / "b" / "dynamics" / name).read_text())
+        ja = json.loads((a.out / "dynamics" / name).read_text())
+        jb = json.loads((b.out / "dynamics" / name).read_text())
         assert ja == jb, name
-    fa, fb = (json.loads((tmp_path / x / "dynamics" / "fragility.json").read_text()) for x in "ab")
+    fa, fb = (json.loads((x.out / "dynamics" / "fragility.json").read_text()) for x in (a, b))
     assert fa["curves"] == fb["curves"] and fa["ratio_of_medians"] == fb["ratio_of_medians"]
     # 7 records x 7 parameter samples at every level the fixed base ran (coarse and adaptive)
     assert fa["curves"]["overturning_fixed"]["n_trials"] == [7 * 7] * len(fa["curves"]["overturning_fixed"]["levels"])
@@ -418,7 +422,7 @@ def test_collection_cli_and_empty_folder(collection, tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_path):
+def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(small_run, tmp_path):
     from statue2model.hazard import motions
 
     folder = tmp_path / "project"
@@ -429,7 +433,9 @@ def test_a_motion_record_named_by_the_project_file_is_part_of_the_cache_key(tmp_
     cfg = load_config(project)
     assert cfg.dynamics.motion == f"file:path={(folder / 'record.csv').resolve()},pga=0.5g"
     out = tmp_path / "out"
+    shutil.copytree(small_run.out, out)           # the same params and isolator sections: only dynamics runs
     first = run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet, report=False)
+    assert [first.stages[n]["status"] for n in ("params", "isolator", "dynamics")] == ["cached", "cached", "done"]
     assert load_config(out / "config.toml").dynamics.motion == cfg.dynamics.motion    # repeatable from anywhere
     assert run_project(default_scan(), out, cfg, stages=["dynamics"], say=quiet,
                        report=False).stages["dynamics"]["status"] == "cached"
