@@ -42,7 +42,13 @@ def _structure():
 
 
 S = _structure()
-EDGES = S.imports(ROOT)
+
+
+@pytest.fixture(scope="module")
+def edges():
+    """Every import of the package (benchmarks/structure.imports), read when a test of this file
+    first asks (not at collection, which every pytest-xdist worker does)."""
+    return S.imports(ROOT)
 
 
 ROOT_PACKAGE = "(root)"
@@ -50,25 +56,25 @@ ROOT_PACKAGE = "(root)"
 _part = S.subpackage
 
 
-def test_every_package_has_a_layer():
-    parts = {_part(a) for a, *_ in EDGES} | {_part(b) for _, b, *_ in EDGES}
+def test_every_package_has_a_layer(edges):
+    parts = {_part(a) for a, *_ in edges} | {_part(b) for _, b, *_ in edges}
     parts |= {p.stem if p.is_file() else p.name for p in (ROOT / "statue2model").iterdir()
               if (p.suffix == ".py" and p.stem != "__init__") or (p / "__init__.py").exists()}
     parts.discard(ROOT_PACKAGE)
     assert parts <= set(LEVEL), f"give these a row of LAYERS: {sorted(parts - set(LEVEL))}"
 
 
-def test_scanner_sees_imports_inside_functions():
+def test_scanner_sees_imports_inside_functions(edges):
     # the rule must hold for lazy imports too: the scanner reports them
-    inside = [e for e in EDGES if e[3]]
+    inside = [e for e in edges if e[3]]
     assert len(inside) > 100
     assert any(a == "statue2model.pipeline.stages" and b.startswith("statue2model.rocking") and fn
-               for a, b, _, fn in EDGES)
+               for a, b, _, fn in edges)
 
 
-def test_no_import_goes_up():
+def test_no_import_goes_up(edges):
     up = []
-    for a, b, line, inside in EDGES:
+    for a, b, line, inside in edges:
         pa, pb = _part(a), _part(b)
         if pa == pb:
             continue
@@ -81,10 +87,10 @@ def test_no_import_goes_up():
     assert not up, "imports that go up a layer:\n" + "\n".join(sorted(up))
 
 
-def test_no_import_cycle():
+def test_no_import_cycle(edges):
     """No two modules reach each other through imports (lazy ones included), inside a package
     or across packages: each module can be read after those it imports."""
-    assert not S.cycles(EDGES), f"module import cycles: {S.cycles(EDGES)}"
+    assert not S.cycles(edges), f"module import cycles: {S.cycles(edges)}"
 
 
 def test_cycles_are_found():
