@@ -45,18 +45,25 @@ def add_parsers(sub) -> None:
     c.set_defaults(func=_cmd_config)
 
 
-def _executor(args, cfg):
+INLINE_FIRST = 2.0
+"""CPU s: one scan's sweeps whose items take less than this in all run in this process until the
+local pool has started (compute/executors.ProcessExecutor.inline_first): the sweeps of a default
+run take about 2 s in all, less than the start of the workers (about 1.5 s of CPU each)."""
+
+
+def _executor(args, cfg, one_scan: bool = True):
     from ..compute.executors import make_executor
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.scheduler:                       # the command line wins over [run]
         return make_executor(scheduler=args.scheduler)
+    inline = INLINE_FIRST if one_scan else 0.0      # a folder's tasks are whole scans: to the pool
     if args.workers is not None:
-        return make_executor(workers=args.workers, cap=True)
+        return make_executor(workers=args.workers, cap=True, inline_first=inline)
     from ..compute.executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
 
-    return config_executor(cfg.run.scheduler, cfg.run.workers, cfg.source)
+    return config_executor(cfg.run.scheduler, cfg.run.workers, cfg.source, inline_first=inline)
 
 
 def _cmd_run(args) -> int:
@@ -74,7 +81,7 @@ def _cmd_run(args) -> int:
     stages = stage_list(args.stages) if args.stages else None
     out = Path(args.out) if args.out else Path("outputs") / (target.name if target.is_dir() else target.stem)
     t0 = time.perf_counter()
-    with _executor(args, cfg) as ex:
+    with _executor(args, cfg, one_scan=not target.is_dir()) as ex:
         print(f"statue2model run: {target} -> {out}/ (sweeps on {ex.describe()})", flush=True)
         if target.is_dir():
             data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex,
