@@ -45,10 +45,11 @@ def add_parsers(sub) -> None:
     c.set_defaults(func=_cmd_config)
 
 
-INLINE_FIRST = 2.0
+INLINE_FIRST = 3.0
 """CPU s: one scan's sweeps whose items take less than this in all run in this process until the
 local pool has started (compute/executors.ProcessExecutor.inline_first): the sweeps of a default
-run take about 2 s in all, less than the start of the workers (about 1.5 s of CPU each)."""
+run take about 2-3 s in all (the first loads of compiled kernels included), less than the start of
+the workers (about 1.5-2 s of CPU each)."""
 
 
 def _executor(args, cfg, one_scan: bool = True):
