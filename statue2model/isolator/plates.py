@@ -507,8 +507,9 @@ _TYPES_3MF = (_DECL + '<Types xmlns="http://schemas.openxmlformats.org/package/2
 def write_3mf(vertices: np.ndarray, faces: np.ndarray, path) -> None:
     """One mesh as a 3MF file (millimetres: ``vertices`` in mm). The same package, member for member
     and character for character (fresh UUIDs aside), as trimesh's 3MF export of the mesh alone (one
-    object ``geometry_0``, one build item, identity transform, deflate level 5), written directly:
-    every coordinate as Python's shortest round-trip text of the float64 (numpy prints the same)."""
+    object ``geometry_0``, one build item, identity transform), written directly: every coordinate as
+    Python's shortest round-trip text of the float64 (numpy prints the same). Deflated at level 1
+    (trimesh: 5): a plate's 14 MB of XML in 0.07 s instead of 0.18 s, the file 3.0 MB instead of 2.4."""
     import uuid
     import zipfile
 
@@ -522,7 +523,7 @@ def write_3mf(vertices: np.ndarray, faces: np.ndarray, path) -> None:
         f'</triangles></mesh></object></resources><build p:UUID="{uuid.uuid4()}"><item {_NS_3MF_ITEM} objectid="1" '
         f'transform="1.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0" p:UUID="{uuid.uuid4()}" '
         'partnumber="geometry_0"/></build></model>'])
-    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=5) as z:
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=1) as z:
         z.writestr("3D/3dmodel.model", model.encode("utf-8"))
         z.writestr("_rels/.rels", _RELS_3MF.encode("utf-8"))
         z.writestr("[Content_Types].xml", _TYPES_3MF.encode("utf-8"))
