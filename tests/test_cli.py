@@ -167,3 +167,19 @@ def test_run_pauses_the_cyclic_collector_and_restores_it(tmp_path, capsys, monke
         assert seen == [False, False] and not gc.isenabled()     # left off when it was off
     finally:
         gc.enable()
+
+
+def test_run_executor_keeps_one_scans_short_sweeps_here_and_a_folders_scans_on_the_pool(tmp_path):
+    """`statue2model run` on one scan: local processes that take short sweeps in this process first
+    (inline_first); on a folder (each task a whole scan) every task goes to the processes."""
+    from types import SimpleNamespace
+
+    from statue2model.cli.run import INLINE_FIRST, _executor
+    from statue2model.pipeline.config import load_config
+
+    cfg = load_config(None)
+    (tmp_path / "scans").mkdir()
+    for mesh, want in ((None, INLINE_FIRST), (str(tmp_path / "a.ply"), INLINE_FIRST), (str(tmp_path / "scans"), 0.0)):
+        for workers in (None, 1):
+            with _executor(SimpleNamespace(mesh=mesh, workers=workers, scheduler=None), cfg) as ex:
+                assert ex.inline_first == want and ex._pool is None

@@ -52,14 +52,15 @@ run take about 2-3 s in all (the first loads of compiled kernels included), less
 the workers (about 1.5-2 s of CPU each)."""
 
 
-def _executor(args, cfg, one_scan: bool = True):
+def _executor(args, cfg):
     from ..compute.executors import make_executor
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.scheduler:                       # the command line wins over [run]
         return make_executor(scheduler=args.scheduler)
-    inline = INLINE_FIRST if one_scan else 0.0      # a folder's tasks are whole scans: to the pool
+    folder = bool(args.mesh) and Path(args.mesh).is_dir()
+    inline = 0.0 if folder else INLINE_FIRST        # a folder's tasks are whole scans: to the pool
     if args.workers is not None:
         return make_executor(workers=args.workers, cap=True, inline_first=inline)
     from ..compute.executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
@@ -108,7 +109,7 @@ def _run(args) -> int:
     stages = stage_list(args.stages) if args.stages else None
     out = Path(args.out) if args.out else Path("outputs") / (target.name if target.is_dir() else target.stem)
     t0 = time.perf_counter()
-    with _executor(args, cfg, one_scan=not target.is_dir()) as ex:
+    with _executor(args, cfg) as ex:
         print(f"statue2model run: {target} -> {out}/ (sweeps on {ex.describe()})", flush=True)
         if target.is_dir():
             data = run_collection(target, out, cfg, stages=stages, force=args.force, executor=ex,
