@@ -37,14 +37,31 @@ def _after_the_program() -> None:
     here on is ignored. The command has ended and written everything; without this, one that
     lands in the interpreter's final clean-up (after it has put the default SIGINT action
     back: tens of milliseconds of freeing modules) killed the process by the signal, status
-    -2, with nothing said. Before this point :func:`_interrupted` answers it."""
+    -2, with nothing said. Before this point :func:`_interrupted` answers it. Then
+    :func:`_freeze_the_heap`."""
     try:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
     except ValueError:  # pragma: no cover - not the main thread
         pass
+    _freeze_the_heap()
 
 
-if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+def _freeze_the_heap() -> None:
+    """Every object left moved out of the cyclic garbage collector's reach (``gc.freeze``), once the
+    command has ended: the interpreter's final collection would otherwise walk the whole heap
+    (millions of objects after a run: numba, scipy, matplotlib; about 0.3-0.5 s of CPU) to free
+    memory the process hands back to the system anyway as it ends. Registered first (run last) also
+    where :func:`_after_the_program` is not (SIGINT ignored: a job started in the background)."""
+    import gc           # built in
+
+    gc.freeze()
+
+
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    import atexit           # built in
+
+    atexit.register(_freeze_the_heap)
+elif signal.getsignal(signal.SIGINT) is signal.default_int_handler:
     try:
         signal.signal(signal.SIGINT, _interrupted)
     except ValueError:          # not the main thread: not the program's entry

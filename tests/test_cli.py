@@ -141,3 +141,45 @@ def test_console_entry_point_exit_code(tmp_path):
                        capture_output=True, text=True, cwd=tmp_path)   # the default outputs/x/ is under tmp_path
     assert r.returncode == 2
     assert r.stderr.strip() == f"statue2model: error: file not found: {tmp_path / 'x.stl'}"
+
+
+def test_run_pauses_the_cyclic_collector_and_restores_it(tmp_path, capsys, monkeypatch):
+    """`statue2model run` works with the automatic cyclic garbage collection off and puts it back as it
+    was, whether the command succeeds or fails (one-line error)."""
+    import gc
+
+    from statue2model.pipeline import run as prun
+
+    seen = []
+
+    def fake_run_project(*a, **k):
+        seen.append(gc.isenabled())
+        raise prun.InputError("stop here")
+
+    monkeypatch.setattr(prun, "run_project", fake_run_project)
+    assert gc.isenabled()
+    code, _, err = run(["run", "--out", str(tmp_path / "o"), "--workers", "1"], capsys)
+    assert code == 2 and err.strip().splitlines()[-1] == "statue2model: error: stop here"
+    assert seen == [False] and gc.isenabled()
+    gc.disable()
+    try:
+        run(["run", "--out", str(tmp_path / "o2"), "--workers", "1"], capsys)
+        assert seen == [False, False] and not gc.isenabled()     # left off when it was off
+    finally:
+        gc.enable()
+
+
+def test_run_executor_keeps_one_scans_short_sweeps_here_and_a_folders_scans_on_the_pool(tmp_path):
+    """`statue2model run` on one scan: local processes that take short sweeps in this process first
+    (inline_first); on a folder (each task a whole scan) every task goes to the processes."""
+    from types import SimpleNamespace
+
+    from statue2model.cli.run import INLINE_FIRST, _executor
+    from statue2model.pipeline.config import load_config
+
+    cfg = load_config(None)
+    (tmp_path / "scans").mkdir()
+    for mesh, want in ((None, INLINE_FIRST), (str(tmp_path / "a.ply"), INLINE_FIRST), (str(tmp_path / "scans"), 0.0)):
+        for workers in (None, 1):
+            with _executor(SimpleNamespace(mesh=mesh, workers=workers, scheduler=None), cfg) as ex:
+                assert ex.inline_first == want and ex._pool is None

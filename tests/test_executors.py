@@ -179,3 +179,33 @@ def test_cli_workers_and_scheduler_give_the_same_numbers(params, tmp_path, capsy
 
     assert main(["variability", str(params), "--motion", "cosine:amp=1g,freq=2", "--workers", "0"]) == 2
     assert "workers must be" in capsys.readouterr().err
+
+
+def _pid_after(x):
+    """(x, the process that ran it); x > 0 also burns x s of CPU."""
+    import os
+
+    t0 = time.process_time()
+    while time.process_time() - t0 < x:
+        pass
+    return x, os.getpid()
+
+
+def test_inline_first_runs_short_maps_here_and_long_ones_on_the_pool():
+    """inline_first: a map of short items runs in this process (no pool started); one whose
+    projected CPU time passes the budget hands the rest to the pool; the results keep the order
+    and are those of a serial run."""
+    import os
+
+    with ProcessExecutor(2, inline_first=1.0) as ex:
+        out = ex.map(_pid_after, [0.0] * 5)
+        assert [x for x, _ in out] == [0.0] * 5 and {p for _, p in out} == {os.getpid()}
+        assert ex._pool is None
+        out = ex.map(_pid_after, [0.0, 0.3, 0.3, 0.3, 0.3, 0.3])     # projected 1.5 s after the second item
+        pids = [p for _, p in out]
+        assert [x for x, _ in out] == [0.0] + [0.3] * 5
+        assert pids[:2] == [os.getpid()] * 2 and os.getpid() not in pids[2:] and ex._pool is not None
+        out = ex.map(_pid_after, [0.0, 0.0])                    # the pool is up: it takes every item
+        assert os.getpid() not in [p for _, p in out]
+    with ProcessExecutor(2) as ex:                              # the default: every item on the pool
+        assert os.getpid() not in [p for _, p in ex.map(_pid_after, [0.0, 0.0])]

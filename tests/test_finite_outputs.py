@@ -283,3 +283,21 @@ def test_failure_text_never_prints_inf():
     assert text.startswith("fuse releases before the statue rocks: no room for a fuse ball (not met); load per ball")
     assert "(ratio 2.90)" in text and "advisory" not in text
     assert failure_text(checks, shown=1).endswith("; and 1 more")
+
+
+def test_number_columns_text_is_csv_text_of_num_cells():
+    """number_columns_text (the records' CSV, written directly) gives the text csv_text gives for the
+    rows of num_cell cells: non-finite values as empty cells, -0.0, tiny and huge numbers, no rows."""
+    import numpy as np
+
+    from statue2model.io.csvsafe import csv_text, num_cell, number_columns_text
+
+    rng = np.random.default_rng(0)
+    for n in (0, 1, 7, 500):
+        t = np.arange(n) * 0.01 - 0.3
+        u = rng.normal(0.0, 1.0, n) * 10.0 ** rng.integers(-9, 9, n)
+        if n > 3:
+            u[:4] = (np.nan, np.inf, -0.0, -np.inf)
+        for specs in ((".9g", ".9g"), (".12g", ".0f")):
+            want = csv_text(("time_s", "acc_m_s2"), ((num_cell(a, specs[0]), num_cell(b, specs[1])) for a, b in zip(t, u)))
+            assert number_columns_text(("time_s", "acc_m_s2"), (t, u), specs) == want

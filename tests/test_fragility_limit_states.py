@@ -250,3 +250,17 @@ def test_fixed_base_uplift_is_fitted_on_each_records_exact_uplift_pga():
     assert cs.median == pytest.approx(9.81 * 0.05 / 0.25, rel=1e-9) and cs.status == EMPIRICAL
     assert cs.choice["reason"].startswith("all 6 thresholds are equal") and "deterministic step" in cs.choice["reason"]
     assert float(cs.probability(0.99 * cs.median)) < 1e-6 and float(cs.probability(1.01 * cs.median)) > 1 - 1e-6
+
+
+def test_probit_likelihood_alone_equals_the_terms_with_derivatives():
+    """_probit_ll (the line searches' likelihood) is bit for bit the first of _probit_terms's outputs."""
+    import numpy as np
+
+    from statue2model.assessment.fragility_fit import _probit_ll, _probit_terms
+
+    rng = np.random.default_rng(5)
+    u = rng.normal(0.0, 4.0, (50, 9))
+    u[0, :3] = (0.0, -40.0, 40.0)
+    n = rng.integers(1, 15, (50, 9)).astype(float)
+    z = np.floor(rng.uniform(0.0, 1.0, (50, 9)) * (n + 1))
+    assert np.array_equal(_probit_ll(u, z, n), _probit_terms(u, z, n)[0])

@@ -503,3 +503,17 @@ def test_the_design_reads_back_as_the_verdicts_typed_record():
     assert DesignRecord.from_dict(json.loads(json.dumps(rec.to_dict()))) == rec
     with pytest.raises(InputError, match="design.json: capacity must be a number"):
         DesignRecord.from_dict({**dd, "capacity": "wide"})
+
+
+def test_every_candidate_costs_the_total_of_its_bill(statues):
+    """A candidate's cost (prices.bill_total, no texts written) is bit for bit the total of its bill of
+    materials (prices.bill, written when first read), on every surface, ball and layout of a search."""
+    from statue2model.isolator.prices import bill
+
+    srch = search(statues["default scan"], spectrum=HAZARD, **COARSE)
+    kinds = {(c.device.surface, c.device.ball, c.device.fuse_ball > 0) for c in srch.candidates}
+    assert len(srch.candidates) > 100 and len(kinds) > 5
+    for c in srch.candidates:
+        rows = bill(c.device, c.cx.prices)
+        assert c.cost == total(rows) and list(c.rows) == rows
+        assert all(isinstance(r["item"], str) and r["item"] for r in rows)

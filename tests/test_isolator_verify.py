@@ -7,6 +7,7 @@ import json
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from statue2model.errors import InputError
@@ -293,3 +294,22 @@ def test_the_reserve_keeps_the_travel_up_to_where_the_fixed_base_overturns():
     assert d.th_margins["reserve"] == pytest.approx(d.capacity / res["need"], rel=1e-5)
     assert d.passed and all(m >= 1 for m in d.th_margins.values()) and any(res["overturns"])
     assert d.capacity >= max(c.value for c in d.checks if c.key in ("th_travel", "th_travel_slc", "reserve"))
+
+
+def test_screen_one_record_equals_the_whole_grid_bit_for_bit():
+    """_Screen._at on one record's grid (nested lists, the floor's reserve term) gives bit for bit the
+    element of the whole grid's value, and the period's position given or not changes nothing."""
+    from statue2model.isolator.verify import _Screen
+
+    rng = np.random.default_rng(3)
+    for n_T in (1, 2, 5):
+        sc = object.__new__(_Screen)
+        sc.T = np.linspace(0.8, 3.1, n_T)
+        sc.mu = np.geomspace(1e-4, 0.02, 6)
+        sc.u = rng.uniform(0.0, 0.5, (n_T, 6, 7))
+        sc._log_mu, sc._j = np.log(sc.mu), np.arange(6)
+        sc._u_record = [sc.u[:, :, i].tolist() for i in range(7)]
+        for T, mu in zip(rng.uniform(0.5, 3.5, 40), np.exp(rng.uniform(math.log(1e-5), math.log(0.05), 40))):
+            whole = sc._at(sc.u, T, mu)
+            assert np.array_equal(whole, sc._at(sc.u, T, mu, sc._x(T)))
+            assert [sc._at(sc._u_record[i], T, mu) for i in range(7)] == whole.tolist()

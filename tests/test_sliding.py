@@ -84,3 +84,28 @@ def test_sides_and_no_frictionless_support():
     assert r2.u_pos > 0 and r2.u_neg > 0 and r2.u_max == max(r2.u_pos, r2.u_neg)
     with pytest.raises(InputError, match="mu_k"):
         Friction(0.2, 0.0)
+
+
+def test_steps_at_rest_skipped_on_whole_arrays_change_nothing(monkeypatch):
+    """simulate_sliding passes the steps a body at rest cannot leave rest in (_next_moving_step, on whole
+    arrays) without its loop: the results are bit for bit those of the loop through every step, also with
+    samples exactly at +-mu_s g, a record starting late, t_end inside or past the motion, and pulses."""
+    from statue2model.rocking import sliding
+
+    rng = np.random.default_rng(7)
+    cases = []
+    for k in range(12):
+        mu_s = float(rng.uniform(0.05, 0.5))
+        f = Friction(mu_s, mu_s * float(rng.uniform(0.6, 1.0)))
+        acc = rng.normal(0.0, 0.4 * mu_s * G, 600)
+        acc[rng.integers(0, 600, 30)] = mu_s * G * rng.choice([-1.0, 1.0], 30)      # exactly at the limit
+        acc[100:110] = mu_s * G                                                      # a plateau on it
+        rec = motions.record(acc, 0.01, start=0.3 if k % 2 else 0.0)
+        for t_end in (None, 2.5, 20.0):
+            cases.append((f, rec, t_end))
+        cases.append((f, motions.rect_pulse(float(rng.uniform(0.5, 2.0)) * mu_s * G, 0.4), None))
+    fast = [simulate_sliding(f, m, t_end=t_end) for f, m, t_end in cases]
+    monkeypatch.setattr(sliding, "_next_moving_step", lambda t, a, mus, stop_at: np.arange(t.size - 1))
+    slow = [simulate_sliding(f, m, t_end=t_end) for f, m, t_end in cases]
+    assert [r.__dict__ for r in fast] == [r.__dict__ for r in slow]
+    assert sum(r.n_slides for r in fast) > 20            # the cases do slide

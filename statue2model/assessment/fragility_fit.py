@@ -106,6 +106,14 @@ def lognormal_cdf(x, median: float, beta: float) -> np.ndarray:
     return norm.cdf(np.log(x / median) / beta)
 
 
+def _probit_ll(u, z, n):
+    """The log-likelihood terms z ln Phi(u) + (n - z) ln Phi(-u) alone (those of :func:`_probit_terms`,
+    without its derivatives: the line searches ask for the likelihood only)."""
+    from scipy.special import log_ndtr
+
+    return z * log_ndtr(u) + (n - z) * log_ndtr(-u)
+
+
 def _probit_terms(u, z, n):
     """(log-likelihood terms, d/du, d2/du2) of the binomial probit terms z ln Phi(u) + (n - z) ln Phi(-u)."""
     from scipy.special import log_ndtr
@@ -128,7 +136,7 @@ def _newton_rows(xc, Z, N, c0, d0, iters: int = 60):
     c, d = np.clip(np.asarray(c0, float), cmin, cmax), np.asarray(d0, float).copy()
 
     def nll(c_, d_, Zr, Nr):
-        return -_probit_terms(c_[:, None] * xc - d_[:, None], Zr, Nr)[0].sum(axis=1)
+        return -_probit_ll(c_[:, None] * xc - d_[:, None], Zr, Nr).sum(axis=1)
 
     def search(c, d, f, sc, sd, Zr, Nr):
         cn, dn, fn = c.copy(), d.copy(), f.copy()
@@ -231,7 +239,7 @@ def fit_lognormal_many(levels, n_fail, n_trials, start: tuple | None = None) -> 
         gt = np.linspace(lo, hi, 25) - mean
         gb = np.exp(np.linspace(math.log(BETA_MIN), math.log(BETA_MAX), 13))
         u = (xc[None, None, :] - gt[:, None, None]) / gb[None, :, None]              # (25, 13, L)
-        f = np.stack([-_probit_terms(u, zr, nr)[0].sum(-1) for zr, nr in zip(Zf, Nf)])  # (Bf, 25, 13)
+        f = np.stack([-_probit_ll(u, zr, nr).sum(-1) for zr, nr in zip(Zf, Nf)])  # (Bf, 25, 13)
         i, j = np.unravel_index(f.reshape(f.shape[0], -1).argmin(1), f.shape[1:])
         c0 = 1.0 / gb[j]
         d0 = gt[i] * c0
@@ -287,7 +295,7 @@ def beta_profile_band(levels, n_fail, n_trials, confidence: float = 0.90) -> tup
         g = _probit_terms(c[:, None] * xc - d[:, None], Zr, Nr)[1].sum(1)     # d nll / d d
         dl, dh = np.where(g < 0, d, dl), np.where(g < 0, dh, d)
     d = 0.5 * (dl + dh)
-    prof = -_probit_terms(c[:, None] * xc - d[:, None], Zr, Nr)[0].sum(1)
+    prof = -_probit_ll(c[:, None] * xc - d[:, None], Zr, Nr).sum(1)
     best = min(float(prof.min()), float(_nll(math.log(med), math.log(beta), lnx, z, n)))
     inside = prof - best <= 0.5 * float(chi2.ppf(confidence, 1))
     notes = []

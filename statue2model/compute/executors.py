@@ -284,11 +284,24 @@ class ProcessExecutor(Executor):
 
     name = "processes"
 
+    inline_first = 0.0
+    """CPU seconds (class default 0: off). While the pool has not started, a map runs its items
+    in this process (one numba and one BLAS thread, as :class:`SerialExecutor`), one after
+    the other, as long as its projected CPU time stays under this (the first item's time,
+    which includes loading the compiled kernels the map needs, plus the mean of the others
+    times the items after the first); the items left then go to the pool, started then. Each
+    worker's start costs about 1.5 s of CPU (it imports statue2model and loads numba's
+    cache): a map of short items (the sweeps of one default run: a few seconds in all) is
+    cheaper here. The results are the same wherever an item runs (each is deterministic on
+    one thread). Set by :func:`make_executor` ``inline_first=``."""
+
     retries = 1
     """Times the unfinished tasks of a broken pool (a worker process died) are run again on a fresh pool."""
 
-    def __init__(self, workers: int | None = None, cap: bool = False, say: Callable[[str], None] | None = None):
+    def __init__(self, workers: int | None = None, cap: bool = False, say: Callable[[str], None] | None = None,
+                 inline_first: float = 0.0):
         self.asked = _check_workers(workers if workers is not None else available_cores())
+        self.inline_first = float(inline_first)
         self.workers = min(self.asked, available_cores()) if cap else self.asked
         self._pool = None
         self._say = say
@@ -320,11 +333,13 @@ class ProcessExecutor(Executor):
         if not items:
             return []
         results: list = [None] * len(items)
-        todo = list(range(len(items)))
         retried: set[int] = set()
         bar = None
         try:
             bar = _bar(desc, len(items))
+            todo = list(range(self._run_here(fn, items, results, bar), len(items)))
+            if not todo:
+                return results
             for attempt in range(self.retries + 1):
                 todo, why = self._attempt(fn, items, todo, results, bar)
                 if not todo:
@@ -348,6 +363,36 @@ class ProcessExecutor(Executor):
         finally:
             if bar is not None:
                 bar.close()
+
+    def _run_here(self, fn: Callable, items: list, results: list, bar) -> int:
+        """Run the first items of a map in this process while the pool has not started and the
+        map's projected CPU time stays under :attr:`inline_first` (filling ``results``); returns
+        how many ran here."""
+        if self._pool is not None or not self.inline_first > 0:
+            return 0
+        import time
+
+        previous = _single_numba_thread()
+        blas = _single_blas_thread()
+        t0 = time.process_time()
+        done, first = 0, 0.0
+        try:
+            for x in items:
+                spent = time.process_time() - t0
+                if done == 1:
+                    first = spent        # the first item also loads what the map needs (compiled kernels)
+                if done and first + (spent - first) / max(done - 1, 1) * (len(items) - 1) > self.inline_first:
+                    break
+                results[done] = fn(x)
+                done += 1
+                if bar is not None:
+                    bar.update(1)
+        finally:
+            import numba
+
+            numba.set_num_threads(previous)
+            blas.restore_original_limits()
+        return done
 
     def _attempt(self, fn: Callable, items: list, todo: list[int], results: list, bar) -> tuple[list[int], str]:
         """Run the tasks ``todo`` (positions in ``items``) on the pool, filling ``results``;
@@ -724,19 +769,20 @@ def _check_workers(workers) -> int:
 
 
 def make_executor(scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0,
-                  cap: bool = False, worker_timeout: float | None = None) -> Executor:
+                  cap: bool = False, worker_timeout: float | None = None, inline_first: float = 0.0) -> Executor:
     """``scheduler`` given: a :class:`DaskExecutor` on it (``workers`` must then be
     None: the cluster decides; ``timeout``: s to reach the scheduler; ``worker_timeout``:
     s without any worker before giving up, see :class:`DaskExecutor`); else a
     :class:`ProcessExecutor` of ``workers`` local processes (None: one per CPU).
-    ``workers=1`` is one worker process. ``cap``: at most one local worker per core
+    ``workers=1`` is one worker process. ``cap``: at most one local worker per core;
+    ``inline_first``: s of CPU, short maps run in this process until the pool starts
     (see :class:`ProcessExecutor`)."""
     if scheduler is not None:
         if workers is not None:
             raise InputError("give either a Dask scheduler or a number of local workers, not both")
         check_scheduler_address(scheduler)
         return DaskExecutor(str(scheduler).strip(), timeout=timeout, worker_timeout=worker_timeout)
-    return ProcessExecutor(None if workers is None else _check_workers(workers), cap=cap)
+    return ProcessExecutor(None if workers is None else _check_workers(workers), cap=cap, inline_first=inline_first)
 
 
 def check_scheduler_address(address: str) -> str:
@@ -766,7 +812,7 @@ def is_local_address(address: str) -> bool:
 
 
 def config_executor(scheduler: str | None, workers: int | None, source: str | None = None,
-                    cap: bool = True) -> Executor:
+                    cap: bool = True, inline_first: float = 0.0) -> Executor:
     """The executor of a project file's ``[run]`` section. A scheduler there is used
     only when it is on this machine (localhost, 127.0.0.0/8, ::1): a project file
     received from someone else must not send the scan's numbers to a machine the
@@ -779,7 +825,7 @@ def config_executor(scheduler: str | None, workers: int | None, source: str | No
                              f"without confirmation; give --scheduler {str(scheduler).strip()} to run there, or "
                              f"--workers N to run here")
         return make_executor(scheduler=scheduler)
-    return make_executor(workers=workers, cap=cap)
+    return make_executor(workers=workers, cap=cap, inline_first=inline_first)
 
 
 def chunks(n: int, executor: Executor | int, *, per_worker: int = 4, min_chunk: int = 8) -> list[np.ndarray]:

@@ -508,9 +508,9 @@ def write_record_csv(path, motion: GroundMotion, dt: float | None = None) -> Pat
     t, u = motion.sampled(dt)
     head = (FROUDE_HEADER.format(lam=motion.froude_scale) + " (times / sqrt(lambda), accelerations unchanged)\n"
             if motion.froude_scale != 1.0 else "")
-    from ..io.csvsafe import csv_text, num_cell
+    from ..io.csvsafe import number_columns_text
 
-    text = head + csv_text(("time_s", "acc_m_s2"), ((num_cell(a, ".9g"), num_cell(b, ".9g")) for a, b in zip(t, u)))
+    text = head + number_columns_text(("time_s", "acc_m_s2"), (t, u), (".9g", ".9g"))
     return atomic_write(path, lambda p: p.write_text(text))
 
 

@@ -80,10 +80,21 @@ def csv_text(header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> str:
     return buf.getvalue()
 
 
+def number_columns_text(header: Sequence[Any], columns: Sequence[Any], specs: Sequence[str]) -> str:
+    """``csv_text(header, rows)`` of rows of :func:`num_cell` cells (column k formatted with ``specs[k]``),
+    built directly: a formatted number (digits, sign, point, exponent) or an empty cell needs neither a
+    spreadsheet guard nor CSV quoting, so the text is the cells joined by commas, line by line."""
+    cols = [[format(x, spec) if math.isfinite(x) else "" for x in map(float, col)] for col, spec in zip(columns, specs)]
+    n = {len(c) for c in cols}
+    if len(cols) != len(list(header)) or len(n) > 1:
+        raise ValueError(f"{len(cols)} columns of {sorted(n)} cells for {len(list(header))} headers")
+    return csv_text(header, ()) + "".join(",".join(row) + "\n" for row in zip(*cols))
+
+
 def write_csv(path: str | os.PathLike, header: Sequence[Any], rows: Iterable[Sequence[Any]]) -> Path:
     """Write :func:`csv_text` to ``path`` atomically (UTF-8) and return the path."""
     text = csv_text(header, rows)
     return atomic_write(path, lambda p: p.write_text(text, encoding="utf-8", newline=""))
 
 
-__all__ = ["TRIGGERS", "csv_text", "num_cell", "safe_cell", "write_csv"]
+__all__ = ["TRIGGERS", "csv_text", "num_cell", "number_columns_text", "safe_cell", "write_csv"]

@@ -72,7 +72,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 from ..errors import InputError
 from ..geometry.units import PLAUSIBLE
@@ -97,7 +97,7 @@ from .checks import (
 from .device import G, Isolator, check_lengths, fuse_release_acceleration, fuse_seat_depth, groove_capacity, \
     lever_arm, safety_length
 from .layout import LAYOUTS
-from .prices import bill, prices, total
+from .prices import bill, bill_total, prices
 
 BALLS = (0.0095, 0.0125, 0.0183, 0.020, 0.025, 0.030, 0.040, 0.050)
 """Ball radii tried (m): the thesis' steel 9.5 mm, resin 18.3 and 20 mm, and stock sizes up to 100 mm
@@ -222,9 +222,13 @@ class Candidate:
     ball_capacity: object     # bearing.Capacity (long-term)
     ball_capacity_short: float
     checks: tuple
-    rows: tuple
-    cost: float
+    cost: float               # EUR: the total of :attr:`rows`
     cx: object = field(repr=False, compare=False)
+
+    @cached_property
+    def rows(self) -> tuple:
+        """The rows of the bill of materials (prices.bill), written when first read."""
+        return tuple(bill(self.device, self.cx.prices))
 
     # the old Candidate's names
     @property
@@ -758,9 +762,8 @@ def _evaluate(dev: Device, fr, need: float, dem: Demand, cx: _Context, with_fuse
                                 MIN_WALL, wall, no_ball or L(lambda: f"least wood between the cutouts {wall:.4f} m, "
                                                                      f"at least {MIN_WALL:.3f} m"),
                                 unit="m", key="fuse_layout", level="static"))
-    rows = tuple(bill(dev, cx.prices))
     return Candidate(dev, dem, fr, fr.mu, fr.mu_low, fr.mu_high, cap, cap_g, cap_t, need, l, d_max, capl, cap_short,
-                     tuple(checks), rows, total(rows), cx)
+                     tuple(checks), bill_total(dev, cx.prices), cx)
 
 
 def with_fuse_layout(c: Candidate) -> Candidate:

@@ -74,43 +74,50 @@ def ball_price(D: float, material: str, p: dict) -> float:
 
 def bill(dev, p: dict) -> list[dict]:
     """The rows of the bill of materials of a device ``dev`` (design.Device), prices ``p``."""
+    return [{"item": item(), "material": material, "quantity": qty, "unit": unit, "unit_cost": unit_cost,
+             "cost": qty * unit_cost} for item, material, qty, unit, unit_cost in _lines(dev, p)]
+
+
+def bill_total(dev, p: dict) -> float:
+    """EUR: ``total(bill(dev, p))``, the same sum in the same order, without writing the items' texts (a
+    search prices thousands of devices and lists a few)."""
+    return float(sum(qty * unit_cost for _, _, qty, _, unit_cost in _lines(dev, p)))
+
+
+def _lines(dev, p: dict) -> list[tuple]:
+    """(item text maker, material, quantity, unit, unit cost) of each row of :func:`bill`."""
     from .bearing import SURFACES
 
     s = SURFACES[dev.surface]
     rows = []
-
-    def row(item, material, qty, unit, unit_cost):
-        rows.append({"item": item, "material": material, "quantity": qty, "unit": unit, "unit_cost": unit_cost,
-                     "cost": qty * unit_cost})
-
     area = dev.side ** 2
     board_material = "beech" if s.kind == "lined" else s.key
     per_m3 = p[f"{board_material}_m3"]
     label = "sheet" if s.kind == "sheet" else "board"
     for t, k in dev.layers:
-        row(f"{label} {dev.side * 1000:.0f} x {dev.side * 1000:.0f} x {t * 1000:g} mm", board_material, 2 * k, "each",
-            per_m3 * area * t)
+        rows.append((lambda t=t: f"{label} {dev.side * 1000:.0f} x {dev.side * 1000:.0f} x {t * 1000:g} mm",
+                     board_material, 2 * k, "each", per_m3 * area * t))
     joints = sum(k for _, k in dev.layers) - 1
     if joints > 0:
-        row("glue, one stacked joint of a plate", "glue", 2 * joints * area, "m^2", p["glue_m2"])
-    row(f"ball, {dev.D * 1000:g} mm", dev.ball, dev.n, "each", ball_price(dev.D, dev.ball, p))
+        rows.append((lambda: "glue, one stacked joint of a plate", "glue", 2 * joints * area, "m^2", p["glue_m2"]))
+    rows.append((lambda: f"ball, {dev.D * 1000:g} mm", dev.ball, dev.n, "each", ball_price(dev.D, dev.ball, p)))
     groove_area = dev.liner_area                             # a spherical cap's area
     if s.kind == "lined" and s.criterion == "race":
-        row(f"hardened steel race, a {s.layer * 1000:g} mm shell of radius {dev.R * 1000:.0f} mm opening "
-            f"{2 * dev.opening_radius * 1000:.0f} mm", "100Cr6", 2 * dev.n, "each", p["race_each"] + p["race_m2"] *
-            groove_area)
+        rows.append((lambda: f"hardened steel race, a {s.layer * 1000:g} mm shell of radius {dev.R * 1000:.0f} mm "
+                             f"opening {2 * dev.opening_radius * 1000:.0f} mm", "100Cr6", 2 * dev.n, "each",
+                     p["race_each"] + p["race_m2"] * groove_area))
     elif s.kind == "lined":
-        row(f"rubber layer {s.layer * 1000:g} mm, glued in each groove", "rubber", 2 * dev.n * groove_area, "m^2",
-            p["rubber_m2"])
+        rows.append((lambda: f"rubber layer {s.layer * 1000:g} mm, glued in each groove", "rubber",
+                     2 * dev.n * groove_area, "m^2", p["rubber_m2"]))
     if dev.fuse_ball > 0:
-        row(f"fuse ball, {2 * dev.fuse_ball * 1000:.1f} mm", "steel", dev.n_fuse, "each",
-            ball_price(2 * dev.fuse_ball, "steel", p))
-    row("fixings (screws and plugs)", "steel", FIXINGS, "each", p["fixing_each"])
+        rows.append((lambda: f"fuse ball, {2 * dev.fuse_ball * 1000:.1f} mm", "steel", dev.n_fuse, "each",
+                     ball_price(2 * dev.fuse_ball, "steel", p)))
+    rows.append((lambda: "fixings (screws and plugs)", "steel", FIXINGS, "each", p["fixing_each"]))
     rate = REMOVAL_RATE["sheet" if s.kind == "sheet" else "wood"]
     d, Rc = dev.cut_depth, dev.R + dev.layer
     pockets = 2 * dev.n * (math.pi * d * d * (3 * Rc - d) / 3)
     hours = 2 * p["setup_h"] + pockets / rate + 2 * 4 * dev.side / FEED
-    row("CNC machine time (set-up, pockets, outlines)", "", hours, "h", p["machine_h"])
+    rows.append((lambda: "CNC machine time (set-up, pockets, outlines)", "", hours, "h", p["machine_h"]))
     return rows
 
 

@@ -366,14 +366,28 @@ class _Screen:
         n = len(records)
         self.u = np.array([p.travel_low for p in peaks]).reshape(len(self.T), len(self.mu), n)
         self.a = np.array([p.felt_low for p in peaks]).reshape(len(self.T), len(self.mu), n)
+        self._log_mu, self._j = np.log(self.mu), np.arange(len(self.mu))
+        self._u_record = [self.u[:, :, i].tolist() for i in range(n)]     # per record, as Python floats
 
-    def _at(self, arr, T, mu):
-        """Per-record values at (T, mu), bilinear in T and log mu (clamped to the grid)."""
-        x = np.interp(T, self.T, np.arange(len(self.T))) if len(self.T) > 1 else 0.0
-        y = np.interp(math.log(max(mu, 1e-12)), np.log(self.mu), np.arange(len(self.mu)))
-        i0, j0 = int(min(math.floor(x), len(self.T) - 2)) if len(self.T) > 1 else 0, int(min(math.floor(y), len(self.mu) - 2))
-        fx, fy = (x - i0 if len(self.T) > 1 else 0.0), y - j0
-        i1 = min(i0 + 1, len(self.T) - 1)
+    def _x(self, T) -> tuple:
+        """(i0, i1, fx): where T falls on the grid of periods."""
+        if len(self.T) < 2:
+            return 0, 0, 0.0
+        x = np.interp(T, self.T, np.arange(len(self.T)))
+        i0 = int(min(math.floor(x), len(self.T) - 2))
+        return i0, min(i0 + 1, len(self.T) - 1), x - i0
+
+    def _at(self, arr, T, mu, at_T=None):
+        """Per-record values at (T, mu), bilinear in T and log mu (clamped to the grid); ``at_T``:
+        ``self._x(T)`` when known. ``arr`` may also be one record's grid (nested lists): one value."""
+        i0, i1, fx = self._x(T) if at_T is None else at_T
+        y = np.interp(math.log(max(mu, 1e-12)), self._log_mu, self._j)
+        j0 = int(min(math.floor(y), len(self.mu) - 2))
+        fy = y - j0
+        if isinstance(arr, list):
+            fx, fy = float(fx), float(fy)
+            return ((1 - fx) * (1 - fy) * arr[i0][j0] + fx * (1 - fy) * arr[i1][j0]
+                    + (1 - fx) * fy * arr[i0][j0 + 1] + fx * fy * arr[i1][j0 + 1])
         return ((1 - fx) * (1 - fy) * arr[i0, j0] + fx * (1 - fy) * arr[i1, j0]
                 + (1 - fx) * fy * arr[i0, j0 + 1] + fx * fy * arr[i1, j0 + 1])
 
@@ -381,13 +395,15 @@ class _Screen:
         """(travel floor m, felt m/s^2) estimated for candidate ``c``."""
         T, lo, hi, R_hat = c.T, c.mu_low, c.mu_high, c.R_hat
         f = np.mean if self.stat == "mean" else np.max
-        u = max(f(self._at(self.u, T, m)) for m in (lo, hi))
-        a = max(f(self._at(self.a, T, m)) for m in (lo, hi))
+        x = self._x(T)
+        u = max(f(self._at(self.u, T, m, x)) for m in (lo, hi))
+        a = max(f(self._at(self.a, T, m, x)) for m in (lo, hi))
         s = self.slc_ratio(T)
-        u_slc = max(f(s * self._at(self.u, T, m / s)) for m in (lo, hi))
+        u_slc = max(f(s * self._at(self.u, T, m / s, x)) for m in (lo, hi))
         need = max(travel_need(u, hi, R_hat), travel_need(u_slc, hi, R_hat, SLC_MARGIN))
         if self.scales:
-            per = [max(sc * self._at(self.u, T, m / sc)[i] for m in (lo, hi)) for i, sc in enumerate(self.scales)]
+            per = [max(sc * self._at(self._u_record[i], T, m / sc, x) for m in (lo, hi))
+                   for i, sc in enumerate(self.scales)]
             need = max(need, travel_need(float(np.median(per)), hi, R_hat, C.RESERVE_MARGIN))
         return need, a
 

@@ -650,8 +650,25 @@ def _set_classification(ctx: Context, d: Path, scene, iso, settings, contact):
     return sc, iso_note
 
 
-STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": isolator_stage,
-          "dynamics": dynamics_stage, "crosscheck": crosscheck_stage}
+def _one_blas_thread(stage):
+    """``stage`` with the BLAS of this process on one thread, as every sweep's task already is
+    (compute/executors.py). What these stages compute here themselves goes through BLAS only in products
+    of coordinates (a plate's mesh, a figure's paths), which one thread gives bit for bit as two; but a
+    second thread spins for a while after each product: about 0.3 s of CPU of the default run. (The
+    params stage keeps the default: its mass properties' sums follow the thread count, and its numbers
+    stay those of earlier runs.)"""
+    def run(ctx: Context, d: Path) -> dict:
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=1, user_api="blas"):
+            return stage(ctx, d)
+
+    run.__name__, run.__doc__ = stage.__name__, stage.__doc__
+    return run
+
+
+STAGES = {"params": params_stage, "prototype": prototype_stage, "isolator": _one_blas_thread(isolator_stage),
+          "dynamics": _one_blas_thread(dynamics_stage), "crosscheck": crosscheck_stage}
 assert tuple(STAGES) == STAGE_NAMES, "a stage is named in config.STAGE_NAMES and run here"
 # stage -> (stages it needs, stages it reads when they are enabled, config sections it reads)
 DEPENDS = {"params": ((), (), ("scan",)), "prototype": ((), (), ("scan", "prototype")),

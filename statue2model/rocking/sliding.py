@@ -116,6 +116,25 @@ def _stop(v0: float, a0: float, k: float, s: float, c: float, h: float) -> float
     return min(good) if good else None
 
 
+def _next_moving_step(t: np.ndarray, a: np.ndarray, mus: float, stop_at: float) -> np.ndarray:
+    """For each step i (t[i] to t[i + 1]): the first step j >= i in which a body at rest at its start may
+    start to slide (len(t) - 1: none). A step where it cannot is one that :func:`simulate_sliding`'s loop
+    passes at rest without changing anything: no time left (h <= 0), |a0| <= mu_s g at its start and no
+    crossing of +-mu_s g within it, each decided by the loop's own float operations, on whole arrays."""
+    n = t.size - 1
+    t0, span, a0 = t[:-1], t[1:] - t[:-1], a[:-1]
+    h = np.minimum(span, stop_at - t0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = (a[1:] - a0) / span
+        cross = np.zeros(n, dtype=bool)
+        for target in (mus, -mus):
+            tau = (target - a0) / k
+            cross |= (k != 0.0) & (0.0 < tau) & (tau <= h)
+    rest = (h <= 0) | ((np.abs(a0) <= mus) & ~cross)
+    nxt = np.where(rest, n, np.arange(n))
+    return np.minimum.accumulate(nxt[::-1])[::-1] if n else nxt
+
+
 def simulate_sliding(friction: Friction, motion, t_end: float | None = None, dt: float = 1e-3,
                      g: float = G) -> SlidingResult:
     """The body's sliding under ``motion`` (a GroundMotion of its support, m/s^2 toward +x) with
@@ -153,7 +172,14 @@ def simulate_sliding(friction: Friction, motion, t_end: float | None = None, dt:
         if t_first is None:
             t_first = time
 
-    for i in range(t.size - 1):
+    n = t.size - 1
+    resume = _next_moving_step(t, a, mus, stop_at)
+    i = -1
+    while i + 1 < n:
+        i += 1
+        if s == 0.0 and resume[i] != i:     # at rest through this step and the next ones up to resume[i]
+            i = int(resume[i]) - 1
+            continue
         t0, h = float(t[i]), float(t[i + 1] - t[i])
         if t0 >= stop_at:
             break
