@@ -69,29 +69,12 @@ def _executor(args, cfg):
 
 
 def _cmd_run(args) -> int:
-    """``statue2model run``, with Python's cyclic garbage collector paused (:func:`_collector_paused`)."""
-    with _collector_paused():
+    """``statue2model run``, with Python's automatic cyclic garbage collection paused
+    (compute/collector.py: about 2 s of the default run's CPU went to walking its heap)."""
+    from ..compute.collector import collector_paused
+
+    with collector_paused():
         return _run(args)
-
-
-class _collector_paused:
-    """Python's automatic cyclic garbage collection off for the command, back as it was afterwards. A run's
-    heap holds millions of long-lived objects (numba's typing registries, scipy, matplotlib, trimesh) that
-    every full collection walks again: the default run spent about 2 s of its 12 s of CPU in the collector,
-    which found only a few thousand cycles (figures closed, a few MB: the peak memory of the default run
-    grows by about 1 %). Reference counting still frees everything else at once."""
-
-    def __enter__(self):
-        import gc
-
-        self.was = gc.isenabled()
-        gc.disable()
-
-    def __exit__(self, *exc):
-        import gc
-
-        if self.was:
-            gc.enable()
 
 
 def _run(args) -> int:

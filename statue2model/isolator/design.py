@@ -74,6 +74,7 @@ import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
 
+from ..compute.collector import collector_paused
 from ..errors import InputError
 from ..geometry.units import PLAUSIBLE
 from . import checks as C
@@ -890,27 +891,13 @@ def search(statue, *, spectrum=None, motion=None, slc=None, slc_why: str | None 
     low = cx.mu_given[1] if cx.mu_given else 0.0039
     demand = _demand_fn(spectrum, slc, motion, low, g)
     out = []
-    with _no_gc():                  # thousands of small objects that live on: the cyclic collector only slows it
+    with collector_paused():        # thousands of small objects that live on: the cyclic collector only slows it
         _fill(out, balls, R_grid, lays, surfs, mats, demand, cx)
     if not out:
         raise InputError("no candidate in range: no groove radius is larger than the balls' diameter, or no ball "
                          "material rolls on the surfaces chosen")
     return _search_result(out, cx, R_grid, balls, lays, surfs, mats, boards, side_max, spectrum, slc, why_slc,
                           motion, target, alpha, statue)
-
-
-class _no_gc:
-    def __enter__(self):
-        import gc
-
-        self.was = gc.isenabled()
-        gc.disable()
-
-    def __exit__(self, *exc):
-        import gc
-
-        if self.was:
-            gc.enable()
 
 
 def _fill(out, balls, R_grid, lays, surfs, mats, demand, cx) -> None:

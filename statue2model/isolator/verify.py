@@ -60,13 +60,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..compute.collector import collector_paused
 from ..errors import InputError
 from ..hazard.matching import N_MIN
 from ..hazard.motions import GroundMotion
 from . import checks as C
 from .checks import DISPLACEMENT_MARGIN, RESERVE_LEVEL, SLC_MARGIN, Check, travel_need
 from .design import BALLS, COST_TOLERANCE, CRITERION, R_GRID, SHOWN_FAILING, SHOWN_PASSING, Candidate, \
-    _design_from, _no_gc, failure_text, resized, search, what_would_pass
+    _design_from, failure_text, resized, search, what_would_pass
 from .device import G, Isolator
 
 REPLACED = ("acceleration",)
@@ -471,7 +472,7 @@ def verify(statue, *, records, mu: float | None = None, mu_low: float | None = N
     pool = [c for c in srch.candidates if c.passes(ignore=REPLACED + ("fuse_layout",))]
     screen = _Screen(records, pool, scales, slc_ratio, stat, g, executor) if pool else None
     estimated = []                      # (the re-cut candidate, its spectral price: a lower bound of the verified)
-    with _no_gc():
+    with collector_paused():
         for c in pool:
             floor, felt = screen.floor(c)
             c2 = resized(c, floor * (1 + SCREEN_CLEARANCE))
