@@ -167,6 +167,17 @@ def test_run_pauses_the_cyclic_collector_and_restores_it(tmp_path, capsys, monke
         assert seen == [False, False] and not gc.isenabled()     # left off when it was off
     finally:
         gc.enable()
+    # a folder of scans keeps the collector on (its scans run on the workers)
+    folder = tmp_path / "scans"
+    folder.mkdir()
+
+    def fake_run_collection(*a, **k):
+        seen.append(gc.isenabled())
+        raise prun.InputError("stop here")
+
+    monkeypatch.setattr(prun, "run_collection", fake_run_collection)
+    code, _, err = run(["run", str(folder), "--out", str(tmp_path / "o3"), "--workers", "1"], capsys)
+    assert code == 2 and seen == [False, False, True] and gc.isenabled()
 
 
 def test_run_executor_keeps_one_scans_short_sweeps_here_and_a_folders_scans_on_the_pool(tmp_path):

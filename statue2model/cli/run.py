@@ -59,8 +59,7 @@ def _executor(args, cfg):
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.scheduler:                       # the command line wins over [run]
         return make_executor(scheduler=args.scheduler)
-    folder = bool(args.mesh) and Path(args.mesh).is_dir()
-    inline = 0.0 if folder else INLINE_FIRST        # a folder's tasks are whole scans: to the pool
+    inline = 0.0 if _folder(args) else INLINE_FIRST     # a folder's tasks are whole scans: to the pool
     if args.workers is not None:
         return make_executor(workers=args.workers, cap=True, inline_first=inline)
     from ..compute.executors import config_executor    # [run] scheduler: only on this machine unless --scheduler names it
@@ -68,12 +67,21 @@ def _executor(args, cfg):
     return config_executor(cfg.run.scheduler, cfg.run.workers, cfg.source, inline_first=inline)
 
 
+def _folder(args) -> bool:
+    """The run's target is a folder of scans (else one scan, the default one included)."""
+    return bool(args.mesh) and Path(args.mesh).is_dir()
+
+
 def _cmd_run(args) -> int:
-    """``statue2model run``, with Python's automatic cyclic garbage collection paused
-    (compute/collector.py: about 2 s of the default run's CPU went to walking its heap)."""
+    """``statue2model run``; on one scan with Python's automatic cyclic garbage collection paused
+    (compute/collector.py: about 2 s of the default run's CPU went to walking its heap). A folder
+    keeps it on: its scans run on the workers, and a long folder would pile up the cycles that each
+    scan leaves in this process (closed figures)."""
+    from contextlib import nullcontext
+
     from ..compute.collector import collector_paused
 
-    with collector_paused():
+    with nullcontext() if _folder(args) else collector_paused():
         return _run(args)
 
 
