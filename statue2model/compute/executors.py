@@ -82,6 +82,24 @@ def _single_blas_thread():
     return threadpool_limits(limits=1)
 
 
+class _one_thread:
+    """Context manager: numba's parallel loops in the calling thread and this process's BLAS and
+    OpenMP pools on one thread (:func:`_single_numba_thread`, :func:`_single_blas_thread`), the
+    previous counts restored afterwards: the items a map runs in this process."""
+
+    def __enter__(self):
+        self.previous = _single_numba_thread()
+        self.blas = _single_blas_thread()
+        return self
+
+    def __exit__(self, *exc):
+        import numba
+
+        numba.set_num_threads(self.previous)
+        self.blas.restore_original_limits()
+        return False
+
+
 def _one_line(exc: BaseException) -> str:
     text = str(exc).strip()
     return text.splitlines()[0] if text else type(exc).__name__
@@ -163,19 +181,14 @@ class SerialExecutor(Executor):
     def map(self, fn: Callable, items: Iterable, *, desc: str | None = None) -> list:
         items = list(items)
         bar = _bar(desc, len(items))
-        previous = _single_numba_thread()
-        blas = _single_blas_thread()
         out = []
         try:
-            for x in items:
-                out.append(fn(x))
-                if bar is not None:
-                    bar.update(1)
+            with _one_thread():
+                for x in items:
+                    out.append(fn(x))
+                    if bar is not None:
+                        bar.update(1)
         finally:
-            import numba
-
-            numba.set_num_threads(previous)
-            blas.restore_original_limits()
             if bar is not None:
                 bar.close()
         return out
@@ -372,11 +385,9 @@ class ProcessExecutor(Executor):
             return 0
         import time
 
-        previous = _single_numba_thread()
-        blas = _single_blas_thread()
         t0 = time.process_time()
         done, first = 0, 0.0
-        try:
+        with _one_thread():
             for x in items:
                 spent = time.process_time() - t0
                 if done == 1:
@@ -387,11 +398,6 @@ class ProcessExecutor(Executor):
                 done += 1
                 if bar is not None:
                     bar.update(1)
-        finally:
-            import numba
-
-            numba.set_num_threads(previous)
-            blas.restore_original_limits()
         return done
 
     def _attempt(self, fn: Callable, items: list, todo: list[int], results: list, bar) -> tuple[list[int], str]:
