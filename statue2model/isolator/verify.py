@@ -386,11 +386,9 @@ class _Screen:
         j0 = int(min(math.floor(y), len(self.mu) - 2))
         fy = y - j0
         if isinstance(arr, list):
-            fx, fy = float(fx), float(fy)
-            return ((1 - fx) * (1 - fy) * arr[i0][j0] + fx * (1 - fy) * arr[i1][j0]
-                    + (1 - fx) * fy * arr[i0][j0 + 1] + fx * fy * arr[i1][j0 + 1])
-        return ((1 - fx) * (1 - fy) * arr[i0, j0] + fx * (1 - fy) * arr[i1, j0]
-                + (1 - fx) * fy * arr[i0, j0 + 1] + fx * fy * arr[i1, j0 + 1])
+            fx, fy = float(fx), float(fy)     # Python floats on Python floats (the values are the same)
+        return ((1 - fx) * (1 - fy) * arr[i0][j0] + fx * (1 - fy) * arr[i1][j0]
+                + (1 - fx) * fy * arr[i0][j0 + 1] + fx * fy * arr[i1][j0 + 1])
 
     def floor(self, c) -> tuple[float, float]:
         """(travel floor m, felt m/s^2) estimated for candidate ``c``."""
